@@ -1,0 +1,289 @@
+// Scenario files: the YAML text is read section by section (gear, tolerances, deviations) into
+// the typed, validated Scenario struct (design.md, principle 5), so that constructors downstream
+// only ever see good values. Unknown keys, wrong types, out-of-range values, missing required
+// keys, YAML syntax errors and unreadable files all become one InputError naming
+// file:line:column, the dotted key, the value and what was expected (principle 4).
+// The schema is documented with each section reader below.
+#include "engine/scenario/scenario.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/scenario/input_error.h"
+#include "engine/scenario/yaml_reader.h"
+#include "gears/normal_expression.h"
+
+namespace gearmc {
+namespace {
+
+// gear: the spur gear (ISO 21771 quantities; lengths in mm, angle in degrees, rack in modules).
+//   teeth (required, 5..1000), module_mm (required, > 0), pressure_angle_deg (0 < α < 45,
+//   default 20), profile_shift ([-1.5, 3], default 0), face_width_mm (required, > 0),
+//   tip_diameter_mm, root_diameter_mm (> 0, optional overrides),
+//   basic_rack: {addendum > 0, dedendum > 0, root_radius >= 0} (defaults: ISO 53 profile A).
+// The parameters together must make a gear (validate_gear_parameters); if not, the error is
+// placed at the `gear` key.
+GearParameters read_gear(const YamlMap& gear) {
+  GearParameters p;
+  p.teeth = static_cast<int>(gear.require_int("teeth", 5, 1000));
+  p.module_mm = gear.require_number("module_mm", NumberRange::positive());
+  p.pressure_angle_deg =
+      gear.get_number("pressure_angle_deg", NumberRange::open(0.0, 45.0)).value_or(20.0);
+  p.profile_shift = gear.get_number("profile_shift", NumberRange::closed(-1.5, 3.0)).value_or(0.0);
+  p.face_width_mm = gear.require_number("face_width_mm", NumberRange::positive());
+  p.tip_diameter_mm = gear.get_number("tip_diameter_mm", NumberRange::positive());
+  p.root_diameter_mm = gear.get_number("root_diameter_mm", NumberRange::positive());
+  if (const auto rack = gear.get_map("basic_rack", {"addendum", "dedendum", "root_radius"})) {
+    const std::string in_modules = "in modules";
+    p.rack.addendum =
+        rack->get_number("addendum", NumberRange::positive(), in_modules).value_or(p.rack.addendum);
+    p.rack.dedendum =
+        rack->get_number("dedendum", NumberRange::positive(), in_modules).value_or(p.rack.dedendum);
+    p.rack.root_radius = rack->get_number("root_radius", NumberRange::non_negative(), in_modules)
+                             .value_or(p.rack.root_radius);
+  }
+  const std::string why = validate_gear_parameters(p);
+  if (!why.empty()) {
+    throw InputError(gear.location(), gear.path(), "", "parameters that make a gear, but " + why);
+  }
+  return p;
+}
+
+// Strict decimal integer in [min, max] (no sign, no leading zeros beyond "0"); nullopt if not.
+std::optional<int> grade_number(const std::string& text, int min, int max) {
+  if (text.empty() || text.size() > 2 || (text.size() > 1 && text[0] == '0')) return std::nullopt;
+  int value = 0;
+  for (const char c : text) {
+    if (c < '0' || c > '9') return std::nullopt;
+    value = 10 * value + (c - '0');
+  }
+  if (value < min || value > max) return std::nullopt;
+  return value;
+}
+
+// The grade in the form the standard uses: GOST 1643-81 "K-S-C" (kinematic, smoothness and
+// contact grades, each 1..12) or one grade 1..12 for all three; ISO 1328-1:2013 the flank
+// tolerance class 1..11. Written as text or as an integer.
+std::string read_grade(const YamlValue& value, ToleranceStandard standard) {
+  const bool gost = standard == ToleranceStandard::kGost1643_81;
+  const std::string expected =
+      gost ? "a GOST 1643-81 accuracy grade: 'K-S-C' (kinematic-smoothness-contact grades, each "
+             "from 1 to 12, e.g. \"6-5-5\") or one grade from 1 to 12"
+           : "an ISO 1328-1:2013 flank tolerance class, an integer from 1 to 11";
+  if (!value.is_scalar()) throw value.error(expected);
+  const std::string text = value.node().Scalar();
+  if (!gost) {
+    if (!grade_number(text, 1, 11)) throw value.error(expected);
+    return text;
+  }
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dash = text.find('-', start);
+    parts.push_back(text.substr(start, dash - start));
+    if (dash == std::string::npos) break;
+    start = dash + 1;
+  }
+  if (parts.size() != 1 && parts.size() != 3) throw value.error(expected);
+  for (const std::string& part : parts) {
+    if (!grade_number(part, 1, 12)) throw value.error(expected);
+  }
+  return text;
+}
+
+std::vector<std::string> tolerance_symbols(ToleranceStandard standard) {
+  std::vector<std::string> symbols;
+  for (const ToleranceKind kind : all_tolerance_kinds()) {
+    if (const auto symbol = tolerance_symbol(kind, standard)) symbols.push_back(*symbol);
+  }
+  return symbols;
+}
+
+// overrides_um: {symbol: µm}. The symbols are the chosen standard's (tolerance_symbol); E_Hs is
+// the magnitude of the least rack shift (>= 0), every other value a tolerance (> 0).
+std::map<ToleranceKind, double> read_overrides(const YamlMap& overrides,
+                                               ToleranceStandard standard) {
+  const ToleranceStandard other = standard == ToleranceStandard::kGost1643_81
+                                      ? ToleranceStandard::kIso1328_1_2013
+                                      : ToleranceStandard::kGost1643_81;
+  std::map<ToleranceKind, double> values;
+  for (const YamlMap::Entry& entry : overrides.entries()) {
+    const std::optional<ToleranceKind> kind = tolerance_kind_from_symbol(entry.key, standard);
+    if (!kind) {
+      const std::vector<std::string> symbols = tolerance_symbols(standard);
+      std::string expected = "a tolerance symbol of " + standard_name(standard) + " (";
+      for (std::size_t i = 0; i < symbols.size(); ++i) expected += (i ? ", " : "") + symbols[i];
+      expected += ")";
+      if (tolerance_kind_from_symbol(entry.key, other)) {
+        expected += "; '" + entry.key + "' is a symbol of " + standard_name(other);
+      }
+      throw InputError(entry.value.key_location(), entry.value.path(), entry.key, expected,
+                       did_you_mean(entry.key, symbols));
+    }
+    values[*kind] =
+        *kind == ToleranceKind::kThicknessUpper
+            ? entry.value.as_number(NumberRange::non_negative(),
+                                    "µm; the magnitude of the least rack shift, which is negative")
+            : entry.value.as_number(NumberRange::positive(), "µm");
+  }
+  return values;
+}
+
+// tolerances: standard (gost_1643_81 | iso_1328_1_2013, default gost_1643_81), grade (see
+// read_grade; default "6-5-5" for GOST, required for ISO), overrides_um (see read_overrides).
+ToleranceSpec read_tolerances(const YamlMap& tolerances) {
+  ToleranceSpec spec;
+  const std::vector<std::string> standards = {standard_name(ToleranceStandard::kGost1643_81),
+                                              standard_name(ToleranceStandard::kIso1328_1_2013)};
+  if (const auto standard = tolerances.get_choice("standard", standards)) {
+    spec.standard = *standard == standards[0] ? ToleranceStandard::kGost1643_81
+                                              : ToleranceStandard::kIso1328_1_2013;
+  }
+  if (const auto grade = tolerances.find("grade")) {
+    spec.grade = read_grade(*grade, spec.standard);
+  } else if (spec.standard == ToleranceStandard::kIso1328_1_2013) {
+    throw tolerances.missing("grade",
+                             "an ISO 1328-1:2013 flank tolerance class, an integer from 1 to 11");
+  }
+  if (const auto overrides = tolerances.find("overrides_um")) {
+    spec.overrides_um = read_overrides(overrides->as_open_map(), spec.standard);
+  }
+  return spec;
+}
+
+// {distribution: uniform | normal, k: > 0}, each key falling back to `base`.
+DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base) {
+  if (const auto law = map.get_choice("distribution", {"uniform", "normal"})) {
+    base.law = *law == "normal" ? DeviationDistribution::Law::kNormal
+                                : DeviationDistribution::Law::kUniform;
+  }
+  base.k = map.get_number("k", NumberRange::positive(), "tolerance = k sigma for the normal law")
+               .value_or(base.k);
+  return base;
+}
+
+// deviations: random (bool, default true); distribution and k: the default law of every group;
+// eccentricity, pitch, thickness: {distribution, k}; profile, helix: {distribution, k,
+// control_points 4..64} (the law applies to both slope and form of the group); normal_um: a
+// muParser expression in L, z, tooth, side (µm), checked where it is compiled.
+DeviationModel read_deviations(const YamlMap& deviations, std::string* normal_expression_um) {
+  DeviationModel model;
+  model.random = deviations.get_bool("random").value_or(model.random);
+  const DeviationDistribution base = read_law(deviations, DeviationDistribution{});
+  model.eccentricity = model.pitch = model.thickness = model.profile_slope = model.profile_form =
+      model.helix_slope = model.helix_form = base;
+
+  const std::vector<std::string> law_keys = {"distribution", "k"};
+  const std::vector<std::pair<std::string, DeviationDistribution*>> simple_groups = {
+      {"eccentricity", &model.eccentricity},
+      {"pitch", &model.pitch},
+      {"thickness", &model.thickness}};
+  for (const auto& [key, law] : simple_groups) {
+    if (const auto group = deviations.get_map(key, law_keys)) *law = read_law(*group, base);
+  }
+
+  const std::vector<std::string> shape_keys = {"distribution", "k", "control_points"};
+  if (const auto profile = deviations.get_map("profile", shape_keys)) {
+    model.profile_slope = model.profile_form = read_law(*profile, base);
+    model.profile_form_control_points = static_cast<int>(
+        profile->get_int("control_points", 4, 64).value_or(model.profile_form_control_points));
+  }
+  if (const auto helix = deviations.get_map("helix", shape_keys)) {
+    model.helix_slope = model.helix_form = read_law(*helix, base);
+    model.helix_form_control_points = static_cast<int>(
+        helix->get_int("control_points", 4, 64).value_or(model.helix_form_control_points));
+  }
+
+  if (const auto expression = deviations.find("normal_um")) {
+    const std::string expected =
+        "a muParser expression of L, z, tooth, side giving µm, e.g. \"2*sin(2*_pi*L/5)\"";
+    if (!expression->is_scalar()) throw expression->error(expected);
+    const std::string text = expression->node().Scalar();
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw expression->error(expected);
+    try {
+      const NormalExpression compiled(text);  // compile now: errors point into the file
+    } catch (const ExpressionError& e) {
+      throw expression->error(expected + " (muParser: " + e.what() + " at character " +
+                              std::to_string(e.position() + 1) + ")");
+    }
+    *normal_expression_um = text;
+  }
+  return model;
+}
+
+// The scenario's name: results go to results/<name>/, so it must be one plain path component.
+std::string read_name(const YamlValue& value) {
+  const std::string expected = "a non-empty name without '/' or '\\' (it names the results folder)";
+  const std::string name = value.as_string();
+  if (name.empty() || name == "." || name == ".." ||
+      name.find_first_of("/\\") != std::string::npos) {
+    throw value.error(expected);
+  }
+  return name;
+}
+
+}  // namespace
+
+Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name) {
+  const YamlValue root = parse_yaml_document(yaml_text, source_name);
+  const std::string expected_top =
+      "a map of scenario keys (name, seed, gear, tolerances, deviations)";
+  if (root.is_null()) {
+    throw InputError(root.location(), "", "", expected_top + ", but the scenario is empty");
+  }
+  if (!root.is_map()) throw root.error(expected_top);
+  const YamlMap top = root.as_map({"name", "seed", "gear", "tolerances", "deviations"});
+
+  Scenario scenario;
+  scenario.source_path = source_name;
+  scenario.source_text = yaml_text;
+  if (const auto name = top.find("name")) {
+    scenario.name = read_name(*name);
+  } else {
+    scenario.name = std::filesystem::path(source_name).stem().string();
+    if (scenario.name.empty()) scenario.name = "scenario";
+  }
+  scenario.seed = top.get_uint64("seed").value_or(scenario.seed);
+  scenario.gear = read_gear(top.require_map(
+      "gear", {"teeth", "module_mm", "pressure_angle_deg", "profile_shift", "face_width_mm",
+               "tip_diameter_mm", "root_diameter_mm", "basic_rack"}));
+  if (const auto tolerances = top.get_map("tolerances", {"standard", "grade", "overrides_um"})) {
+    scenario.tolerances = read_tolerances(*tolerances);
+  }
+  if (const auto deviations =
+          top.get_map("deviations", {"random", "distribution", "k", "eccentricity", "pitch",
+                                     "thickness", "profile", "helix", "normal_um"})) {
+    scenario.deviations = read_deviations(*deviations, &scenario.normal_expression_um);
+  }
+  return scenario;
+}
+
+Scenario load_scenario_file(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError({path, 0, 0}, path + ": cannot read the scenario file: it is a directory");
+  }
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int code = errno;
+    throw InputError({path, 0, 0}, path + ": cannot read the scenario file: " +
+                                       (code != 0 ? std::strerror(code) : "cannot open it"));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    throw InputError({path, 0, 0}, path + ": cannot read the scenario file: read error");
+  }
+  return parse_scenario(text.str(), path);
+}
+
+}  // namespace gearmc

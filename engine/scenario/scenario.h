@@ -1,0 +1,37 @@
+// A scenario: everything one gearmc study is made of, read from a YAML file into typed,
+// validated values (design.md, principle 5). Unknown keys, wrong types and out-of-range values
+// are InputErrors with file:line:column. Units: mm, degrees, µm as the key names say.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "gears/deviations.h"
+#include "gears/involute_gear.h"
+#include "gears/tolerances.h"
+
+namespace gearmc {
+
+struct Scenario {
+  std::string name;         // from `name:`, else the file's stem
+  std::string source_path;  // file it was read from ("<built-in>" for the reference)
+  std::string source_text;  // the YAML text itself (reports show it)
+  std::uint64_t seed = 1;
+  GearParameters gear;
+  ToleranceSpec tolerances;
+  DeviationModel deviations;
+  // Deterministic normal deviation, muParser syntax in L, z, tooth, side (µm), added to the
+  // random deviations (interface.md, "Deterministic deviations"). Empty = none.
+  std::string normal_expression_um;
+};
+
+// Reads and validates a scenario file. Throws InputError.
+Scenario load_scenario_file(const std::string& path);
+// Same, from text; `source_name` is used in error messages.
+Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name);
+// The built-in reference scenario: P1's gear (Table 1) with P1's tolerances. Its text is the
+// same as scenarios/p1_reference.yaml.
+Scenario reference_scenario();
+
+}  // namespace gearmc

@@ -1,0 +1,495 @@
+// Deviation model of perturbed gears: cubic B-spline form fields, the ISO evaluation of
+// deviation traces, the radial-runout measurement, and the sampler that draws gear k within its
+// tolerances.
+//
+// How the sampler keeps every drawn gear within tolerance (README, "Deviation model"):
+//  * profile and helix: a random smooth shape (B-spline, N(0,1) control values, its mean line
+//    removed exactly through the spline's linear precision) is scaled to a drawn form band,
+//    a drawn slope is added, and the sum is scaled by one factor <= 1 so that slope, form and
+//    total, measured the ISO way on a dense grid (64 samples per spline span), are within
+//    their tolerances times (1 - kSafety). The margin covers the difference between the dense
+//    grid and the continuous trace (at most h^2/8 max|d''|, about 3e-4 of the form band).
+//  * pitch: each flank's location is drawn within +/- f_pb/4 (f_pb = min(f_pb, f_pt cos alpha)),
+//    then made zero-mean per side, so consecutive flanks differ by at most f_pb/2; the other half
+//    of the budget is left to eccentricity, whose contribution to a single pitch is at most 2 e
+//    sin(pi/z).
+//  * runout: measured (ball at mid face) on the gear without eccentricity, R0; eccentricity
+//    adds at most 2e, so e <= (F_r - R0)/2.
+//  * thickness: the rack shift lies in [-(E_Hs + T_H), -E_Hs] (GOST 1643-81 magnitudes).
+#include "gears/deviations.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "gears/random_stream.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kSafety = 1e-3;     // relative margin kept below each tolerance
+constexpr int kSamplesPerSpan = 64;  // dense grid of the sampler's trace evaluation
+
+// Knot vector of a clamped uniform cubic B-spline with n coefficients on [t0, t1].
+double knot(int i, int n, double t0, double t1) {
+  const int spans = n - 3;
+  const int j = std::clamp(i - 3, 0, spans);
+  return t0 + (t1 - t0) * j / spans;
+}
+
+}  // namespace
+
+CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients)
+    : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
+  assert(c_.size() >= 4 && t1_ > t0_);
+}
+
+double CubicBSpline::greville(int i) const {
+  const int n = static_cast<int>(c_.size());
+  return (knot(i + 1, n, t0_, t1_) + knot(i + 2, n, t0_, t1_) + knot(i + 3, n, t0_, t1_)) / 3.0;
+}
+
+void CubicBSpline::evaluate_inside(double t, double* v, double* d1, double* d2) const {
+  // Basis functions and their first two derivatives on the knot span of t (Piegl & Tiller,
+  // The NURBS Book, algorithm A2.3, degree 3).
+  constexpr int p = 3;
+  const int n = static_cast<int>(c_.size());
+  const int spans = n - 3;
+  const double h = (t1_ - t0_) / spans;
+  const int span = 3 + std::clamp(static_cast<int>((t - t0_) / h), 0, spans - 1);
+  auto U = [&](int i) { return knot(i, n, t0_, t1_); };
+
+  double ndu[p + 1][p + 1], left[p + 1], right[p + 1];
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = t - U(span + 1 - j);
+    right[j] = U(span + j) - t;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];
+      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  double ders[3][p + 1];
+  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
+  double a[2][p + 1];
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= 2; ++k) {
+      double d = 0.0;
+      const int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      const int j1 = rk >= -1 ? 1 : -rk;
+      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  for (int j = 0; j <= p; ++j) {
+    ders[1][j] *= p;
+    ders[2][j] *= p * (p - 1);
+  }
+  double value = 0.0, first = 0.0, second = 0.0;
+  for (int j = 0; j <= p; ++j) {
+    const double c = c_[span - p + j];
+    value += c * ders[0][j];
+    first += c * ders[1][j];
+    second += c * ders[2][j];
+  }
+  if (v) *v = value;
+  if (d1) *d1 = first;
+  if (d2) *d2 = second;
+}
+
+double CubicBSpline::value(double t) const {
+  if (c_.empty()) return 0.0;
+  if (t < t0_ || t > t1_) {  // linear continuation outside [t0, t1]
+    const double tc = std::clamp(t, t0_, t1_);
+    double v, d1;
+    evaluate_inside(tc, &v, &d1, nullptr);
+    return v + d1 * (t - tc);
+  }
+  // Value only: de Boor's recursion on the span of t (degree 3).
+  const int n = static_cast<int>(c_.size());
+  const int spans = n - 3;
+  const double h = (t1_ - t0_) / spans;
+  const int span = 3 + std::clamp(static_cast<int>((t - t0_) / h), 0, spans - 1);
+  double d[4];
+  for (int j = 0; j < 4; ++j) d[j] = c_[span - 3 + j];
+  for (int r = 1; r <= 3; ++r) {
+    for (int j = 3; j >= r; --j) {
+      const double left = knot(span - 3 + j, n, t0_, t1_);
+      const double right = knot(span + 1 + j - r, n, t0_, t1_);
+      const double a = (t - left) / (right - left);
+      d[j] = (1.0 - a) * d[j - 1] + a * d[j];
+    }
+  }
+  return d[3];
+}
+
+double CubicBSpline::derivative(double t) const {
+  if (c_.empty()) return 0.0;
+  double d1;
+  evaluate_inside(std::clamp(t, t0_, t1_), nullptr, &d1, nullptr);
+  return d1;
+}
+
+double CubicBSpline::second_derivative(double t) const {
+  if (c_.empty() || t < t0_ || t > t1_) return 0.0;
+  double d2;
+  evaluate_inside(t, nullptr, nullptr, &d2);
+  return d2;
+}
+
+double FlankDeviation::normal_um(double L, double z) const {
+  return offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + profile_form.value(L) +
+         helix_slope_um_per_mm * (z - helix_mid_mm) + helix_form.value(z);
+}
+double FlankDeviation::d_dL(double L) const {
+  return profile_slope_um_per_mm + profile_form.derivative(L);
+}
+double FlankDeviation::d_dz(double z) const {
+  return helix_slope_um_per_mm + helix_form.derivative(z);
+}
+double FlankDeviation::d2_dL2(double L) const { return profile_form.second_derivative(L); }
+double FlankDeviation::d2_dz2(double z) const { return helix_form.second_derivative(z); }
+
+TraceEvaluation evaluate_trace(std::span<const double> x, std::span<const double> d) {
+  assert(x.size() == d.size() && x.size() >= 2);
+  // Trapezoid weights: the weighted least-squares line is the continuous one (ISO defines the
+  // mean line over the trace, not over a sample) to O(h^2); plain sums would be off by O(h),
+  // e.g. 0.3 µm of slope for 200 samples of a trace with 5 µm at its ends.
+  const size_t n = x.size();
+  double W = 0.0, mx = 0.0, md = 0.0;
+  auto weight = [&](size_t i) {
+    const double left = i > 0 ? x[i] - x[i - 1] : 0.0;
+    const double right = i + 1 < n ? x[i + 1] - x[i] : 0.0;
+    return 0.5 * (left + right);
+  };
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weight(i);
+    W += w;
+    mx += w * x[i];
+    md += w * d[i];
+  }
+  mx /= W;
+  md /= W;
+  double sxx = 0.0, sxd = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weight(i);
+    sxx += w * (x[i] - mx) * (x[i] - mx);
+    sxd += w * (x[i] - mx) * (d[i] - md);
+  }
+  const double b = sxd / sxx;  // least-squares mean line: md + b (x - mx)
+  double rmin = std::numeric_limits<double>::infinity(), rmax = -rmin, dmin = rmin, dmax = -rmin;
+  for (size_t i = 0; i < n; ++i) {
+    const double r = d[i] - (md + b * (x[i] - mx));
+    rmin = std::min(rmin, r);
+    rmax = std::max(rmax, r);
+    dmin = std::min(dmin, d[i]);
+    dmax = std::max(dmax, d[i]);
+  }
+  return {b * (x.back() - x.front()), rmax - rmin, dmax - dmin};
+}
+
+EvaluationRanges evaluation_ranges(const InvoluteGear& gear) {
+  const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
+  const double b = gear.face_width_mm();
+  const double c = std::min(0.05 * b, gear.module_mm());
+  return {L0, L0 + 0.95 * (L1 - L0), c, b - c};
+}
+
+namespace {
+
+// Signed draw in [-1, 1] (tolerance units) following the distribution law.
+double signed_draw(const DeviationDistribution& law, RandomStream& rng) {
+  if (law.law == DeviationDistribution::Law::kUniform) return rng.uniform(-1.0, 1.0);
+  for (;;) {  // truncated normal by rejection: tolerance = k sigma
+    const double v = rng.normal() / law.k;
+    if (std::abs(v) <= 1.0) return v;
+  }
+}
+
+// Amplitude draw in [0, 1].
+double amplitude_draw(const DeviationDistribution& law, RandomStream& rng) {
+  if (law.law == DeviationDistribution::Law::kUniform) return rng.uniform();
+  return std::abs(signed_draw(law, rng));
+}
+
+std::vector<double> dense_grid(double t0, double t1, int spans) {
+  const int m = kSamplesPerSpan * spans + 1;
+  std::vector<double> x(m);
+  for (int i = 0; i < m; ++i) x[i] = t0 + (t1 - t0) * i / (m - 1);
+  return x;
+}
+
+// Tolerances bounding one trace (profile or helix); absent ones are infinite.
+struct TraceTolerances {
+  std::optional<double> slope, form, total;
+  bool any() const { return slope || form || total; }
+};
+
+// One random trace shape within its tolerances: writes the slope (µm/mm) and the form spline.
+void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_law,
+                const DeviationDistribution& form_law, int control_points, double t0, double t1,
+                RandomStream& rng, double* slope_um_per_mm, CubicBSpline* form) {
+  *slope_um_per_mm = 0.0;
+  *form = CubicBSpline();
+  if (!tol.any()) return;
+  const double range = t1 - t0, mid = 0.5 * (t0 + t1);
+
+  // Targets. With only a total tolerance (GOST f_f, F_beta) the drawn total band is split
+  // between slope and form by a uniform fraction.
+  double slope_target, form_target;
+  std::optional<double> total_target;
+  if (tol.slope || tol.form) {
+    slope_target = tol.slope ? *tol.slope * signed_draw(slope_law, rng) : 0.0;
+    form_target = tol.form ? *tol.form * amplitude_draw(form_law, rng) : 0.0;
+  } else {
+    const double total = *tol.total * amplitude_draw(form_law, rng);
+    const double q = rng.uniform();
+    slope_target = (rng.uniform() < 0.5 ? -1.0 : 1.0) * q * total;
+    form_target = (1.0 - q) * total;
+    total_target = total;
+  }
+
+  // Form shape: N(0,1) control values, mean line removed, scaled to the target band. The
+  // spline is linear in its coefficients and reproduces lines exactly, so the grid values are
+  // computed once and every later step is applied to them and to the coefficients alike.
+  std::vector<double> c(control_points);
+  for (double& v : c) v = rng.normal();
+  CubicBSpline shape(t0, t1, c);
+  const std::vector<double> x = dense_grid(t0, t1, control_points - 3);
+  std::vector<double> d(x.size());
+  for (size_t i = 0; i < x.size(); ++i) d[i] = shape.value(x[i]);
+  // Its weighted least-squares line (as evaluate_trace: trapezoid weights on the uniform grid).
+  const double h = x[1] - x[0];
+  double W = 0.0, mx = 0.0, md = 0.0, sxx = 0.0, sxd = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double w = (i == 0 || i + 1 == x.size()) ? 0.5 * h : h;
+    W += w, mx += w * x[i], md += w * d[i];
+  }
+  mx /= W;
+  md /= W;
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double w = (i == 0 || i + 1 == x.size()) ? 0.5 * h : h;
+    sxx += w * (x[i] - mx) * (x[i] - mx);
+    sxd += w * (x[i] - mx) * (d[i] - md);
+  }
+  const double b = sxd / sxx;
+  for (int i = 0; i < control_points; ++i) {  // linear precision: subtracts the line exactly
+    shape.coefficients()[i] -= md + b * (shape.greville(i) - mx);
+  }
+  for (size_t i = 0; i < x.size(); ++i) d[i] -= md + b * (x[i] - mx);
+  const double band = evaluate_trace(x, d).form_um;
+  const double to_target = band > 0.0 ? form_target / band : 0.0;
+  for (double& v : shape.coefficients()) v *= to_target;
+  std::vector<double> form_values(x.size());
+  for (size_t i = 0; i < x.size(); ++i) form_values[i] = d[i] * to_target;
+
+  // Compose, measure, and scale the whole trace into every tolerance.
+  const double slope = slope_target / range;
+  for (size_t i = 0; i < x.size(); ++i) d[i] = slope * (x[i] - mid) + form_values[i];
+  const TraceEvaluation e = evaluate_trace(x, d);
+  double factor = 1.0;
+  auto limit = [&](std::optional<double> tolerance, double measured) {
+    if (tolerance && measured > 0.0) factor = std::min(factor, *tolerance / measured);
+  };
+  limit(tol.slope, std::abs(e.slope_um));
+  limit(tol.form, e.form_um);
+  limit(tol.total, e.total_um);
+  if (total_target && e.total_um > 0.0) factor = *total_target / e.total_um;
+  factor *= 1.0 - kSafety;
+  for (double& v : shape.coefficients()) v *= factor;
+  *slope_um_per_mm = slope * factor;
+  *form = std::move(shape);
+}
+
+// The real flank's signed normal distance (mm, + outside the material) of point X (datum frame,
+// mm), and the roll length of its foot, for the flank of `tooth` on `side` of a perturbed gear:
+// closed form for an involute, r_b (inv(alpha_X) +/- phi - theta_b), minus the deviation at the
+// foot (first order in the deviation; its error is d * slope^2, far below a nanometre).
+double distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, int tooth,
+                              FlankSide side, const Eigen::Vector2d& X, double z) {
+  const Eigen::Vector2d Xg = X - g.eccentricity_mm;  // into the gear's own frame
+  const double r_b = gear.base_diameter_mm() / 2.0;
+  const double rho = Xg.norm();
+  const double t = std::sqrt(std::max(0.0, rho * rho - r_b * r_b));
+  const double alpha_x = std::atan2(t, r_b);
+  double phi = std::atan2(Xg.y(), Xg.x()) - gear.tooth_centre_angle_rad(tooth);
+  phi = std::remainder(phi, 2.0 * kPi);
+  const double s = side_sign(side);
+  const double theta_b = gear.base_half_angle_rad();
+  const double distance = r_b * (involute_function(alpha_x) + s * phi - theta_b);
+  const double foot_L = r_b * (theta_b - s * phi + alpha_x);
+  return distance - 1e-3 * g.flank(tooth, side).normal_um(foot_L, z);
+}
+
+}  // namespace
+
+double radial_runout_um(const InvoluteGear& gear, const PerturbedGear& g) {
+  const EvaluationRanges ranges = evaluation_ranges(gear);
+  const double z = 0.5 * gear.face_width_mm();
+  const int teeth = gear.teeth();
+  // Ball radius: touches the nominal flanks at the middle of the profile evaluation range.
+  // Space 1 lies between the R flank of tooth 1 and the L flank of tooth 2, centred on tau/2.
+  const double L_c = 0.5 * (ranges.profile_start_mm + ranges.profile_end_mm);
+  const FlankPoint c = gear.flank_point(1, FlankSide::kRight, L_c, z);
+  const double half = 0.5 * gear.angular_pitch_rad();
+  const Eigen::Vector2d bisector_normal(-std::sin(half), std::cos(half));
+  const Eigen::Vector2d p = c.point.head<2>(), n = c.normal.head<2>();
+  const double r_ball = -p.dot(bisector_normal) / n.dot(bisector_normal);
+  const double rho_nominal = (p + r_ball * n).norm();
+
+  double rho_min = std::numeric_limits<double>::infinity(), rho_max = -rho_min;
+  for (int k = 1; k <= teeth; ++k) {
+    const int next = k % teeth + 1;
+    const double angle = gear.tooth_centre_angle_rad(k) + half;
+    Eigen::Vector2d X = rho_nominal * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    auto residual = [&](const Eigen::Vector2d& Y) {
+      return Eigen::Vector2d(
+          distance_to_real_flank(gear, g, k, FlankSide::kRight, Y, z) - r_ball,
+          distance_to_real_flank(gear, g, next, FlankSide::kLeft, Y, z) - r_ball);
+    };
+    for (int iter = 0; iter < 20; ++iter) {  // Newton, finite-difference Jacobian
+      const Eigen::Vector2d f = residual(X);
+      if (f.cwiseAbs().maxCoeff() < 1e-10) break;
+      constexpr double h = 1e-7;
+      Eigen::Matrix2d J;
+      J.col(0) = (residual(X + Eigen::Vector2d(h, 0)) - f) / h;
+      J.col(1) = (residual(X + Eigen::Vector2d(0, h)) - f) / h;
+      X -= J.partialPivLu().solve(f);
+    }
+    rho_min = std::min(rho_min, X.norm());
+    rho_max = std::max(rho_max, X.norm());
+  }
+  return 1e3 * (rho_max - rho_min);
+}
+
+GearSampler::GearSampler(const InvoluteGear& gear, const ToleranceSet& tolerances,
+                         DeviationModel model, std::uint64_t seed)
+    : gear_(gear),
+      tolerances_(tolerances),
+      model_(std::move(model)),
+      seed_(seed),
+      ranges_(evaluation_ranges(gear)) {}
+
+PerturbedGear GearSampler::draw(int gear_index) const {
+  const int z = gear_.teeth();
+  const auto k = static_cast<std::uint32_t>(gear_index);
+  PerturbedGear g;
+  g.index = gear_index;
+  g.flanks.resize(2 * z);
+  const EvaluationRanges& r = ranges_;
+  for (FlankDeviation& f : g.flanks) {
+    f.profile_mid_mm = 0.5 * (r.profile_start_mm + r.profile_end_mm);
+    f.helix_mid_mm = 0.5 * (r.helix_start_mm + r.helix_end_mm);
+  }
+  if (!model_.random) return g;
+  const double alpha = gear_.pressure_angle_rad();
+  auto tol = [&](ToleranceKind kind) { return tolerances_.get_um(kind); };
+
+  // Thickness: one rack shift per gear, in [-(E_Hs + T_H), -E_Hs].
+  const auto E_Hs = tol(ToleranceKind::kThicknessUpper);
+  const auto T_H = tol(ToleranceKind::kThicknessTolerance);
+  if (E_Hs || T_H) {
+    RandomStream rng(seed_, k, StreamPurpose::kThickness);
+    const double half = 0.5 * T_H.value_or(0.0);
+    g.rack_shift_um = -E_Hs.value_or(0.0) - half + half * signed_draw(model_.thickness, rng);
+  }
+  const double thickness_offset = g.rack_shift_um * std::sin(alpha);
+
+  // Pitch: flank locations within +/- f_pb/4.
+  std::optional<double> pitch_budget = tol(ToleranceKind::kBasePitch);
+  if (const auto f_pt = tol(ToleranceKind::kSinglePitch)) {
+    const double on_base = *f_pt * std::cos(alpha);  // arc on d -> normal: x cos(alpha)
+    pitch_budget = pitch_budget ? std::min(*pitch_budget, on_base) : on_base;
+  }
+  std::vector<double> pitch(2 * z, 0.0);
+  if (pitch_budget) {
+    RandomStream rng(seed_, k, StreamPurpose::kPitch);
+    for (double& w : pitch) w = 0.25 * *pitch_budget * signed_draw(model_.pitch, rng);
+    // Zero mean on each side: the gear's thickness stays the drawn rack shift; differences
+    // between flanks (pitch) and space widths up to a constant (runout) are unchanged.
+    for (int side = 0; side < 2; ++side) {
+      double mean = 0.0;
+      for (int i = side; i < 2 * z; i += 2) mean += pitch[i] / z;
+      for (int i = side; i < 2 * z; i += 2) pitch[i] -= mean;
+    }
+  }
+
+  // Profile and helix shape, flank by flank, each from its own stream.
+  const TraceTolerances profile_tol{tol(ToleranceKind::kProfileSlope),
+                                    tol(ToleranceKind::kProfileForm),
+                                    tol(ToleranceKind::kProfileTotal)};
+  const TraceTolerances helix_tol{tol(ToleranceKind::kHelixSlope), tol(ToleranceKind::kHelixForm),
+                                  tol(ToleranceKind::kHelixTotal)};
+  for (int i = 0; i < 2 * z; ++i) {
+    FlankDeviation& f = g.flanks[i];
+    RandomStream profile_rng(seed_, k, StreamPurpose::kProfile, static_cast<std::uint32_t>(i));
+    draw_trace(profile_tol, model_.profile_slope, model_.profile_form,
+               model_.profile_form_control_points, r.profile_start_mm, r.profile_end_mm,
+               profile_rng, &f.profile_slope_um_per_mm, &f.profile_form);
+    RandomStream helix_rng(seed_, k, StreamPurpose::kHelix, static_cast<std::uint32_t>(i));
+    draw_trace(helix_tol, model_.helix_slope, model_.helix_form, model_.helix_form_control_points,
+               r.helix_start_mm, r.helix_end_mm, helix_rng, &f.helix_slope_um_per_mm,
+               &f.helix_form);
+  }
+
+  // Runout without eccentricity; shrink the pitch part if it alone breaks F_r.
+  auto set_offsets = [&](double pitch_scale) {
+    for (int i = 0; i < 2 * z; ++i)
+      g.flanks[i].offset_um = thickness_offset + pitch_scale * pitch[i];
+  };
+  set_offsets(1.0);
+  const auto F_r = tol(ToleranceKind::kRunout);
+  double runout = radial_runout_um(gear_, g);
+  if (F_r) {
+    double scale = 1.0;
+    while (runout > *F_r * (1.0 - kSafety) && scale > 1e-3) {
+      scale *= 0.8;
+      set_offsets(scale);
+      runout = radial_runout_um(gear_, g);
+    }
+    if (runout > *F_r * (1.0 - kSafety)) {
+      throw ToleranceError("runout tolerance F_r = " + std::to_string(*F_r) +
+                           " µm is smaller than the runout the profile and helix tolerances "
+                           "alone allow (" +
+                           std::to_string(runout) + " µm); raise F_r");
+    }
+  }
+
+  // Eccentricity: within half of the pitch budget and of what is left of F_r.
+  double e_max = std::numeric_limits<double>::infinity();
+  if (pitch_budget) e_max = 0.5 * *pitch_budget / (2.0 * std::sin(kPi / z));
+  if (F_r) e_max = std::min(e_max, 0.5 * (*F_r * (1.0 - kSafety) - runout));
+  if (std::isfinite(e_max) && e_max > 0.0) {
+    RandomStream rng(seed_, k, StreamPurpose::kEccentricity);
+    const double e_um = e_max * amplitude_draw(model_.eccentricity, rng);
+    const double angle = rng.uniform(0.0, 2.0 * kPi);
+    g.eccentricity_mm = 1e-3 * e_um * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  }
+  return g;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,140 @@
+// Deviation model of perturbed gears: what a scenario says about random deviations (their
+// distributions and the smoothness of form deviations), the deviations of one drawn gear
+// (eccentricity, per-flank location, profile and helix slope and form), the ISO way of
+// evaluating a deviation trace, and the sampler that draws gear k from its own streams so that
+// every deviation stays within its tolerance.
+//
+// A flank's real surface is the nominal flank moved along its outward normal by
+//   d(L, z) = offset + profile(L) + helix(z)   [µm, + = material added]
+// and then translated with the whole gear by the eccentricity vector. profile() and helix()
+// have a least-squares mean line through zero at the middle of their evaluation range, so
+// `offset` is the flank's location (thickness and pitch), and profile/helix are its shape.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gears/involute_gear.h"
+#include "gears/tolerances.h"
+
+namespace gearmc {
+
+// How a deviation is drawn within its tolerance T.
+//  kUniform: signed ones uniform in [-T, T], amplitudes uniform in [0, T];
+//  kNormal:  N(0, T/k) truncated to [-T, T] (amplitudes: |N(0, T/k)| truncated to [0, T]).
+struct DeviationDistribution {
+  enum class Law { kUniform, kNormal } law = Law::kUniform;
+  double k = 3.0;  // tolerance = k sigma for kNormal
+};
+
+// The scenario's deviation model.
+struct DeviationModel {
+  bool random = true;  // false: the nominal gear (plus any expression deviation)
+  DeviationDistribution eccentricity, pitch, thickness, profile_slope, profile_form, helix_slope,
+      helix_form;
+  // Smoothness of the form deviations: number of control values of the cubic B-spline over the
+  // evaluation range (>= 4). Correlation length ≈ range / (n - 3): more = wavier = larger slopes.
+  int profile_form_control_points = 8;
+  int helix_form_control_points = 6;
+};
+
+// Clamped uniform cubic B-spline on [t0, t1], linearly continued outside (value and slope of
+// the end), so it is C2 inside and C1 everywhere. Values in µm, t in mm.
+class CubicBSpline {
+ public:
+  CubicBSpline() = default;  // identically zero
+  CubicBSpline(double t0, double t1, std::vector<double> coefficients);
+  double value(double t) const;
+  double derivative(double t) const;         // µm/mm
+  double second_derivative(double t) const;  // µm/mm²
+  // Greville abscissa of coefficient i: a spline with coefficients a + b*greville(i) is the
+  // line a + b t exactly (linear precision).
+  double greville(int i) const;
+  std::vector<double>& coefficients() { return c_; }
+  const std::vector<double>& coefficients() const { return c_; }
+  double t0() const { return t0_; }
+  double t1() const { return t1_; }
+
+ private:
+  // Value and derivatives of the spline inside [t0, t1].
+  void evaluate_inside(double t, double* v, double* d1, double* d2) const;
+  double t0_ = 0.0, t1_ = 1.0;
+  std::vector<double> c_;
+};
+
+// One flank's normal deviation d(L, z) = offset + profile_slope*(L - L_mid) + profile_form(L)
+// + helix_slope*(z - z_mid) + helix_form(z), µm. L and z in mm.
+struct FlankDeviation {
+  double offset_um = 0.0;
+  double profile_slope_um_per_mm = 0.0, profile_mid_mm = 0.0;
+  CubicBSpline profile_form;
+  double helix_slope_um_per_mm = 0.0, helix_mid_mm = 0.0;
+  CubicBSpline helix_form;
+
+  double normal_um(double L, double z) const;
+  double d_dL(double L) const;    // ∂d/∂L, µm/mm (depends on L only)
+  double d_dz(double z) const;    // ∂d/∂z, µm/mm (depends on z only)
+  double d2_dL2(double L) const;  // µm/mm²
+  double d2_dz2(double z) const;  // µm/mm²
+};
+
+// A drawn gear: every deviation of gear `index`.
+struct PerturbedGear {
+  int index = 0;
+  Eigen::Vector2d eccentricity_mm = Eigen::Vector2d::Zero();  // gear centre off the datum axis
+  double rack_shift_um = 0.0;          // thickness: each flank moves by rack_shift * sin(alpha)
+  std::vector<FlankDeviation> flanks;  // 2 per tooth: index 2*(tooth-1) + (R ? 1 : 0)
+
+  const FlankDeviation& flank(int tooth, FlankSide side) const {
+    return flanks[2 * (tooth - 1) + (side == FlankSide::kRight ? 1 : 0)];
+  }
+  FlankDeviation& flank(int tooth, FlankSide side) {
+    return flanks[2 * (tooth - 1) + (side == FlankSide::kRight ? 1 : 0)];
+  }
+};
+
+// The ISO evaluation of a deviation trace d(x) sampled at increasing x (ISO 1328-1:2013 §3.3,
+// 3.4): the mean line is the least-squares line of the trace (trapezoid-weighted over the
+// samples, so it approximates the continuous line to O(h^2)); slope = difference of the
+// mean line's values at the range ends (signed); form = distance between two parallels to the
+// mean line enclosing the trace; total = distance between two parallels to the design line
+// (d = 0) enclosing the trace = max - min.
+struct TraceEvaluation {
+  double slope_um = 0.0, form_um = 0.0, total_um = 0.0;
+};
+TraceEvaluation evaluate_trace(std::span<const double> x, std::span<const double> d);
+
+// Evaluation ranges (mm) used for tolerances and for placing deviation fields:
+// profile: from the form circle over 95 % of the roll length up to the tip (the tip end is
+// excluded as ISO 1328-1 does); helix: b minus min(5 % b, m) at each end.
+struct EvaluationRanges {
+  double profile_start_mm, profile_end_mm, helix_start_mm, helix_end_mm;
+};
+EvaluationRanges evaluation_ranges(const InvoluteGear& gear);
+
+// Draws perturbed gears within the resolved tolerances. Thread-safe: draw() is const and every
+// random number comes from the gear's own streams (seed, gear index, purpose, flank).
+class GearSampler {
+ public:
+  GearSampler(const InvoluteGear& gear, const ToleranceSet& tolerances, DeviationModel model,
+              std::uint64_t seed);
+  PerturbedGear draw(int gear_index) const;
+  const EvaluationRanges& ranges() const { return ranges_; }
+
+ private:
+  const InvoluteGear& gear_;
+  ToleranceSet tolerances_;
+  DeviationModel model_;
+  std::uint64_t seed_;
+  EvaluationRanges ranges_;
+};
+
+// Radial runout (µm) as ISO 10064-4 measures it: a ball touching both flanks of every tooth
+// space at mid face width (z = b/2) in the datum frame (gear axis = Z); runout = max - min of
+// the ball centre's distance from the axis. The ball's radius makes it touch the nominal flanks
+// at the middle of the profile evaluation range. Form deviations are included to first order.
+double radial_runout_um(const InvoluteGear& gear, const PerturbedGear& perturbed);
+
+}  // namespace gearmc

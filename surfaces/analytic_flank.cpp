@@ -1,0 +1,78 @@
+// Real flank surface S(L, z) = P + delta n + eps and its derivatives (see analytic_flank.h).
+// With t the unit profile tangent, r_b the base radius and the involute relations
+// dP/dL = (L / r_b) t, dn/dL = t / r_b, dt/dL = -n / r_b (all involutes of one base circle
+// share their normals), the partials are
+//   S_L  = t (L + delta) / r_b + delta_L n,           S_z  = e_z + delta_z n,
+//   S_LL = t (1 + 2 delta_L) / r_b + n (delta_LL - (L + delta) / r_b^2),
+//   S_Lz = t delta_z / r_b + delta_Lz n,              S_zz = delta_zz n.
+#include "surfaces/analytic_flank.h"
+
+#include <Eigen/Geometry>
+
+namespace gearmc {
+
+Eigen::Vector3d FlankSurfacePoint::real_normal() const {
+  Eigen::Vector3d n = d_dL.cross(d_dz).normalized();
+  return n.dot(nominal_normal) < 0.0 ? Eigen::Vector3d(-n) : n;
+}
+
+AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side,
+                             const FlankDeviation& deviation,
+                             const Eigen::Vector2d& eccentricity_mm,
+                             const NormalExpression* expression)
+    : gear_(gear),
+      tooth_(tooth),
+      side_(side),
+      deviation_(deviation),
+      eccentricity_(eccentricity_mm.x(), eccentricity_mm.y(), 0.0),
+      expression_(expression) {}
+
+FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {
+  const FlankPoint nominal = gear_.flank_point(tooth_, side_, L, z);
+  const double r_b = 0.5 * gear_.base_diameter_mm();
+  // Deviation and its partials, converted from µm to mm.
+  double d = deviation_.normal_um(L, z);
+  double dL = deviation_.d_dL(L), dz = deviation_.d_dz(z);
+  double dLL = deviation_.d2_dL2(L), dzz = deviation_.d2_dz2(z), dLz = 0.0;
+  if (expression_) {
+    const int k = tooth_;
+    const double s = side_sign(side_);
+    constexpr double h = 1e-3;  // mm: second differences of the expression
+    const double e0 = expression_->value_um(L, z, k, s);
+    const double eLp = expression_->value_um(L + h, z, k, s);
+    const double eLm = expression_->value_um(L - h, z, k, s);
+    const double ezp = expression_->value_um(L, z + h, k, s);
+    const double ezm = expression_->value_um(L, z - h, k, s);
+    d += e0;
+    dL += (eLp - eLm) / (2 * h);
+    dz += (ezp - ezm) / (2 * h);
+    dLL += (eLp - 2 * e0 + eLm) / (h * h);
+    dzz += (ezp - 2 * e0 + ezm) / (h * h);
+    dLz += (expression_->value_um(L + h, z + h, k, s) - expression_->value_um(L + h, z - h, k, s) -
+            expression_->value_um(L - h, z + h, k, s) + expression_->value_um(L - h, z - h, k, s)) /
+           (4 * h * h);
+  }
+  const double delta = 1e-3 * d;
+  dL *= 1e-3, dz *= 1e-3, dLL *= 1e-3, dzz *= 1e-3, dLz *= 1e-3;
+  const Eigen::Vector3d& n = nominal.normal;
+  const Eigen::Vector3d& t = nominal.profile_tangent;
+  FlankSurfacePoint out;
+  out.point = nominal.point + delta * n + eccentricity_;
+  out.d_dL = t * ((L + delta) / r_b) + dL * n;
+  out.d_dz = Eigen::Vector3d::UnitZ() + dz * n;
+  out.d2_dL2 = t * ((1.0 + 2.0 * dL) / r_b) + n * (dLL - (L + delta) / (r_b * r_b));
+  out.d2_dLdz = t * (dz / r_b) + dLz * n;
+  out.d2_dz2 = dzz * n;
+  out.nominal_normal = n;
+  out.deviation_um = d;
+  return out;
+}
+
+Eigen::Vector3d AnalyticFlank::point(double L, double z) const {
+  const FlankPoint nominal = gear_.flank_point(tooth_, side_, L, z);
+  double d = deviation_.normal_um(L, z);
+  if (expression_) d += expression_->value_um(L, z, tooth_, side_sign(side_));
+  return nominal.point + 1e-3 * d * nominal.normal + eccentricity_;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,48 @@
+// The real flank of a perturbed gear as an analytic surface in the datum (CMM) frame:
+//   S(L, z) = P(L, z) + delta(L, z) n(L) + eps,
+// P and n the nominal involute point and outward normal (gears/involute_gear.h), delta the
+// normal deviation (random part + optional expression, mm) and eps the gear's eccentricity.
+// Gives the point, its first and second partial derivatives and the real unit normal, the
+// ingredients of the exact stylus contact (Newton on (L, z)). Lengths mm, deviations µm.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "gears/deviations.h"
+#include "gears/involute_gear.h"
+#include "gears/normal_expression.h"
+
+namespace gearmc {
+
+struct FlankSurfacePoint {
+  Eigen::Vector3d point;                    // S(L, z), mm
+  Eigen::Vector3d d_dL, d_dz;               // ∂S/∂L, ∂S/∂z
+  Eigen::Vector3d d2_dL2, d2_dLdz, d2_dz2;  // second partials
+  Eigen::Vector3d nominal_normal;           // n(L), unit, outward
+  double deviation_um;                      // delta(L, z) along n, µm
+  // Unit outward normal of the real surface: ∂S/∂L × ∂S/∂z oriented like n.
+  Eigen::Vector3d real_normal() const;
+};
+
+class AnalyticFlank {
+ public:
+  // `deviation` and `expression` (may be null) must outlive the flank.
+  AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side,
+                const FlankDeviation& deviation, const Eigen::Vector2d& eccentricity_mm,
+                const NormalExpression* expression = nullptr);
+
+  FlankSurfacePoint evaluate(double roll_length_mm, double z_mm) const;
+  Eigen::Vector3d point(double roll_length_mm, double z_mm) const;
+  int tooth() const { return tooth_; }
+  FlankSide side() const { return side_; }
+
+ private:
+  const InvoluteGear& gear_;
+  int tooth_;
+  FlankSide side_;
+  const FlankDeviation& deviation_;
+  Eigen::Vector3d eccentricity_;
+  const NormalExpression* expression_;
+};
+
+}  // namespace gearmc

@@ -1,0 +1,86 @@
+// The gearmc executable as a user runs it: exit codes, the geometry JSON of the reference
+// scenario (P1's Table 1 and tolerances) and one clear message for bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int exit_code;
+  std::string out, err;
+};
+
+Result run(const std::string& args) {
+  const std::string err_file = testing::TempDir() + "gearmc_cli_err.txt";
+  const std::string cmd = std::string(GEARMC_BINARY) + " " + args + " 2>" + err_file;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  std::ifstream e(err_file);
+  std::string err((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  return {WEXITSTATUS(status), out, err};
+}
+
+TEST(Cli, GeometryOfTheReferenceScenarioIsP1Table1) {
+  const Result r = run("geometry");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& g = doc["geometry_mm"];
+  // P1 Table 1 (sources.md), to 0.001 mm.
+  EXPECT_NEAR(g["reference_diameter_d"].get<double>(), 134.4, 1e-3);
+  EXPECT_NEAR(g["tip_diameter_d_a"].get<double>(), 155.693, 1e-3);
+  EXPECT_NEAR(g["root_diameter_d_f"].get<double>(), 130.493, 1e-3);
+  EXPECT_NEAR(g["base_diameter_d_b"].get<double>(), 126.295, 1e-3);
+  EXPECT_NEAR(g["tooth_thickness_s"].get<double>(), 12.47, 1e-3);
+  EXPECT_EQ(doc["scenario"], "p1_reference");
+  // P1's tolerances, µm: F_r 50, f_pb 9, f_f 8, E_Hs 110, T_H 100.
+  const auto& t = doc["tolerances_um"]["values"];
+  EXPECT_EQ(t["F_r"]["value"].get<double>(), 50);
+  EXPECT_EQ(t["f_pb"]["value"].get<double>(), 9);
+  EXPECT_EQ(t["f_f"]["value"].get<double>(), 8);
+  EXPECT_EQ(t["E_Hs"]["value"].get<double>(), 110);
+  EXPECT_EQ(t["T_H"]["value"].get<double>(), 100);
+  EXPECT_EQ(doc["tolerances_um"]["standard"], "gost_1643_81");
+}
+
+TEST(Cli, TheScenarioFileGivesTheSameAnswerAsTheBuiltIn) {
+  const Result file =
+      run(std::string("geometry ") + GEARMC_SOURCE_DIR + "/scenarios/p1_reference.yaml");
+  const Result builtin = run("geometry");
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  auto a = nlohmann::json::parse(file.out), b = nlohmann::json::parse(builtin.out);
+  a.erase("source");
+  b.erase("source");
+  EXPECT_EQ(a, b);
+}
+
+TEST(Cli, BadInputExitsWithTwoAndOneMessage) {
+  const Result missing = run("geometry /nonexistent/scenario.yaml");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("/nonexistent/scenario.yaml"), std::string::npos) << missing.err;
+  EXPECT_TRUE(missing.out.empty());
+
+  const std::string path = testing::TempDir() + "gearmc_bad_key.yaml";
+  std::ofstream(path) << "gear:\n  teeth: 24\n  modul_mm: 5.6\n  face_width_mm: 10\n";
+  const Result typo = run("geometry " + path);
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_NE(typo.err.find(path + ":3:3"), std::string::npos) << typo.err;
+  EXPECT_NE(typo.err.find("module_mm"), std::string::npos) << typo.err;  // did you mean
+
+  EXPECT_EQ(run("no-such-command").exit_code, 2);
+  EXPECT_EQ(run("geometry a.yaml b.yaml").exit_code, 2);
+  EXPECT_EQ(run("--help").exit_code, 0);
+}
+
+}  // namespace
