@@ -1,0 +1,124 @@
+// Stylus–flank contact by safeguarded Newton maximisation of the contact height (contact.h).
+// Gradient and Hessian of f = w.n + q, q = sqrt(R^2 - |w_perp|^2):
+//   f_u  = S_u.n - (w_perp.S_u) / q
+//   f_uv = S_uv.n - (S_v_perp.S_u + w_perp.S_uv) / q - (w_perp.S_u)(w_perp.S_v) / q^3
+#include "engine/probing/contact.h"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+
+namespace gearmc {
+namespace {
+
+constexpr double kStepTolerance = 1e-10;  // mm in (L, z): C to far below a nanometre
+constexpr int kMaxIterations = 60;
+constexpr double kNewtonRegion = 1e-4;  // mm: steps this small skip the line search
+
+struct Local {
+  double f;
+  Eigen::Vector2d gradient;
+  Eigen::Matrix2d hessian;
+  bool reachable;
+};
+
+Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                  double R, double L, double z) {
+  const FlankSurfacePoint s = flank.evaluate(L, z);
+  const Eigen::Vector3d w = s.point - p;
+  const Eigen::Vector3d w_perp = w - w.dot(n) * n;
+  const double q2 = R * R - w_perp.squaredNorm();
+  Local m{};
+  if (q2 <= 0.0) {
+    m.reachable = false;
+    m.f = -std::numeric_limits<double>::infinity();
+    return m;
+  }
+  m.reachable = true;
+  const double q = std::sqrt(q2);
+  m.f = w.dot(n) + q;
+  const Eigen::Vector3d* S1[2] = {&s.d_dL, &s.d_dz};
+  const Eigen::Vector3d S2[2][2] = {{s.d2_dL2, s.d2_dLdz}, {s.d2_dLdz, s.d2_dz2}};
+  double wS[2];
+  for (int a = 0; a < 2; ++a) {
+    wS[a] = w_perp.dot(*S1[a]);
+    m.gradient[a] = S1[a]->dot(n) - wS[a] / q;
+  }
+  for (int a = 0; a < 2; ++a) {
+    for (int b = 0; b < 2; ++b) {
+      const Eigen::Vector3d Sb_perp = *S1[b] - S1[b]->dot(n) * n;
+      m.hessian(a, b) = S2[a][b].dot(n) - (Sb_perp.dot(*S1[a]) + w_perp.dot(S2[a][b])) / q -
+                        wS[a] * wS[b] / (q * q * q);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                      const Eigen::Vector3d& n, double R, double L, double z) {
+  const Eigen::Vector3d w = flank.point(L, z) - p;
+  const double q2 = R * R - (w - w.dot(n) * n).squaredNorm();
+  return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
+}
+
+ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
+                            const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
+                            double z0) {
+  ContactResult result;
+  Eigen::Vector2d x(L0, z0);
+  Local m = local_model(flank, p, n, R, x[0], x[1]);
+  bool converged = false, at_edge = false;
+  int it = 0;
+  for (; it < kMaxIterations && m.reachable; ++it) {
+    // Newton step for the maximum; where the Hessian is not negative definite, shift it
+    // (Levenberg) so the step still goes uphill.
+    Eigen::Matrix2d H = m.hessian;
+    const double trace = H.trace(), det = H.determinant();
+    if (!(trace < 0.0 && det > 0.0)) {
+      const double largest = 0.5 * trace + std::sqrt(std::max(0.0, 0.25 * trace * trace - det));
+      H -= (largest + 1.0 / R) * Eigen::Matrix2d::Identity();
+    }
+    Eigen::Vector2d step = -H.inverse() * m.gradient;
+    // Backtracking: never accept a large step that lowers f (or leaves the sphere's reach).
+    // Near the maximum f changes by ~|step|^2 / R, below its rounding error once the step is
+    // under ~1e-6 mm, so there the pure Newton step (quadratic convergence) is taken.
+    const bool newton_region = H == m.hessian && step.norm() < kNewtonRegion;
+    Local trial;
+    for (int halvings = 0;; ++halvings) {
+      trial = local_model(flank, p, n, R, x[0] + step[0], x[1] + step[1]);
+      if (trial.reachable && (newton_region || trial.f >= m.f)) break;
+      if (halvings == 40) break;
+      step *= 0.5;
+    }
+    if (!trial.reachable) break;
+    x += step;
+    m = trial;
+    if (x[0] < extent.roll_length_min || x[0] > extent.roll_length_max || x[1] < extent.z_min ||
+        x[1] > extent.z_max) {
+      at_edge = true;
+      break;
+    }
+    if (step.norm() < kStepTolerance) {
+      converged = true;
+      ++it;
+      break;
+    }
+  }
+  result.iterations = it;
+  result.roll_length = x[0];
+  result.z = x[1];
+  result.status = at_edge     ? ContactResult::Status::kEdge
+                  : converged ? ContactResult::Status::kOk
+                              : ContactResult::Status::kNotConverged;
+  if (result.status != ContactResult::Status::kOk) return result;
+  result.contact = flank.point(x[0], x[1]);
+  result.centre = p + m.f * n;
+  result.reported = result.centre - R * n;
+  result.delta_um = 1e3 * (result.contact - result.reported).norm();
+  result.normal_error_um = 1e3 * (result.reported - result.contact).dot(n);
+  return result;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,50 @@
+// Exact first contact of a spherical stylus tip with a real flank (P1's model, sources.md):
+// the tip centre moves along the nominal normal n towards the flank, O(t) = p + t n, and the
+// first contact is the largest t at which the sphere of radius R touches the surface:
+//   t* = max over (L, z) of  f(L, z) = w.n + sqrt(R^2 - |w_perp|^2),  w = S(L, z) - p,
+// w_perp = w - (w.n) n. f is maximised by a safeguarded Newton iteration on its gradient
+// (tangency), not by a search. Then C = S(L*, z*) (true contact point), O = p + t* n, the CMM
+// reports E = O - R n, delta_Rcomp = |C - E| and the normal error is (E - C).n.
+// Lengths mm; the errors in µm.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "surfaces/analytic_flank.h"
+
+namespace gearmc {
+
+// The flank's parameter box: where the real flank exists (roll length from the form circle to
+// the tip circle, z from 0 to b). A maximum that wants to leave it is an edge contact.
+struct FlankExtent {
+  double roll_length_min, roll_length_max, z_min, z_max;
+};
+
+struct ContactResult {
+  enum class Status {
+    kOk,            // converged to an interior tangency
+    kEdge,          // the sphere touches the flank's edge first (collision, not a flank point)
+    kNotConverged,  // numerical failure: counted, never used as a value
+  };
+  Status status = Status::kNotConverged;
+  Eigen::Vector3d contact;        // C, mm
+  Eigen::Vector3d centre;         // O, mm
+  Eigen::Vector3d reported;       // E = O - R n, mm
+  double roll_length = 0, z = 0;  // parameters of C
+  double delta_um = 0;            // |C - E|
+  double normal_error_um = 0;     // (E - C).n
+  int iterations = 0;
+};
+
+// p, n: planned point and nominal outward unit normal (datum frame, mm); R: tip radius (mm);
+// (L0, z0): the flank parameters of p, the starting guess.
+ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
+                            const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
+                            double z0);
+
+// The objective f(L, z) above (mm), -infinity where the sphere cannot reach the point. Exposed
+// for independent checks.
+double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                      const Eigen::Vector3d& n, double R, double L, double z);
+
+}  // namespace gearmc

@@ -1,0 +1,42 @@
+// Probing plan: where on each flank the CMM probes. Per flank an N x M grid, N points along
+// the profile (equal steps in roll length) and M sections across the face width, kept a
+// margin away from each edge of the flank (P1: N = 10, M = 5, 5 % margins, sources.md).
+// The flank extent is the active involute: roll length from the form circle to the tip
+// circle, z from 0 to b. Lengths mm.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "gears/involute_gear.h"
+
+namespace gearmc {
+
+struct ProbingGridSpec {
+  int points_along_profile = 10;  // N
+  int sections_across_face = 5;   // M
+  double margin_fraction = 0.05;  // of the extent, at each end of both directions
+};
+
+// One planned point: nominal position and outward normal, its grid indices (0-based).
+struct PlannedPoint {
+  int tooth;
+  FlankSide side;
+  int i, j;            // i along the profile (0..N-1), j across the face (0..M-1)
+  double roll_length;  // mm
+  double z;            // mm
+  Eigen::Vector3d point, normal;
+};
+
+// The grid's roll lengths and heights (shared by every flank of the gear).
+struct ProbingGridCoordinates {
+  std::vector<double> roll_lengths, heights;
+};
+ProbingGridCoordinates probing_grid_coordinates(const InvoluteGear& gear,
+                                                const ProbingGridSpec& spec);
+
+// The planned points of one flank, profile index fastest.
+std::vector<PlannedPoint> plan_flank(const InvoluteGear& gear, const ProbingGridSpec& spec,
+                                     int tooth, FlankSide side);
+
+}  // namespace gearmc
