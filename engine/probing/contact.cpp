@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace gearmc {
 namespace {
@@ -119,6 +120,60 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
   result.delta_um = 1e3 * (result.contact - result.reported).norm();
   result.normal_error_um = 1e3 * (result.reported - result.contact).dot(n);
   return result;
+}
+
+namespace {
+
+// Distance (mm) in the transverse plane from point X to the nominal flank `side` of `tooth`,
+// limited to the flank's real extent [L_form, L_tip]: closed form r_b (inv(alpha_X) + s phi -
+// theta_b) along the normal when the foot lies on the flank, else the distance to the end.
+double distance_to_flank(const InvoluteGear& gear, int tooth, FlankSide side,
+                         const Eigen::Vector2d& X) {
+  const double r_b = 0.5 * gear.base_diameter_mm();
+  const double rho = X.norm();
+  const double t = std::sqrt(std::max(0.0, rho * rho - r_b * r_b));
+  const double alpha_x = std::atan2(t, r_b);
+  const double phi = std::remainder(std::atan2(X.y(), X.x()) - gear.tooth_centre_angle_rad(tooth),
+                                    2 * std::numbers::pi);
+  const double s = side_sign(side);
+  const double foot_L = r_b * (gear.base_half_angle_rad() - s * phi + alpha_x);
+  const double L_min = gear.form_roll_length_mm(), L_max = gear.tip_roll_length_mm();
+  if (foot_L >= L_min && foot_L <= L_max) {
+    return std::abs(r_b * (involute_function(alpha_x) + s * phi - gear.base_half_angle_rad()));
+  }
+  const double L_end = foot_L < L_min ? L_min : L_max;
+  return (gear.flank_point(tooth, side, L_end, 0.0).point.head<2>() - X).norm();
+}
+
+}  // namespace
+
+void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
+                       const Eigen::Vector3d& n, double R, double approach_mm,
+                       ContactResult* result) {
+  if (result->status != ContactResult::Status::kOk) return;
+  // The facing flank: R of tooth k faces L of tooth k+1; L of tooth k faces R of tooth k-1.
+  const int z = gear.teeth();
+  const int facing_tooth = side == FlankSide::kRight ? tooth % z + 1 : (tooth + z - 2) % z + 1;
+  const FlankSide facing_side = side == FlankSide::kRight ? FlankSide::kLeft : FlankSide::kRight;
+  const double r_root = 0.5 * gear.root_diameter_mm();
+  // Along the approach the sphere moves away from the facing flank and up from the root; check
+  // the path at a few stations (start, middle, end) — enough for a straight approach.
+  const Eigen::Vector3d end = result->centre;
+  const Eigen::Vector3d start = end + approach_mm * n;
+  for (double a : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+    const Eigen::Vector3d O = start + a * (end - start);
+    const Eigen::Vector2d X = O.head<2>();
+    if (distance_to_flank(gear, facing_tooth, facing_side, X) < R) {
+      result->status = ContactResult::Status::kCollision;
+      result->collision = "neighbour_flank";
+      return;
+    }
+    if (X.norm() - R < r_root) {
+      result->status = ContactResult::Status::kCollision;
+      result->collision = "root";
+      return;
+    }
+  }
 }
 
 }  // namespace gearmc

@@ -24,6 +24,7 @@ struct ContactResult {
   enum class Status {
     kOk,            // converged to an interior tangency
     kEdge,          // the sphere touches the flank's edge first (collision, not a flank point)
+    kCollision,     // the sphere meets another part of the tooth space first (see reason)
     kNotConverged,  // numerical failure: counted, never used as a value
   };
   Status status = Status::kNotConverged;
@@ -34,6 +35,7 @@ struct ContactResult {
   double delta_um = 0;            // |C - E|
   double normal_error_um = 0;     // (E - C).n
   int iterations = 0;
+  const char* collision = "";  // kCollision: "neighbour_flank", "root" or "tip"
 };
 
 // p, n: planned point and nominal outward unit normal (datum frame, mm); R: tip radius (mm);
@@ -41,6 +43,15 @@ struct ContactResult {
 ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0);
+
+// Whether the stylus, on its way from `approach_mm` outside the planned point to the contact
+// centre O (both along n), stays clear of the rest of the tooth space of the flank `tooth`,
+// `side`: the facing flank of the neighbouring tooth (and its tip corner), the root circle.
+// Uses the nominal geometry (deviations are microns; the clearance test is about the
+// stylus size). Sets status kCollision and the reason when it does not.
+void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
+                       const Eigen::Vector3d& n, double R, double approach_mm,
+                       ContactResult* result);
 
 // The objective f(L, z) above (mm), -infinity where the sphere cannot reach the point. Exposed
 // for independent checks.

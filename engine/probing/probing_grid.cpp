@@ -1,6 +1,8 @@
 // N x M probing grid on a flank with edge margins (see probing_grid.h).
 #include "engine/probing/probing_grid.h"
 
+#include <cmath>
+
 namespace gearmc {
 namespace {
 
@@ -16,8 +18,25 @@ std::vector<double> spaced(double lo, double hi, double margin_fraction, int cou
 
 ProbingGridCoordinates probing_grid_coordinates(const InvoluteGear& gear,
                                                 const ProbingGridSpec& spec) {
-  return {spaced(gear.form_roll_length_mm(), gear.tip_roll_length_mm(), spec.margin_fraction,
-                 spec.points_along_profile),
+  const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
+  const double r_b = 0.5 * gear.base_diameter_mm();
+  std::vector<double> roll_lengths;
+  switch (spec.spacing) {
+    case ProfileSpacing::kRollLength:
+      roll_lengths = spaced(L0, L1, spec.margin_fraction, spec.points_along_profile);
+      break;
+    case ProfileSpacing::kArcLength:  // arc length from the base circle: s = L^2 / (2 r_b)
+      roll_lengths = spaced(L0 * L0 / (2 * r_b), L1 * L1 / (2 * r_b), spec.margin_fraction,
+                            spec.points_along_profile);
+      for (double& s : roll_lengths) s = std::sqrt(2 * r_b * s);
+      break;
+    case ProfileSpacing::kRadius:
+      roll_lengths = spaced(std::hypot(r_b, L0), std::hypot(r_b, L1), spec.margin_fraction,
+                            spec.points_along_profile);
+      for (double& r : roll_lengths) r = std::sqrt(r * r - r_b * r_b);
+      break;
+  }
+  return {roll_lengths,
           spaced(0.0, gear.face_width_mm(), spec.margin_fraction, spec.sections_across_face)};
 }
 

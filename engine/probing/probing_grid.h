@@ -12,10 +12,23 @@
 
 namespace gearmc {
 
+// How the N profile points are spaced between the margins: equal steps in roll length (the
+// ISO profile abscissa, default), in arc length along the involute (s = L^2 / (2 r_b)), or in
+// radius (r = sqrt(r_b^2 + L^2)).
+enum class ProfileSpacing { kRollLength, kArcLength, kRadius };
+
 struct ProbingGridSpec {
   int points_along_profile = 10;  // N
   int sections_across_face = 5;   // M
   double margin_fraction = 0.05;  // of the extent, at each end of both directions
+  ProfileSpacing spacing = ProfileSpacing::kRollLength;
+};
+
+// Which flanks a run probes.
+struct ProbingPlanSpec {
+  ProbingGridSpec grid;
+  std::vector<int> teeth;  // 1-based tooth numbers; empty = every tooth
+  bool left = true, right = true;
 };
 
 // One planned point: nominal position and outward normal, its grid indices (0-based).

@@ -81,6 +81,15 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
       best_distance = distance;
     }
   }
+  if (!best.empty() || word.size() < 3) return best;
+  // A truncated name (radius -> radius_mm, iso_1328_1 -> iso_1328_1_2013): the only candidate
+  // that starts with the word.
+  for (const std::string& candidate : candidates) {
+    if (candidate.rfind(word, 0) == 0) {
+      if (!best.empty()) return "";  // ambiguous
+      best = candidate;
+    }
+  }
   return best;
 }
 

@@ -33,7 +33,8 @@ class InputError : public std::runtime_error {
 };
 
 // The closest of `candidates` to `word` by edit distance, if close enough to be a likely typo
-// (distance <= max(2, |word|/3)); empty otherwise.
+// (distance <= max(2, |word|/3)), else the only candidate that starts with `word` (3+ letters);
+// empty otherwise.
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates);
 
 }  // namespace gearmc

@@ -230,17 +230,61 @@ std::string read_name(const YamlValue& value) {
   return name;
 }
 
+// probing: {points_along_profile, sections_across_face, margin_fraction, profile_spacing,
+// teeth: all | [list], flanks: both | L | R}
+ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth) {
+  ProbingPlanSpec plan;
+  ProbingGridSpec& grid = plan.grid;
+  grid.points_along_profile = static_cast<int>(
+      probing.get_int("points_along_profile", 1, 1000).value_or(grid.points_along_profile));
+  grid.sections_across_face = static_cast<int>(
+      probing.get_int("sections_across_face", 1, 1000).value_or(grid.sections_across_face));
+  grid.margin_fraction = probing.get_number("margin_fraction", NumberRange{0.0, 0.5, true, false})
+                             .value_or(grid.margin_fraction);
+  if (const auto spacing =
+          probing.get_choice("profile_spacing", {"roll_length", "arc_length", "radius"})) {
+    grid.spacing = *spacing == "roll_length"  ? ProfileSpacing::kRollLength
+                   : *spacing == "arc_length" ? ProfileSpacing::kArcLength
+                                              : ProfileSpacing::kRadius;
+  }
+  if (const auto teeth = probing.find("teeth")) {
+    const std::string expected =
+        "'all' or a list of tooth numbers 1 … " + std::to_string(gear_teeth);
+    if (teeth->is_scalar()) {
+      if (teeth->as_choice({"all"}) != "all") throw teeth->error(expected);
+    } else if (teeth->is_sequence()) {
+      for (const YamlValue& t : teeth->as_sequence()) {
+        const int tooth = static_cast<int>(t.as_int(1, gear_teeth));
+        for (int seen : plan.teeth) {
+          if (seen == tooth)
+            throw t.error("each tooth once (tooth " + std::to_string(tooth) + " is listed twice)");
+        }
+        plan.teeth.push_back(tooth);
+      }
+      if (plan.teeth.empty()) throw teeth->error(expected);
+    } else {
+      throw teeth->error(expected);
+    }
+  }
+  if (const auto flanks = probing.get_choice("flanks", {"both", "L", "R"})) {
+    plan.left = *flanks != "R";
+    plan.right = *flanks != "L";
+  }
+  return plan;
+}
+
 }  // namespace
 
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name) {
   const YamlValue root = parse_yaml_document(yaml_text, source_name);
   const std::string expected_top =
-      "a map of scenario keys (name, seed, gear, tolerances, deviations)";
+      "a map of scenario keys (name, seed, gear, tolerances, deviations, probing, stylus, run)";
   if (root.is_null()) {
     throw InputError(root.location(), "", "", expected_top + ", but the scenario is empty");
   }
   if (!root.is_map()) throw root.error(expected_top);
-  const YamlMap top = root.as_map({"name", "seed", "gear", "tolerances", "deviations"});
+  const YamlMap top =
+      root.as_map({"name", "seed", "gear", "tolerances", "deviations", "probing", "stylus", "run"});
 
   Scenario scenario;
   scenario.source_path = source_name;
@@ -262,6 +306,18 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
           top.get_map("deviations", {"random", "distribution", "k", "eccentricity", "pitch",
                                      "thickness", "profile", "helix", "normal_um"})) {
     scenario.deviations = read_deviations(*deviations, &scenario.normal_expression_um);
+  }
+  if (const auto probing =
+          top.get_map("probing", {"points_along_profile", "sections_across_face", "margin_fraction",
+                                  "profile_spacing", "teeth", "flanks"})) {
+    scenario.probing = read_probing(*probing, scenario.gear.teeth);
+  }
+  if (const auto stylus = top.get_map("stylus", {"radius_mm"})) {
+    scenario.stylus_radius_mm = stylus->get_number("radius_mm", NumberRange{0.0, 50.0, false, true})
+                                    .value_or(scenario.stylus_radius_mm);
+  }
+  if (const auto run = top.get_map("run", {"gears"})) {
+    scenario.gears = static_cast<int>(run->get_int("gears", 1, 100000000).value_or(scenario.gears));
   }
   return scenario;
 }

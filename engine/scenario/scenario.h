@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "engine/probing/probing_grid.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
@@ -24,6 +25,9 @@ struct Scenario {
   // Deterministic normal deviation, muParser syntax in L, z, tooth, side (µm), added to the
   // random deviations (interface.md, "Deterministic deviations"). Empty = none.
   std::string normal_expression_um;
+  ProbingPlanSpec probing;        // `probing:` (P1: N 10, M 5, 5 % margins, all teeth, both)
+  double stylus_radius_mm = 0.5;  // `stylus: radius_mm` (P1: 0.5 mm)
+  int gears = 50;                 // `run: gears` (P1: 50)
 };
 
 // Reads and validates a scenario file. Throws InputError.

@@ -203,3 +203,43 @@ TEST(ProbingGrid, P1GridHasMarginsAndEqualSteps) {
 
 }  // namespace
 }  // namespace gearmc
+
+namespace gearmc {
+namespace {
+
+TEST(Contact, AStylusTooBigForTheToothSpaceCollides) {
+  const InvoluteGear gear = p1_gear();
+  const FlankDeviation none;
+  // P1's gear has a tooth space of about p - s = 17.59 - 12.47 = 5.1 mm on the reference
+  // circle and narrower towards the root: a 0.5 mm stylus fits everywhere on P1's grid, a
+  // 3 mm radius (6 mm ball) cannot reach the lower profile without touching the facing flank.
+  const ProbingPlanSpec plan;
+  int small_collisions = 0, big_collisions = 0;
+  for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+    for (const PlannedPoint& pp : plan_flank(gear, plan.grid, 6, side)) {
+      for (double R : {0.5, 3.0}) {
+        ContactResult r = probe(gear, none, 6, side, pp.roll_length, pp.z, R);
+        ASSERT_EQ(r.status, ContactResult::Status::kOk);
+        check_tooth_space(gear, 6, side, pp.normal, R, 1.0, &r);
+        if (r.status == ContactResult::Status::kCollision) {
+          (R == 0.5 ? small_collisions : big_collisions)++;
+          EXPECT_STREQ(r.collision, "neighbour_flank");
+        }
+      }
+    }
+  }
+  EXPECT_EQ(small_collisions, 0);
+  EXPECT_GT(big_collisions, 0);
+  // The lowest profile point collides for R 3 mm; the highest does not (the space opens up).
+  ContactResult low = probe(gear, none, 6, FlankSide::kRight, 22.6, 40.0, 3.0);
+  check_tooth_space(gear, 6, FlankSide::kRight,
+                    gear.flank_point(6, FlankSide::kRight, 22.6, 40).normal, 3.0, 1.0, &low);
+  EXPECT_EQ(low.status, ContactResult::Status::kCollision);
+  ContactResult high = probe(gear, none, 6, FlankSide::kRight, 44.0, 40.0, 3.0);
+  check_tooth_space(gear, 6, FlankSide::kRight,
+                    gear.flank_point(6, FlankSide::kRight, 44.0, 40).normal, 3.0, 1.0, &high);
+  EXPECT_EQ(high.status, ContactResult::Status::kOk);
+}
+
+}  // namespace
+}  // namespace gearmc

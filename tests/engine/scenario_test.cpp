@@ -297,7 +297,7 @@ TEST(ScenarioErrorTest, UnknownTopLevelKeyWithHint) {
   EXPECT_EQ(e.key(), "sed");
   EXPECT_EQ(std::string(e.what()),
             "t.yaml:2:1: sed: got 'sed', expected a known key (the top level has: name, seed, "
-            "gear, tolerances, deviations); did you mean 'seed'?");
+            "gear, tolerances, deviations, probing, stylus, run); did you mean 'seed'?");
 }
 
 TEST(ScenarioErrorTest, UnknownNestedKeyWithHintIsFoundBeforeMissingRequiredOne) {
@@ -486,7 +486,7 @@ TEST(ScenarioErrorTest, TopLevelNotAMap) {
   expect_at(list, 1, 1);
   EXPECT_EQ(std::string(list.what()),
             "t.yaml:1:1: got '[gear, seed]', expected a map of scenario keys (name, seed, gear, "
-            "tolerances, deviations)");
+            "tolerances, deviations, probing, stylus, run)");
   const InputError scalar = parse_error("hello\n");
   expect_at(scalar, 1, 1);
   EXPECT_THAT(scalar.what(), HasSubstr("got 'hello', expected a map of scenario keys"));
@@ -596,6 +596,11 @@ TEST(DidYouMeanTest, FindsTheClosestLikelyTypo) {
 TEST(DidYouMeanTest, NothingWhenTooFar) {
   EXPECT_EQ(did_you_mean("colour", {"teeth", "module_mm"}), "");
   EXPECT_EQ(did_you_mean("abc", {}), "");
+  // Truncated names: the one candidate starting with the word; none when several do.
+  EXPECT_EQ(did_you_mean("iso_1328_1", {"gost_1643_81", "iso_1328_1_2013"}), "iso_1328_1_2013");
+  EXPECT_EQ(did_you_mean("radius", {"radius_mm"}), "radius_mm");
+  EXPECT_EQ(did_you_mean("face", {"face_width_mm", "face_width_in"}), "");
+  EXPECT_EQ(did_you_mean("ra", {"radius_mm"}), "");  // too short to guess
   // Limit max(2, |word| / 3): 3 edits are too many for a 6-letter word.
   EXPECT_EQ(did_you_mean("abcdef", {"abcxyz"}), "");
   EXPECT_EQ(did_you_mean("abcdef", {"abcdxy"}), "abcdxy");
@@ -664,6 +669,62 @@ TEST(YamlReaderTest, StrictScalars) {
   EXPECT_THROW(value("\"true\"").as_bool(), InputError);
   EXPECT_EQ(value("'quoted text'").as_string(), "quoted text");
   EXPECT_THROW(value("[a]").as_string(), InputError);
+}
+
+}  // namespace
+}  // namespace gearmc
+
+// ---- probing, stylus, run ---------------------------------------------------------------------
+
+namespace gearmc {
+namespace {
+
+TEST(ScenarioTest, ProbingStylusAndRunSections) {
+  const Scenario d = parse_scenario(kGear, "t.yaml");
+  // Defaults are P1's set-up (sources.md): N 10, M 5, 5 % margins, all teeth, both flanks,
+  // R 0.5 mm, 50 gears.
+  EXPECT_EQ(d.probing.grid.points_along_profile, 10);
+  EXPECT_EQ(d.probing.grid.sections_across_face, 5);
+  EXPECT_DOUBLE_EQ(d.probing.grid.margin_fraction, 0.05);
+  EXPECT_TRUE(d.probing.teeth.empty());
+  EXPECT_TRUE(d.probing.left && d.probing.right);
+  EXPECT_DOUBLE_EQ(d.stylus_radius_mm, 0.5);
+  EXPECT_EQ(d.gears, 50);
+
+  const Scenario s = parse_scenario(kGear +
+                                        "probing:\n"
+                                        "  points_along_profile: 20\n"
+                                        "  sections_across_face: 7\n"
+                                        "  margin_fraction: 0.1\n"
+                                        "  profile_spacing: arc_length\n"
+                                        "  teeth: [1, 5, 24]\n"
+                                        "  flanks: R\n"
+                                        "stylus: {radius_mm: 1.5}\n"
+                                        "run: {gears: 7}\n",
+                                    "t.yaml");
+  EXPECT_EQ(s.probing.grid.points_along_profile, 20);
+  EXPECT_EQ(s.probing.grid.sections_across_face, 7);
+  EXPECT_DOUBLE_EQ(s.probing.grid.margin_fraction, 0.1);
+  EXPECT_EQ(s.probing.grid.spacing, ProfileSpacing::kArcLength);
+  EXPECT_EQ(s.probing.teeth, (std::vector<int>{1, 5, 24}));
+  EXPECT_FALSE(s.probing.left);
+  EXPECT_TRUE(s.probing.right);
+  EXPECT_DOUBLE_EQ(s.stylus_radius_mm, 1.5);
+  EXPECT_EQ(s.gears, 7);
+}
+
+TEST(ScenarioErrorTest, BadProbingValues) {
+  expect_at(parse_error(kGear + "probing:\n  teeth: [1, 25]\n"), 6, 14);  // tooth 25 of 24
+  expect_at(parse_error(kGear + "probing:\n  teeth: [3, 3]\n"), 6, 14);   // listed twice
+  expect_at(parse_error(kGear + "probing:\n  flanks: left\n"), 6, 11);
+  expect_at(parse_error(kGear + "probing:\n  margin_fraction: 0.5\n"), 6, 20);
+  expect_at(parse_error(kGear + "probing:\n  points_along_profile: 0\n"), 6, 25);
+  expect_at(parse_error(kGear + "probing:\n  profile_spacing: angle\n"), 6, 20);
+  expect_at(parse_error(kGear + "stylus: {radius_mm: -1}\n"), 5, 21);
+  expect_at(parse_error(kGear + "run: {gears: 0}\n"), 5, 14);
+  const InputError typo = parse_error(kGear + "stylus: {radius: 1}\n");
+  EXPECT_NE(std::string(typo.what()).find("did you mean 'radius_mm'"), std::string::npos)
+      << typo.what();
 }
 
 }  // namespace
