@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/cli/geometry_command.h"
+#include "engine/cli/run_command.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
@@ -32,6 +33,22 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   geometry->add_option("SCENARIO", geometry_scenario,
                        "Scenario file (default: the built-in reference, P1's gear)");
 
+  RunCommandOptions run_options;
+  CLI::App* run = app.add_subcommand(
+      "run", "Monte-Carlo batch: perturbed gears, probing grid, contact, δRcomp statistics");
+  run->add_option("SCENARIO", run_options.scenario_path,
+                  "Scenario file (default: the built-in reference, P1's gear)");
+  run->add_option("--out", run_options.out_dir, "Output folder (default results/<scenario>)");
+  run->add_option("--gears", run_options.gears, "Number of gears (overrides run.gears)")
+      ->check(CLI::Range(1, 100000000));
+  run->add_option("--seed", run_options.seed, "Random seed (overrides seed)");
+  run->add_option("--threads", run_options.threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  run->add_flag("--points", run_options.points, "Also write points.csv, one row per point");
+  run->add_option("--only-gear", run_options.only_gear,
+                  "Re-run gear K (0-based) alone, exactly as in the full run");
+  run->add_flag("--quiet", run_options.quiet, "No progress bar");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -54,6 +71,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       write_geometry_json(load_or_reference(geometry_scenario), out);
       return 0;
     }
+    if (run->parsed()) return run_command(run_options, out, err);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

@@ -1,0 +1,97 @@
+// The Monte-Carlo batch (interface.md `run`, design.md "What flows through the engine"):
+// gear k is drawn from its own random streams, every planned point of every probed flank is
+// probed with the exact contact solver, and the errors are reduced into streaming statistics.
+// Gears run in parallel (oneTBB) in chunks; each chunk's per-gear outcomes are merged in gear
+// order, so the results are bit-identical for any thread count and memory does not grow with
+// the number of gears. Errors in µm, lengths in mm.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "engine/probing/contact.h"
+#include "engine/probing/probing_grid.h"
+#include "engine/scenario/scenario.h"
+#include "engine/stats/histogram.h"
+#include "engine/stats/running_stats.h"
+
+namespace gearmc {
+
+// Moments and a fine histogram (1 nm bins over 0–50 µm) of one error quantity.
+struct ErrorStatistics {
+  ErrorStatistics();
+  void add(double value_um);
+  void merge(const ErrorStatistics& other);
+  RunningStats moments;
+  Histogram histogram;
+};
+
+// One probed point (interface.md points.csv): the plan, the contact and its errors.
+struct ProbedPoint {
+  int gear, tooth;
+  FlankSide side;
+  int i, j;
+  Eigen::Vector3d p, n;  // nominal point and outward normal
+  ContactResult contact;
+};
+
+// What one gear gave.
+struct GearOutcome {
+  int gear = 0;
+  std::vector<double> point_delta[2];  // [0] L flanks, [1] R flanks, every valid point
+  std::vector<double> flank_max[2], flank_mean[2];
+  std::uint64_t contacts = 0, failed = 0, edge = 0, collisions = 0;
+  std::vector<ProbedPoint> points;  // only when asked for
+};
+
+struct RunOptions {
+  int gears = 50;
+  std::uint64_t seed = 1;
+  int threads = 0;               // 0 = all cores
+  std::optional<int> only_gear;  // re-run one gear alone (0-based index)
+  bool record_points = false;
+  // Called after each chunk with (gears done, gears total), from the calling thread.
+  std::function<void(int, int)> progress;
+  // Called with each gear's outcome in gear order (e.g. to write points.csv), calling thread.
+  std::function<void(const GearOutcome&)> on_gear;
+};
+
+struct RunResults {
+  ErrorStatistics point[2], flank_max[2], flank_mean[2];  // [0] L, [1] R
+  std::uint64_t contacts = 0, failed_contacts = 0, edge_contacts = 0, collisions = 0;
+  int gears = 0;
+  double wall_s = 0.0;
+};
+
+class MonteCarloRun {
+ public:
+  explicit MonteCarloRun(const Scenario& scenario);
+  ~MonteCarloRun();
+
+  // Probes gear `k` (0-based). Thread-safe.
+  GearOutcome measure_gear(int k, bool record_points) const;
+  RunResults run(const RunOptions& options) const;
+
+  const InvoluteGear& gear() const { return *gear_; }
+  const ToleranceSet& tolerances() const { return tolerances_; }
+  const Scenario& scenario() const { return scenario_; }
+  int points_per_flank() const;
+  int probed_teeth() const { return static_cast<int>(teeth_.size()); }
+
+ private:
+  Scenario scenario_;
+  std::unique_ptr<InvoluteGear> gear_;
+  ToleranceSet tolerances_;
+  std::unique_ptr<GearSampler> sampler_;
+  std::vector<int> teeth_;
+  std::vector<FlankSide> sides_;
+  FlankExtent extent_;
+  struct ThreadExpressions;
+  std::unique_ptr<ThreadExpressions> expressions_;
+};
+
+}  // namespace gearmc
