@@ -47,6 +47,18 @@ double knot(int i, int n, double t0, double t1) {
 CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients)
     : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
   assert(c_.size() >= 4 && t1_ > t0_);
+  const int spans = static_cast<int>(c_.size()) - 3;
+  h_ = (t1_ - t0_) / spans;
+  poly_.resize(spans);
+  for (int k = 0; k < spans; ++k) {
+    // Taylor coefficients at the span start; the third derivative is constant on the span.
+    const double a = knot(k + 3, static_cast<int>(c_.size()), t0_, t1_);
+    const double b = knot(k + 4, static_cast<int>(c_.size()), t0_, t1_);
+    double v, d1, d2a, d2b;
+    evaluate_on_span(k + 3, a, &v, &d1, &d2a);
+    evaluate_on_span(k + 3, b, nullptr, nullptr, &d2b);
+    poly_[k] = {v, d1, 0.5 * d2a, (d2b - d2a) / (6.0 * (b - a))};
+  }
 }
 
 double CubicBSpline::greville(int i) const {
@@ -54,14 +66,11 @@ double CubicBSpline::greville(int i) const {
   return (knot(i + 1, n, t0_, t1_) + knot(i + 2, n, t0_, t1_) + knot(i + 3, n, t0_, t1_)) / 3.0;
 }
 
-void CubicBSpline::evaluate_inside(double t, double* v, double* d1, double* d2) const {
-  // Basis functions and their first two derivatives on the knot span of t (Piegl & Tiller,
+void CubicBSpline::evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const {
+  // Basis functions and their first two derivatives on knot span `span` (Piegl & Tiller,
   // The NURBS Book, algorithm A2.3, degree 3).
   constexpr int p = 3;
   const int n = static_cast<int>(c_.size());
-  const int spans = n - 3;
-  const double h = (t1_ - t0_) / spans;
-  const int span = 3 + std::clamp(static_cast<int>((t - t0_) / h), 0, spans - 1);
   auto U = [&](int i) { return knot(i, n, t0_, t1_); };
 
   double ndu[p + 1][p + 1], left[p + 1], right[p + 1];
@@ -121,43 +130,44 @@ void CubicBSpline::evaluate_inside(double t, double* v, double* d1, double* d2) 
   if (d2) *d2 = second;
 }
 
+void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {
+  if (c_.empty()) {
+    *value = *first = *second = 0.0;
+    return;
+  }
+  const double tc = std::clamp(t, t0_, t1_);
+  const int spans = static_cast<int>(poly_.size());
+  const int k = std::clamp(static_cast<int>((tc - t0_) / h_), 0, spans - 1);
+  const std::array<double, 4>& q = poly_[k];
+  const double u = tc - (t0_ + k * h_);
+  const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));
+  const double d1 = q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]);
+  if (t != tc) {  // linear continuation outside [t0, t1]: C1
+    *value = v + d1 * (t - tc);
+    *first = d1;
+    *second = 0.0;
+    return;
+  }
+  *value = v;
+  *first = d1;
+  *second = 2.0 * q[2] + 6.0 * u * q[3];
+}
+
 double CubicBSpline::value(double t) const {
-  if (c_.empty()) return 0.0;
-  if (t < t0_ || t > t1_) {  // linear continuation outside [t0, t1]
-    const double tc = std::clamp(t, t0_, t1_);
-    double v, d1;
-    evaluate_inside(tc, &v, &d1, nullptr);
-    return v + d1 * (t - tc);
-  }
-  // Value only: de Boor's recursion on the span of t (degree 3).
-  const int n = static_cast<int>(c_.size());
-  const int spans = n - 3;
-  const double h = (t1_ - t0_) / spans;
-  const int span = 3 + std::clamp(static_cast<int>((t - t0_) / h), 0, spans - 1);
-  double d[4];
-  for (int j = 0; j < 4; ++j) d[j] = c_[span - 3 + j];
-  for (int r = 1; r <= 3; ++r) {
-    for (int j = 3; j >= r; --j) {
-      const double left = knot(span - 3 + j, n, t0_, t1_);
-      const double right = knot(span + 1 + j - r, n, t0_, t1_);
-      const double a = (t - left) / (right - left);
-      d[j] = (1.0 - a) * d[j - 1] + a * d[j];
-    }
-  }
-  return d[3];
+  double v, d1, d2;
+  evaluate(t, &v, &d1, &d2);
+  return v;
 }
 
 double CubicBSpline::derivative(double t) const {
-  if (c_.empty()) return 0.0;
-  double d1;
-  evaluate_inside(std::clamp(t, t0_, t1_), nullptr, &d1, nullptr);
+  double v, d1, d2;
+  evaluate(t, &v, &d1, &d2);
   return d1;
 }
 
 double CubicBSpline::second_derivative(double t) const {
-  if (c_.empty() || t < t0_ || t > t1_) return 0.0;
-  double d2;
-  evaluate_inside(t, nullptr, nullptr, &d2);
+  double v, d1, d2;
+  evaluate(t, &v, &d1, &d2);
   return d2;
 }
 
@@ -171,6 +181,19 @@ double FlankDeviation::d_dL(double L) const {
 double FlankDeviation::d_dz(double z) const {
   return helix_slope_um_per_mm + helix_form.derivative(z);
 }
+void FlankDeviation::evaluate(double L, double z, double* d, double* dL, double* dz, double* dLL,
+                              double* dzz) const {
+  double pv, p1, p2, hv, h1, h2;
+  profile_form.evaluate(L, &pv, &p1, &p2);
+  helix_form.evaluate(z, &hv, &h1, &h2);
+  *d = offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + pv +
+       helix_slope_um_per_mm * (z - helix_mid_mm) + hv;
+  *dL = profile_slope_um_per_mm + p1;
+  *dz = helix_slope_um_per_mm + h1;
+  *dLL = p2;
+  *dzz = h2;
+}
+
 double FlankDeviation::d2_dL2(double L) const { return profile_form.second_derivative(L); }
 double FlankDeviation::d2_dz2(double z) const { return helix_form.second_derivative(z); }
 
@@ -278,10 +301,10 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   // computed once and every later step is applied to them and to the coefficients alike.
   std::vector<double> c(control_points);
   for (double& v : c) v = rng.normal();
-  CubicBSpline shape(t0, t1, c);
+  const CubicBSpline raw(t0, t1, c);
   const std::vector<double> x = dense_grid(t0, t1, control_points - 3);
   std::vector<double> d(x.size());
-  for (size_t i = 0; i < x.size(); ++i) d[i] = shape.value(x[i]);
+  for (size_t i = 0; i < x.size(); ++i) d[i] = raw.value(x[i]);
   // Its weighted least-squares line (as evaluate_trace: trapezoid weights on the uniform grid).
   const double h = x[1] - x[0];
   double W = 0.0, mx = 0.0, md = 0.0, sxx = 0.0, sxd = 0.0;
@@ -298,12 +321,11 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   }
   const double b = sxd / sxx;
   for (int i = 0; i < control_points; ++i) {  // linear precision: subtracts the line exactly
-    shape.coefficients()[i] -= md + b * (shape.greville(i) - mx);
+    c[i] -= md + b * (raw.greville(i) - mx);
   }
   for (size_t i = 0; i < x.size(); ++i) d[i] -= md + b * (x[i] - mx);
   const double band = evaluate_trace(x, d).form_um;
   const double to_target = band > 0.0 ? form_target / band : 0.0;
-  for (double& v : shape.coefficients()) v *= to_target;
   std::vector<double> form_values(x.size());
   for (size_t i = 0; i < x.size(); ++i) form_values[i] = d[i] * to_target;
 
@@ -320,9 +342,9 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   limit(tol.total, e.total_um);
   if (total_target && e.total_um > 0.0) factor = *total_target / e.total_um;
   factor *= 1.0 - kSafety;
-  for (double& v : shape.coefficients()) v *= factor;
+  for (double& v : c) v *= to_target * factor;
   *slope_um_per_mm = slope * factor;
-  *form = std::move(shape);
+  *form = CubicBSpline(t0, t1, std::move(c));
 }
 
 // The real flank's signed normal distance (mm, + outside the material) of point X (datum frame,

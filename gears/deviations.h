@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -49,19 +50,23 @@ class CubicBSpline {
   double value(double t) const;
   double derivative(double t) const;         // µm/mm
   double second_derivative(double t) const;  // µm/mm²
+  // Value and both derivatives at once (the contact solver's hot path).
+  void evaluate(double t, double* value, double* first, double* second) const;
   // Greville abscissa of coefficient i: a spline with coefficients a + b*greville(i) is the
   // line a + b t exactly (linear precision).
   double greville(int i) const;
-  std::vector<double>& coefficients() { return c_; }
   const std::vector<double>& coefficients() const { return c_; }
   double t0() const { return t0_; }
   double t1() const { return t1_; }
 
  private:
-  // Value and derivatives of the spline inside [t0, t1].
-  void evaluate_inside(double t, double* v, double* d1, double* d2) const;
-  double t0_ = 0.0, t1_ = 1.0;
+  // Value and derivatives inside [t0, t1] by the basis functions of span `span` (3..n-1).
+  void evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const;
+  double t0_ = 0.0, t1_ = 1.0, h_ = 1.0;
   std::vector<double> c_;
+  // Each span's cubic in power form about its start: v = p0 + p1 u + p2 u^2 + p3 u^3, built
+  // once from the B-spline so that an evaluation is one Horner step.
+  std::vector<std::array<double, 4>> poly_;
 };
 
 // One flank's normal deviation d(L, z) = offset + profile_slope*(L - L_mid) + profile_form(L)
@@ -78,6 +83,9 @@ struct FlankDeviation {
   double d_dz(double z) const;    // ∂d/∂z, µm/mm (depends on z only)
   double d2_dL2(double L) const;  // µm/mm²
   double d2_dz2(double z) const;  // µm/mm²
+  // All of the above at once (µm, µm/mm, µm/mm²): the contact solver's hot path.
+  void evaluate(double L, double z, double* d, double* dL, double* dz, double* dLL,
+                double* dzz) const;
 };
 
 // A drawn gear: every deviation of gear `index`.

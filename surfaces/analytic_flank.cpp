@@ -31,9 +31,8 @@ FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {
   const FlankPoint nominal = gear_.flank_point(tooth_, side_, L, z);
   const double r_b = 0.5 * gear_.base_diameter_mm();
   // Deviation and its partials, converted from µm to mm.
-  double d = deviation_.normal_um(L, z);
-  double dL = deviation_.d_dL(L), dz = deviation_.d_dz(z);
-  double dLL = deviation_.d2_dL2(L), dzz = deviation_.d2_dz2(z), dLz = 0.0;
+  double d, dL, dz, dLL, dzz, dLz = 0.0;
+  deviation_.evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
   if (expression_) {
     const int k = tooth_;
     const double s = side_sign(side_);

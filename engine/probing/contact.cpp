@@ -15,6 +15,7 @@ namespace {
 constexpr double kStepTolerance = 1e-10;  // mm in (L, z): C to far below a nanometre
 constexpr int kMaxIterations = 60;
 constexpr double kNewtonRegion = 1e-4;  // mm: steps this small skip the line search
+constexpr double kFinishStep = 1e-6;    // mm: a Newton step this small is the last one
 
 struct Local {
   double f;
@@ -71,6 +72,7 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
   Eigen::Vector2d x(L0, z0);
   Local m = local_model(flank, p, n, R, x[0], x[1]);
   bool converged = false, at_edge = false;
+  double final_height = 0.0;
   int it = 0;
   for (; it < kMaxIterations && m.reachable; ++it) {
     // Newton step for the maximum; where the Hessian is not negative definite, shift it
@@ -86,6 +88,17 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
     // Near the maximum f changes by ~|step|^2 / R, below its rounding error once the step is
     // under ~1e-6 mm, so there the pure Newton step (quadratic convergence) is taken.
     const bool newton_region = H == m.hessian && step.norm() < kNewtonRegion;
+    if (newton_region && step.norm() < kFinishStep) {
+      // Quadratic convergence: the error after this step is ~|step|^2 / R < 1e-11 mm, so the
+      // step is taken and only the point (not the derivatives) is evaluated there.
+      x += step;
+      final_height = contact_height(flank, p, n, R, x[0], x[1]);
+      at_edge = x[0] < extent.roll_length_min || x[0] > extent.roll_length_max ||
+                x[1] < extent.z_min || x[1] > extent.z_max;
+      converged = std::isfinite(final_height);
+      ++it;
+      break;
+    }
     Local trial;
     for (int halvings = 0;; ++halvings) {
       trial = local_model(flank, p, n, R, x[0] + step[0], x[1] + step[1]);
@@ -103,6 +116,7 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
     }
     if (step.norm() < kStepTolerance) {
       converged = true;
+      final_height = m.f;
       ++it;
       break;
     }
@@ -115,7 +129,7 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
                               : ContactResult::Status::kNotConverged;
   if (result.status != ContactResult::Status::kOk) return result;
   result.contact = flank.point(x[0], x[1]);
-  result.centre = p + m.f * n;
+  result.centre = p + final_height * n;
   result.reported = result.centre - R * n;
   result.delta_um = 1e3 * (result.contact - result.reported).norm();
   result.normal_error_um = 1e3 * (result.reported - result.contact).dot(n);

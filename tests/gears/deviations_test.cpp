@@ -22,8 +22,10 @@ GearParameters p1_gear() {
 }
 
 TEST(CubicBSpline, ReproducesLinesThroughGrevilleAbscissae) {
-  CubicBSpline s(2.0, 7.0, std::vector<double>(9, 0.0));
-  for (int i = 0; i < 9; ++i) s.coefficients()[i] = 1.5 - 0.7 * s.greville(i);
+  const CubicBSpline knots(2.0, 7.0, std::vector<double>(9, 0.0));
+  std::vector<double> c(9);
+  for (int i = 0; i < 9; ++i) c[i] = 1.5 - 0.7 * knots.greville(i);
+  const CubicBSpline s(2.0, 7.0, c);
   for (double t = 2.0; t <= 7.0; t += 0.123) {
     EXPECT_NEAR(s.value(t), 1.5 - 0.7 * t, 1e-12);
     EXPECT_NEAR(s.derivative(t), -0.7, 1e-12);
