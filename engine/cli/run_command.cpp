@@ -15,7 +15,10 @@
 #include <vector>
 
 #include "engine/mc/monte_carlo.h"
+#include "engine/report/html_report.h"
+#include "engine/report/svg_plot.h"
 #include "engine/scenario/input_error.h"
+#include "engine/stats/distribution_fit.h"
 #include "engine/stats/stats_json.h"
 
 namespace gearmc {
@@ -137,6 +140,114 @@ void write_point_row(std::ostream& f, const ProbedPoint& p, double R) {
   (void)R;
 }
 
+// P1's set-up (sources.md, Table 1 and Fig. 4): the gear, the grid and the stylus. Only then
+// is P1's Table 2 a fair comparison.
+bool is_p1_setup(const Scenario& s) {
+  const GearParameters& g = s.gear;
+  return g.teeth == 24 && g.module_mm == 5.6 && g.pressure_angle_deg == 20.0 &&
+         g.profile_shift == 0.90116 && g.face_width_mm == 78.89 && s.stylus_radius_mm == 0.5 &&
+         s.probing.grid.points_along_profile == 10 && s.probing.grid.sections_across_face == 5;
+}
+
+constexpr double kP1ClaimUm = 4.0;  // P1: "the compensation error does not exceed 4 µm"
+
+nlohmann::ordered_json fit_json(const DistributionFit& f) {
+  nlohmann::ordered_json j;
+  j["law"] = std::string(law_name(f.distribution.law));
+  const auto names = f.distribution.parameter_names();
+  j["parameters"] = {{std::string(names[0]), f.distribution.a},
+                     {std::string(names[1]), f.distribution.b}};
+  j["aic"] = f.aic;
+  j["ks_distance"] = f.ks_distance;
+  j["chi_square_p_value"] = f.chi_square_p_value;
+  return j;
+}
+
+std::vector<std::string> stats_cells(const std::string& label, const ErrorStatistics& e) {
+  const auto& m = e.moments;
+  const bool any = m.count() > 0;
+  return {label,
+          std::to_string(m.count()),
+          format_stat(m.mean()),
+          format_stat(m.stddev()),
+          format_stat(m.min()),
+          format_stat(any ? e.histogram.mode(kModeDisplayWidthUm) : NAN),
+          format_stat(any ? e.histogram.quantile(0.95) : NAN),
+          format_stat(any ? e.histogram.quantile(0.9973) : NAN),
+          format_stat(m.max())};
+}
+
+std::string report_html(const Scenario& scenario, const RunResults& r,
+                        const std::vector<DistributionFit> fits[2],
+                        const std::vector<std::pair<std::string, std::string>>& figures) {
+  HtmlReport report("gearmc run: " + scenario.name);
+  std::ostringstream intro;
+  intro << r.gears << " gears, " << r.contacts << " contacts (failed " << r.failed_contacts
+        << ", edge " << r.edge_contacts << ", collisions " << r.collisions << "), stylus R "
+        << scenario.stylus_radius_mm << " mm, seed " << scenario.seed << ". δRcomp = |C − E|: "
+        << "distance between the true contact point and the point the CMM reports.";
+  report.paragraph(intro.str());
+  HtmlTable table;
+  table.caption =
+      "δRcomp statistics (µm). Quantiles at 0.001 µm resolution; mode = centre of "
+      "the fullest 0.1 µm bin.";
+  table.header = {"quantity", "n", "mean", "std", "min", "mode", "p95", "p99.73", "max"};
+  table.rows.push_back({stats_cells("per point, left", r.point[0])});
+  table.rows.push_back({stats_cells("per point, right", r.point[1])});
+  table.rows.push_back({stats_cells("per flank max, left", r.flank_max[0])});
+  table.rows.push_back({stats_cells("per flank max, right", r.flank_max[1])});
+  table.rows.push_back({stats_cells("per flank mean, left", r.flank_mean[0])});
+  table.rows.push_back({stats_cells("per flank mean, right", r.flank_mean[1])});
+  if (is_p1_setup(scenario)) {
+    // P1 Table 2 (sources.md): per-flank value, 50 gears; E = most probable value.
+    table.rows.push_back(
+        {{"P1 Table 2, left", "1200", "", "0.6", "0.7", "1.6", "", "", "3.4"}, true});
+    table.rows.push_back(
+        {{"P1 Table 2, right", "1200", "", "0.6", "0.7", "1.6", "", "", "3.2"}, true});
+  }
+  report.table(table);
+  std::ostringstream claim;
+  const double worst = std::max(r.flank_max[0].moments.max(), r.flank_max[1].moments.max());
+  std::uint64_t above = 0, total = 0;
+  for (int s = 0; s < 2; ++s) {
+    const Histogram& h = r.flank_max[s].histogram;
+    for (std::size_t i = 0; i < h.bin_count(); ++i) {
+      if (h.edge(i) >= kP1ClaimUm) above += h.count(i);
+    }
+    above += h.overflow();
+    total += h.total();
+  }
+  claim << "P1's claim \"δRcomp does not exceed 4 µm\": the largest per-flank value here is "
+        << format_stat(worst) << " µm; " << above << " of " << total << " flanks exceed 4 µm.";
+  report.paragraph(claim.str());
+  for (const auto& [svg, caption] : figures) report.figure(svg, caption);
+  HtmlTable fit_table;
+  fit_table.caption =
+      "Laws fitted to the per-flank maximum (binned maximum likelihood), best "
+      "first by AIC";
+  fit_table.header = {"flank", "law", "parameters", "AIC", "KS distance", "χ² p-value"};
+  for (int s = 0; s < 2; ++s) {
+    for (const DistributionFit& f : fits[s]) {
+      if (!f.applicable) continue;
+      const auto names = f.distribution.parameter_names();
+      std::ostringstream params;
+      params << names[0] << " " << format_stat(f.distribution.a) << ", " << names[1] << " "
+             << format_stat(f.distribution.b);
+      std::ostringstream aic, ks, p;
+      aic << std::fixed << std::setprecision(1) << f.aic;
+      ks << std::fixed << std::setprecision(4) << f.ks_distance;
+      p << std::setprecision(3) << f.chi_square_p_value;
+      fit_table.rows.push_back(
+          {{s == 0 ? "left" : "right", std::string(law_name(f.distribution.law)), params.str(),
+            aic.str(), ks.str(), p.str()},
+           &f == &fits[s].front()});
+    }
+  }
+  report.table(fit_table);
+  report.preformatted(scenario.source_text, "Scenario (" + scenario.source_path + ")");
+  return report.html();
+}
+
 }  // namespace
 
 int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err) {
@@ -216,8 +327,51 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   summary["delta_rcomp_um"] = {{"point", side_pair(r.point)},
                                {"flank_max", side_pair(r.flank_max)},
                                {"flank_mean", side_pair(r.flank_mean)}};
+  // Laws fitted to the per-flank maximum (P1 names a law for its per-flank values).
+  std::vector<DistributionFit> fits[2];
+  for (int s = 0; s < 2; ++s) {
+    if (r.flank_max[s].moments.count() >= 2) fits[s] = fit_distributions(r.flank_max[s].histogram);
+  }
+  nlohmann::ordered_json fit_doc;
+  for (int s = 0; s < 2; ++s) {
+    fit_doc[s == 0 ? "left" : "right"] = fits[s].empty() || !fits[s].front().applicable
+                                             ? nlohmann::ordered_json()
+                                             : fit_json(fits[s].front());
+  }
+  summary["flank_max_best_law"] = fit_doc;
   files.write("summary.json", summary.dump(2) + "\n");
   files.write("histograms.csv", histogram_csv(r));
+
+  // Pictures: per-point and per-flank-max histograms, left and right (P1 Fig. 5).
+  std::vector<std::pair<std::string, std::string>> figures;
+  const char* side_name[2] = {"left", "right"};
+  for (int s = 0; s < 2; ++s) {
+    for (int kind = 0; kind < 2; ++kind) {
+      const ErrorStatistics& e = kind == 0 ? r.flank_max[s] : r.point[s];
+      if (e.moments.count() == 0) continue;
+      HistogramPlotOptions plot;
+      const std::string what = kind == 0 ? "per-flank maximum" : "per point";
+      plot.title = std::string("δRcomp ") + what + ", " + side_name[s] +
+                   " flanks (n = " + std::to_string(e.moments.count()) + ")";
+      std::ostringstream p9973;
+      p9973 << "p99.73 = " << format_stat(e.histogram.quantile(0.9973)) << " µm";
+      plot.markers.push_back({e.histogram.quantile(0.9973), p9973.str(), "", true});
+      if (kind == 0) {
+        plot.markers.push_back({kP1ClaimUm, "P1's claim 4 µm", "", true});
+        if (!fits[s].empty() && fits[s].front().applicable) {
+          const Distribution law = fits[s].front().distribution;
+          plot.overlay_pdf = [law](double x) { return law.pdf(x); };
+          plot.overlay_label = "best fit: " + std::string(law_name(law.law));
+        }
+      }
+      const Histogram display = e.histogram.rebin(e.histogram.rebin_factor(kModeDisplayWidthUm));
+      const std::string svg = histogram_svg(display, plot);
+      const std::string name = std::string(kind == 0 ? "flank_max_" : "point_") + side_name[s];
+      files.write(name + ".svg", svg);
+      figures.emplace_back(svg, plot.title + " — " + name + ".svg");
+    }
+  }
+  files.write("report.html", report_html(scenario, r, fits, figures));
   files.commit();
 
   out << "gearmc run: " << scenario.name << ", " << r.gears << " gears, " << mc.probed_teeth()
@@ -228,7 +382,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
       << std::setprecision(2) << r.wall_s << " s\n"
       << std::defaultfloat;
   print_table(out, r);
-  out << "results: " << dir.string() << "/summary.json\n";
+  out << "report: " << dir.string() << "/report.html\n";
   return 0;
 }
 

@@ -85,10 +85,10 @@ void Histogram::merge(const Histogram& other) {
     max_ = total_ == 0 ? other.max_ : std::max(max_, other.max_);
   }
   if (other.underflow_ > 0) {
-    underflow_min_ = underflow_ == 0 ? other.underflow_min_
-                                     : std::min(underflow_min_, other.underflow_min_);
-    underflow_max_ = underflow_ == 0 ? other.underflow_max_
-                                     : std::max(underflow_max_, other.underflow_max_);
+    underflow_min_ =
+        underflow_ == 0 ? other.underflow_min_ : std::min(underflow_min_, other.underflow_min_);
+    underflow_max_ =
+        underflow_ == 0 ? other.underflow_max_ : std::max(underflow_max_, other.underflow_max_);
   }
   if (other.overflow_ > 0) {
     overflow_min_ =
@@ -168,8 +168,8 @@ double Histogram::mode(double display_width_um) const {
 std::string Histogram::to_csv() const {
   std::string csv = "bin_lo_um,bin_hi_um,count\n";
   for (std::size_t i = 0; i < counts_.size(); ++i) {
-    csv += shortest(edge(i)) + ',' + shortest(edge(i + 1)) + ',' + std::to_string(counts_[i]) +
-           '\n';
+    csv +=
+        shortest(edge(i)) + ',' + shortest(edge(i + 1)) + ',' + std::to_string(counts_[i]) + '\n';
   }
   csv += "underflow,," + std::to_string(underflow_) + '\n';
   csv += "overflow,," + std::to_string(overflow_) + '\n';

@@ -44,9 +44,7 @@ void RunningStats::merge(const RunningStats& other) {
 
 double RunningStats::mean() const { return n_ == 0 ? kNaN : mean_; }
 
-double RunningStats::variance() const {
-  return n_ < 2 ? kNaN : m2_ / static_cast<double>(n_ - 1);
-}
+double RunningStats::variance() const { return n_ < 2 ? kNaN : m2_ / static_cast<double>(n_ - 1); }
 
 double RunningStats::stddev() const { return std::sqrt(variance()); }
 

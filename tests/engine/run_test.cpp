@@ -90,6 +90,20 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   EXPECT_EQ(summary["contacts"], 2 * 24 * 2 * 50);
   EXPECT_EQ(summary["delta_rcomp_um"]["flank_max"]["left"]["n"], 2 * 24);
   EXPECT_TRUE(fs::exists(dir / "histograms.csv"));
+  // Pictures and the report (P1 Fig. 5 style histograms, left and right).
+  for (const char* svg :
+       {"flank_max_left.svg", "flank_max_right.svg", "point_left.svg", "point_right.svg"}) {
+    std::ifstream f(dir / svg);
+    const std::string text((std::istreambuf_iterator<char>(f)), {});
+    EXPECT_NE(text.find("<svg"), std::string::npos) << svg;
+    EXPECT_NE(text.find("p99.73"), std::string::npos) << svg;
+  }
+  std::ifstream report_file(dir / "report.html");
+  const std::string report((std::istreambuf_iterator<char>(report_file)), {});
+  EXPECT_NE(report.find("P1 Table 2, left"), std::string::npos);  // P1's set-up: comparison
+  EXPECT_NE(report.find("does not exceed 4"), std::string::npos);
+  EXPECT_NE(report.find("name: p1_reference"), std::string::npos);  // the scenario itself
+  EXPECT_EQ(summary["flank_max_best_law"]["left"]["law"].is_string(), true);
   for (const auto& entry : fs::directory_iterator(dir)) {
     EXPECT_EQ(entry.path().string().find(".partial"), std::string::npos) << entry.path();
   }

@@ -1,0 +1,56 @@
+// A small builder for the self-contained report.html pages (interface.md: `run` and `diagnose`
+// outputs): a title, headings, paragraphs, tables with optional highlighted rows, inline SVG
+// figures with captions and preformatted blocks (e.g. the scenario YAML). The page needs nothing
+// from outside: no external CSS, JS, fonts or images; a little inline CSS for readability. All
+// text is HTML-escaped; only the SVG of a figure is inserted as is (it must come from
+// svg_plot.h, which escapes its own text). Files are written atomically (interface.md: "nothing
+// is half-written"): to FILE.tmp, then renamed to FILE.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gearmc {
+
+struct HtmlTable {
+  struct Row {
+    std::vector<std::string> cells;
+    bool highlight = false;  // drawn with a tinted background (e.g. P1's reference values)
+  };
+  std::string caption;  // empty: none
+  std::vector<std::string> header;
+  std::vector<Row> rows;
+};
+
+class HtmlReport {
+ public:
+  // `title` goes into <title> and the page's <h1>.
+  explicit HtmlReport(std::string title);
+
+  HtmlReport& heading(std::string_view text, int level = 2);  // level 2..4
+  HtmlReport& paragraph(std::string_view text);
+  HtmlReport& table(const HtmlTable& table);
+  // `svg` from svg_plot.h, inlined verbatim; `caption` escaped.
+  HtmlReport& figure(std::string_view svg, std::string_view caption);
+  // A <pre> block, e.g. the scenario file; `caption` (optional) above it.
+  HtmlReport& preformatted(std::string_view text, std::string_view caption = "");
+
+  // The whole page: <!DOCTYPE html>, UTF-8, inline CSS, the blocks in the order added.
+  std::string html() const;
+  // write_file_atomically(file, html()).
+  void write(const std::filesystem::path& file) const;
+
+ private:
+  std::string title_;
+  std::string body_;
+};
+
+// Writes `content` to `file` atomically: to "<file>.tmp" in the same directory, flushed and
+// closed, then renamed over `file` (std::filesystem::rename, atomic on POSIX within one file
+// system). On failure removes the temporary file and throws std::runtime_error naming the file;
+// an existing `file` is left untouched. The directory must exist.
+void write_file_atomically(const std::filesystem::path& file, std::string_view content);
+
+}  // namespace gearmc

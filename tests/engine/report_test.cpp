@@ -1,0 +1,460 @@
+// Report building blocks: SVG plots and the HTML page.
+//  * every SVG and the HTML page are well-formed (a small checker below: balanced tags, quoted
+//    attributes, only known entities; HTML void elements allowed on the page);
+//  * histogram bars: one per non-empty bin, height / count the same for every bar; the fitted
+//    density overlay scaled to counts meets the bars where the bars are the expected counts;
+//    marker lines and labels; the x range grows to a marker beyond the data;
+//  * polar plot: points land at the pixel computed by hand from the documented layout;
+//  * HTML: escaping of < & " ', structure, atomic writes (no FILE.tmp left, failures leave the
+//    old file).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/report/html_report.h"
+#include "engine/report/svg_plot.h"
+#include "engine/stats/histogram.h"
+
+namespace gearmc {
+namespace {
+
+// --- A minimal well-formedness checker --------------------------------------------------------
+
+struct Element {
+  std::string name;
+  std::map<std::string, std::string> attributes;
+  std::string text;  // the raw text directly after the start tag, up to the next tag
+};
+
+// Parses `doc`; returns "" when well-formed (one root element, balanced tags, quoted unique
+// attributes, '&' only in &amp; &lt; &gt; &quot; &#39; &#NNN;), else a description of the first
+// problem. With `html`, skips <!DOCTYPE> and accepts the void elements meta/br/hr/img/link.
+// Collects every start tag into `elements` in document order.
+std::string check_markup(const std::string& doc, bool html, std::vector<Element>* elements) {
+  const std::set<std::string> voids = {"meta", "br", "hr", "img", "link", "input"};
+  std::vector<std::string> open;
+  int roots = 0;
+  std::size_t i = 0;
+  auto entity_ok = [&](std::size_t at) {
+    for (const char* e : {"&amp;", "&lt;", "&gt;", "&quot;", "&#39;"}) {
+      if (doc.compare(at, std::string(e).size(), e) == 0) return true;
+    }
+    std::size_t k = at + 1;
+    if (k < doc.size() && doc[k] == '#') {
+      ++k;
+      const std::size_t digits = k;
+      while (k < doc.size() && std::isdigit(static_cast<unsigned char>(doc[k]))) ++k;
+      return k > digits && k < doc.size() && doc[k] == ';';
+    }
+    return false;
+  };
+  while (i < doc.size()) {
+    if (doc[i] != '<') {
+      if (doc[i] == '&' && !entity_ok(i)) return "bad entity at " + std::to_string(i);
+      if (open.empty() && !std::isspace(static_cast<unsigned char>(doc[i]))) {
+        return "text outside the root at " + std::to_string(i);
+      }
+      if (elements && !elements->empty() && !open.empty()) elements->back().text += doc[i];
+      ++i;
+      continue;
+    }
+    if (doc.compare(i, 4, "<!--") == 0) {
+      const std::size_t end = doc.find("-->", i);
+      if (end == std::string::npos) return "unclosed comment";
+      i = end + 3;
+      continue;
+    }
+    if (html && doc.compare(i, 9, "<!DOCTYPE") == 0) {
+      i = doc.find('>', i) + 1;
+      continue;
+    }
+    const bool closing = i + 1 < doc.size() && doc[i + 1] == '/';
+    std::size_t k = i + (closing ? 2 : 1);
+    const std::size_t name_start = k;
+    while (k < doc.size() &&
+           (std::isalnum(static_cast<unsigned char>(doc[k])) || doc[k] == '-' || doc[k] == ':')) {
+      ++k;
+    }
+    const std::string name = doc.substr(name_start, k - name_start);
+    if (name.empty()) return "empty tag name at " + std::to_string(i);
+    if (closing) {
+      if (k >= doc.size() || doc[k] != '>') return "bad end tag </" + name;
+      if (open.empty() || open.back() != name) {
+        return "</" + name + "> does not close <" + (open.empty() ? "" : open.back()) + ">";
+      }
+      open.pop_back();
+      i = k + 1;
+      continue;
+    }
+    Element element{name, {}, {}};
+    bool self_closing = false;
+    for (;;) {
+      while (k < doc.size() && std::isspace(static_cast<unsigned char>(doc[k]))) ++k;
+      if (k >= doc.size()) return "unterminated tag <" + name;
+      if (doc[k] == '>') {
+        ++k;
+        break;
+      }
+      if (doc.compare(k, 2, "/>") == 0) {
+        self_closing = true;
+        k += 2;
+        break;
+      }
+      const std::size_t attribute_start = k;
+      while (k < doc.size() && doc[k] != '=' && !std::isspace(static_cast<unsigned char>(doc[k])) &&
+             doc[k] != '>') {
+        ++k;
+      }
+      const std::string attribute = doc.substr(attribute_start, k - attribute_start);
+      if (k >= doc.size() || doc[k] != '=' || k + 1 >= doc.size() || doc[k + 1] != '"') {
+        return "attribute " + attribute + " of <" + name + "> is not name=\"value\"";
+      }
+      const std::size_t value_end = doc.find('"', k + 2);
+      if (value_end == std::string::npos) return "unterminated attribute value";
+      const std::string value = doc.substr(k + 2, value_end - k - 2);
+      if (value.find('<') != std::string::npos) return "'<' in an attribute value";
+      for (std::size_t a = value.find('&'); a != std::string::npos; a = value.find('&', a + 1)) {
+        if (!entity_ok(k + 2 + a)) return "bad entity in an attribute value";
+      }
+      if (!element.attributes.emplace(attribute, value).second) {
+        return "duplicate attribute " + attribute;
+      }
+      k = value_end + 1;
+    }
+    if (open.empty()) ++roots;
+    if (elements) elements->push_back(element);
+    if (!self_closing && !(html && voids.count(name))) open.push_back(name);
+    i = k;
+  }
+  if (!open.empty()) return "<" + open.back() + "> is never closed";
+  if (roots != 1) return "expected one root element, found " + std::to_string(roots);
+  return "";
+}
+
+std::vector<Element> parse_ok(const std::string& doc, bool html = false) {
+  std::vector<Element> elements;
+  const std::string problem = check_markup(doc, html, &elements);
+  EXPECT_EQ(problem, "") << doc.substr(0, 2000);
+  return elements;
+}
+
+std::size_t count_text(const std::string& haystack, const std::string& needle) {
+  std::size_t n = 0;
+  for (std::size_t at = haystack.find(needle); at != std::string::npos;
+       at = haystack.find(needle, at + 1)) {
+    ++n;
+  }
+  return n;
+}
+
+TEST(MarkupChecker, CatchesBrokenMarkup) {
+  // The checker itself must be able to fail.
+  EXPECT_EQ(check_markup("<svg><g></g></svg>", false, nullptr), "");
+  EXPECT_NE(check_markup("<svg><g></svg>", false, nullptr), "");
+  EXPECT_NE(check_markup("<svg><text>a < b</text></svg>", false, nullptr), "");
+  EXPECT_NE(check_markup("<svg><text>a & b</text></svg>", false, nullptr), "");
+  EXPECT_NE(check_markup("<svg width=3/>", false, nullptr), "");
+  EXPECT_NE(check_markup("<svg/><svg/>", false, nullptr), "");
+}
+
+// --- SVG ----------------------------------------------------------------------------------------
+
+TEST(SvgPlot, EscapeXml) {
+  EXPECT_EQ(escape_xml(R"(a<b & "c" 'd'>)"), "a&lt;b &amp; &quot;c&quot; &#39;d&#39;&gt;");
+  EXPECT_EQ(escape_xml("δRcomp, µm"), "δRcomp, µm");  // UTF-8 passes through
+}
+
+// A display histogram, 0.2 µm bins from 0, with the given counts.
+Histogram display_histogram(const std::vector<std::uint64_t>& counts) {
+  Histogram h(0.0, 0.2, 25);  // 0-5 µm
+  for (std::size_t i = 0; i < counts.size(); ++i) {
+    for (std::uint64_t c = 0; c < counts[i]; ++c) h.add(h.centre(i));
+  }
+  return h;
+}
+
+TEST(SvgPlot, HistogramBarsAreProportionalToCounts) {
+  const std::vector<std::uint64_t> counts = {0, 3, 40, 180, 320, 250, 120, 60, 20, 5, 0, 1};
+  const Histogram h = display_histogram(counts);
+  HistogramPlotOptions options;
+  options.title = "Right flanks <per-flank max> & more";
+  options.bars_label = "gearmc, 1200 flanks";
+  options.markers = {{3.1, "p99.73 = 3.1 µm", "", true}, {4.0, "P1 claim 4 µm", "#000000", false}};
+  const std::string svg = histogram_svg(h, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  ASSERT_FALSE(elements.empty());
+  EXPECT_EQ(elements[0].name, "svg");
+  EXPECT_EQ(elements[0].attributes.at("xmlns"), "http://www.w3.org/2000/svg");
+
+  // One bar per non-empty bin, height / count constant (heights are written with 0.01 px).
+  std::vector<std::pair<double, double>> bars;  // (height, count)
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    if (elements[e].name != "rect" || elements[e].attributes.count("class") == 0) continue;
+    EXPECT_EQ(elements[e].attributes.at("class"), "bar");
+    ASSERT_LT(e + 1, elements.size());
+    ASSERT_EQ(elements[e + 1].name, "title");  // the tooltip "[lo, hi) µm: count"
+    const std::string& tip = elements[e + 1].text;
+    bars.emplace_back(std::stod(elements[e].attributes.at("height")),
+                      std::stod(tip.substr(tip.rfind(' ') + 1)));
+  }
+  std::size_t non_empty = 0;
+  for (auto c : counts) non_empty += c > 0;
+  ASSERT_EQ(bars.size(), non_empty);
+  // The scale from the tallest bar (320 counts); heights are rounded to 0.01 px, so each bar
+  // agrees to 0.005 px plus the scale's share of the rounding, 0.005 count / 320.
+  const double px_per_count = bars[3].first / bars[3].second;
+  ASSERT_EQ(bars[3].second, 320.0);
+  for (const auto& [height, count] : bars) EXPECT_NEAR(height, px_per_count * count, 0.0101);
+  // The y axis is rounded up to a tick by Heckbert's rule: range nice(320) = 500, step
+  // nice(500 / 5) = 100, top 400. The plot is 400 - 56 - 50 = 294 px high (layout in
+  // svg_plot.cpp), so 320 counts are 294 * 320 / 400 = 235.2 px.
+  EXPECT_NEAR(bars[3].first, 235.2, 0.005);
+  EXPECT_NE(svg.find(">400</text>"), std::string::npos);
+
+  // Labels: escaped title, axis labels, legend entry, marker labels, and an x axis that reaches
+  // the 4 µm marker though the data stop at 2.4 µm.
+  EXPECT_NE(svg.find("Right flanks &lt;per-flank max&gt; &amp; more"), std::string::npos);
+  EXPECT_NE(svg.find(">δRcomp, µm</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">count</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">gearmc, 1200 flanks</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">p99.73 = 3.1 µm</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">P1 claim 4 µm</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">4</text>"), std::string::npos);         // x ticks 0, 1, ..., 4 (step 1)
+  EXPECT_EQ(count_text(svg, "stroke-dasharray"), 1u);          // only the first marker is dashed
+  EXPECT_EQ(svg.find("outside the bins"), std::string::npos);  // nothing under/overflowed
+}
+
+TEST(SvgPlot, OverlayIsTheDensityScaledToCounts) {
+  // Bars = expected counts n P(bin) of a normal law (mu 2, sigma 0.5, n 10 000, w 0.2), rounded;
+  // the overlay f(x) n w must pass through the top of the fullest bar at its centre, to within
+  // the midpoint-rule error (w^2 / 24 f'' / f = 0.0067 relative at the mode) and rounding.
+  const double mu = 2.0, sigma = 0.5, n = 10000.0, w = 0.2;
+  auto pdf = [&](double x) {
+    return std::exp(-0.5 * (x - mu) * (x - mu) / (sigma * sigma)) /
+           (sigma * std::sqrt(2 * std::numbers::pi));
+  };
+  auto cdf = [&](double x) { return 0.5 * std::erfc(-(x - mu) / (sigma * std::sqrt(2.0))); };
+  std::vector<std::uint64_t> counts;
+  for (int i = 0; i < 25; ++i) {
+    counts.push_back(static_cast<std::uint64_t>(std::llround(n * (cdf((i + 1) * w) - cdf(i * w)))));
+  }
+  Histogram h = display_histogram(counts);
+  // Pad with underflow/overflow so that total() is exactly n (the overlay scales by total()).
+  while (static_cast<double>(h.total()) < n) h.add(100.0);
+  HistogramPlotOptions options;
+  options.overlay_pdf = pdf;
+  options.overlay_label = "normal fit";
+  const std::string svg = histogram_svg(h, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  EXPECT_NE(svg.find(">normal fit</text>"), std::string::npos);
+  EXPECT_NE(svg.find("outside the bins: 0 below"), std::string::npos);
+
+  // The fullest bar is [1.8, 2.0) or [2.0, 2.2) (equal by symmetry: the lower one, first drawn).
+  double bar_top = 1e9, bar_mid = 0;
+  std::vector<std::pair<double, double>> curve;
+  for (const Element& e : elements) {
+    if (e.name == "rect" && e.attributes.count("class")) {
+      const double y = std::stod(e.attributes.at("y"));
+      if (y < bar_top - 1e-9) {
+        bar_top = y;
+        bar_mid = std::stod(e.attributes.at("x")) + std::stod(e.attributes.at("width")) / 2;
+      }
+    }
+    if (e.name == "polyline") {
+      std::istringstream points(e.attributes.at("points"));
+      std::string pair;
+      while (points >> pair) {
+        curve.emplace_back(std::stod(pair.substr(0, pair.find(','))),
+                           std::stod(pair.substr(pair.find(',') + 1)));
+      }
+    }
+  }
+  ASSERT_FALSE(curve.empty());
+  double curve_y = 0, best = 1e9;
+  for (const auto& [x, y] : curve) {
+    if (std::abs(x - bar_mid) < best) best = std::abs(x - bar_mid), curve_y = y;
+  }
+  const double bottom = 400 - 50;  // plot bottom in px (layout in svg_plot.cpp)
+  EXPECT_LT(best, 1.5);            // the curve is sampled every ~1.3 px
+  EXPECT_NEAR((bottom - curve_y) / (bottom - bar_top), 1.0, 0.012);
+}
+
+TEST(SvgPlot, XYPlot) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Series line{"model", {0, 1, 2, 3, 4, 5}, {0.0, 0.5, nan, 1.5, 2.0, 2.5}, SeriesStyle::kLine, ""};
+  Series points{"measured & fitted",
+                {0.5, 1.5, 2.5, 3.5},
+                {0.2, -0.4, 1.1, nan},
+                SeriesStyle::kPoints,
+                "#123456"};
+  XYPlotOptions options;
+  options.title = "Residuals vs order";
+  options.x_label = "probing order";
+  options.y_label = "residual, µm";
+  options.horizontal_lines = {0.0};
+  options.markers = {{2.0, "drift starts", "", true}};
+  const std::string svg = xy_plot_svg({line, points}, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::size_t polylines = 0, circles = 0;
+  for (const Element& e : elements) {
+    polylines += e.name == "polyline";
+    if (e.name == "circle") {
+      ++circles;
+      EXPECT_EQ(e.attributes.at("fill"), "#123456");
+    }
+  }
+  EXPECT_EQ(polylines, 2u);  // the line is broken at its NaN
+  EXPECT_EQ(circles, 3u);    // the point with y = NaN is skipped
+  for (const char* label :
+       {">Residuals vs order</text>", ">probing order</text>", ">residual, µm</text>",
+        ">model</text>", ">measured &amp; fitted</text>", ">drift starts</text>"}) {
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
+  }
+  // Empty input still gives a well-formed plot.
+  parse_ok(xy_plot_svg({}, XYPlotOptions{}));
+}
+
+TEST(SvgPlot, PolarPointsLandWhereTheLayoutSays) {
+  // Layout (svg_plot.cpp): size 480 -> centre (240, 240 + 32), outer radius 240 - 44 = 196 px;
+  // r maps linearly from r_min (centre) to r_max (outer ring); angles counter-clockwise from +X,
+  // SVG's y axis points down.
+  PolarSeries s{"pre-travel",
+                {0.0, std::numbers::pi / 2, std::numbers::pi},
+                {2.0, 1.0, 0.5},
+                SeriesStyle::kPoints,
+                ""};
+  PolarPlotOptions options;
+  options.title = "Pre-travel vs azimuth";
+  options.radius_label = "µm";
+  options.r_min = 0.0;
+  options.r_max = 2.0;
+  const std::string svg = polar_plot_svg({s}, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::vector<std::pair<double, double>> centres;
+  for (const Element& e : elements) {
+    if (e.name == "circle") {
+      centres.emplace_back(std::stod(e.attributes.at("cx")), std::stod(e.attributes.at("cy")));
+    }
+  }
+  ASSERT_EQ(centres.size(), 3u);
+  EXPECT_NEAR(centres[0].first, 240 + 196, 0.01);
+  EXPECT_NEAR(centres[0].second, 272, 0.01);
+  EXPECT_NEAR(centres[1].first, 240, 0.01);
+  EXPECT_NEAR(centres[1].second, 272 - 98, 0.01);
+  EXPECT_NEAR(centres[2].first, 240 - 49, 0.01);
+  EXPECT_NEAR(centres[2].second, 272, 0.01);
+  for (const char* label :
+       {">90°</text>", ">330°</text>", ">pre-travel</text>", ">Pre-travel vs azimuth</text>"}) {
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
+  }
+  // Signed residuals: the default r_min goes below zero and the zero ring is drawn darker.
+  PolarSeries signed_series{
+      "", {0.0, 1.0, 2.0}, {-0.7, 0.2, 0.75}, SeriesStyle::kLineAndPoints, ""};
+  const std::string residuals = polar_plot_svg({signed_series}, PolarPlotOptions{});
+  parse_ok(residuals);
+  EXPECT_NE(residuals.find("stroke=\"#777777\""), std::string::npos);
+}
+
+// --- HTML ---------------------------------------------------------------------------------------
+
+HtmlReport sample_report() {
+  HtmlReport report("δRcomp <run> & \"P1\"");
+  report.paragraph("a < b & c \"quoted\" 'single'");
+  HtmlTable table;
+  table.caption = "Per-flank δRcomp, µm";
+  table.header = {"flank", "E", "σ", "min", "max"};
+  table.rows = {{{"left (P1)", "1.6", "0.6", "0.7", "3.4"}, true},
+                {{"left <gearmc>", "1.55", "0.58", "0.71", "3.3"}, false}};
+  report.heading("Statistics").table(table);
+  report.figure(histogram_svg(display_histogram({1, 2, 3}), {}), "Fig. 1 <left> flanks");
+  report.preformatted("name: p1 # <reference> & more\nteeth: 24\n", "scenario.yaml");
+  return report;
+}
+
+TEST(HtmlReport, EscapesEveryText) {
+  const std::string html = sample_report().html();
+  EXPECT_NE(html.find("<title>δRcomp &lt;run&gt; &amp; &quot;P1&quot;</title>"), std::string::npos);
+  EXPECT_NE(html.find("<h1>δRcomp &lt;run&gt; &amp; &quot;P1&quot;</h1>"), std::string::npos);
+  EXPECT_NE(html.find("<p>a &lt; b &amp; c &quot;quoted&quot; &#39;single&#39;</p>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td>left &lt;gearmc&gt;</td>"), std::string::npos);
+  EXPECT_NE(html.find("<figcaption>Fig. 1 &lt;left&gt; flanks</figcaption>"), std::string::npos);
+  EXPECT_NE(html.find("<pre>name: p1 # &lt;reference&gt; &amp; more\nteeth: 24\n</pre>"),
+            std::string::npos);
+  EXPECT_EQ(html.find("<run>"), std::string::npos);
+  EXPECT_EQ(html.find("<gearmc>"), std::string::npos);
+}
+
+TEST(HtmlReport, StructureIsSelfContained) {
+  const std::string html = sample_report().html();
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>\n", 0), 0u);
+  const std::vector<Element> elements = parse_ok(html, /*html=*/true);
+  ASSERT_FALSE(elements.empty());
+  EXPECT_EQ(elements[0].name, "html");
+  std::vector<std::string> order;
+  for (const Element& e : elements) {
+    if (e.name == "h2" || e.name == "table" || e.name == "figure" || e.name == "pre" ||
+        e.name == "p" || e.name == "svg") {
+      order.push_back(e.name);
+    }
+  }
+  EXPECT_EQ(order, (std::vector<std::string>{"p", "h2", "table", "figure", "svg", "pre"}));
+  EXPECT_NE(html.find("<meta charset=\"utf-8\">"), std::string::npos);
+  EXPECT_NE(html.find("<style>"), std::string::npos);
+  EXPECT_EQ(count_text(html, "<tr class=\"highlight\">"), 1u);
+  EXPECT_EQ(count_text(html, "<th>"), 5u);
+  // Nothing is fetched from elsewhere.
+  for (const char* external : {"<script", "<link", "src=", "url(", "@import"}) {
+    EXPECT_EQ(html.find(external), std::string::npos) << external;
+  }
+}
+
+// A new empty directory under the system's temporary directory, unique per process.
+std::filesystem::path fresh_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("gearmc_report_test_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(HtmlReport, WritesAtomically) {
+  const auto dir = fresh_directory("atomic");
+  const auto file = dir / "report.html";
+  const HtmlReport report = sample_report();
+  report.write(file);
+  EXPECT_EQ(read_file(file), report.html());
+  EXPECT_FALSE(std::filesystem::exists(dir / "report.html.tmp"));
+  // Overwriting replaces the content.
+  write_file_atomically(file, "second");
+  EXPECT_EQ(read_file(file), "second");
+  EXPECT_FALSE(std::filesystem::exists(dir / "report.html.tmp"));
+  // A missing directory: an error naming the file, nothing created.
+  EXPECT_THROW(write_file_atomically(dir / "missing" / "r.html", "x"), std::runtime_error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+  // The rename fails (the target is a non-empty directory): the temporary is removed and the
+  // target is untouched.
+  std::filesystem::create_directories(dir / "busy" / "inside");
+  EXPECT_THROW(write_file_atomically(dir / "busy", "x"), std::runtime_error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "busy.tmp"));
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "busy" / "inside"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gearmc
