@@ -247,6 +247,7 @@ namespace {
 // Signed draw in [-1, 1] (tolerance units) following the distribution law.
 double signed_draw(const DeviationDistribution& law, RandomStream& rng) {
   if (law.law == DeviationDistribution::Law::kUniform) return rng.uniform(-1.0, 1.0);
+  if (law.law == DeviationDistribution::Law::kAtTolerance) return rng.uniform() < 0.5 ? -1.0 : 1.0;
   for (;;) {  // truncated normal by rejection: tolerance = k sigma
     const double v = rng.normal() / law.k;
     if (std::abs(v) <= 1.0) return v;
@@ -256,6 +257,7 @@ double signed_draw(const DeviationDistribution& law, RandomStream& rng) {
 // Amplitude draw in [0, 1].
 double amplitude_draw(const DeviationDistribution& law, RandomStream& rng) {
   if (law.law == DeviationDistribution::Law::kUniform) return rng.uniform();
+  if (law.law == DeviationDistribution::Law::kAtTolerance) return 1.0;
   return std::abs(signed_draw(law, rng));
 }
 

@@ -24,9 +24,10 @@ namespace gearmc {
 
 // How a deviation is drawn within its tolerance T.
 //  kUniform: signed ones uniform in [-T, T], amplitudes uniform in [0, T];
-//  kNormal:  N(0, T/k) truncated to [-T, T] (amplitudes: |N(0, T/k)| truncated to [0, T]).
+//  kNormal:  N(0, T/k) truncated to [-T, T] (amplitudes: |N(0, T/k)| truncated to [0, T]);
+//  kAtTolerance: every deviation at its limit, signed ones with a random sign (worst case).
 struct DeviationDistribution {
-  enum class Law { kUniform, kNormal } law = Law::kUniform;
+  enum class Law { kUniform, kNormal, kAtTolerance } law = Law::kUniform;
   double k = 3.0;  // tolerance = k sigma for kNormal
 };
 

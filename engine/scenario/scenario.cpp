@@ -159,11 +159,12 @@ ToleranceSpec read_tolerances(const YamlMap& tolerances) {
   return spec;
 }
 
-// {distribution: uniform | normal, k: > 0}, each key falling back to `base`.
+// {distribution: uniform | normal | at_tolerance, k: > 0}, each key falling back to `base`.
 DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base) {
-  if (const auto law = map.get_choice("distribution", {"uniform", "normal"})) {
-    base.law = *law == "normal" ? DeviationDistribution::Law::kNormal
-                                : DeviationDistribution::Law::kUniform;
+  if (const auto law = map.get_choice("distribution", {"uniform", "normal", "at_tolerance"})) {
+    base.law = *law == "normal"         ? DeviationDistribution::Law::kNormal
+               : *law == "at_tolerance" ? DeviationDistribution::Law::kAtTolerance
+                                        : DeviationDistribution::Law::kUniform;
   }
   base.k = map.get_number("k", NumberRange::positive(), "tolerance = k sigma for the normal law")
                .value_or(base.k);

@@ -396,7 +396,7 @@ TEST(ScenarioErrorTest, UnknownDistributionWithHint) {
   expect_at(e, 6, 25);
   EXPECT_EQ(std::string(e.what()),
             "t.yaml:6:25: deviations.pitch.distribution: got 'unifrom', expected one of uniform, "
-            "normal; did you mean 'uniform'?");
+            "normal, at_tolerance; did you mean 'uniform'?");
 }
 
 TEST(ScenarioErrorTest, NormalExpressionMustBeText) {
