@@ -7,6 +7,7 @@
 #include <iostream>
 #include <string>
 
+#include "engine/cli/export_mesh_command.h"
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
 #include "engine/scenario/input_error.h"
@@ -49,6 +50,23 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                   "Re-run gear K (0-based) alone, exactly as in the full run");
   run->add_flag("--quiet", run_options.quiet, "No progress bar");
 
+  ExportMeshOptions mesh_options;
+  CLI::App* export_mesh = app.add_subcommand(
+      "export-mesh", "Write perturbed gear K as a triangle mesh (STL, PLY, OBJ or OFF)");
+  export_mesh->add_option("SCENARIO", mesh_options.scenario_path,
+                          "Scenario file (default: the built-in reference)");
+  export_mesh->add_option("--gear", mesh_options.gear, "Gear index K (0-based, as in run)");
+  export_mesh->add_option("--out", mesh_options.out, "Output file: .stl, .ply, .obj or .off")
+      ->required();
+  export_mesh
+      ->add_option("--profile-samples", mesh_options.profile_samples,
+                   "Points along each flank's profile (default 25)")
+      ->check(CLI::Range(2, 2000));
+  export_mesh
+      ->add_option("--face-samples", mesh_options.face_samples,
+                   "Sections across the face width (default 40)")
+      ->check(CLI::Range(2, 20000));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -72,6 +90,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       return 0;
     }
     if (run->parsed()) return run_command(run_options, out, err);
+    if (export_mesh->parsed()) return export_mesh_command(mesh_options, out);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

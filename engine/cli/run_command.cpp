@@ -257,7 +257,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   if (o.gears) scenario.gears = *o.gears;
   const MonteCarloRun mc(scenario);
   if (o.only_gear && (*o.only_gear < 0 || *o.only_gear >= scenario.gears)) {
-    throw InputError({"--only-gear", 0, 0}, "--only-gear", std::to_string(*o.only_gear),
+    throw InputError({}, "--only-gear", std::to_string(*o.only_gear),
                      "a gear index from 0 to " + std::to_string(scenario.gears - 1));
   }
 
