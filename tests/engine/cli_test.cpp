@@ -2,6 +2,8 @@
 // scenario (P1's Table 1 and tolerances) and one clear message for bad input.
 #include <gtest/gtest.h>
 
+#include "tests/support/run_gearmc.h"
+
 #include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
@@ -13,24 +15,9 @@
 
 namespace {
 
-struct Result {
-  int exit_code;
-  std::string out, err;
-};
+using Result = gearmc::testing_support::CommandResult;
 
-Result run(const std::string& args) {
-  const std::string err_file = testing::TempDir() + "gearmc_cli_err.txt";
-  const std::string cmd = std::string(GEARMC_BINARY) + " " + args + " 2>" + err_file;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  std::ifstream e(err_file);
-  std::string err((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
-  return {WEXITSTATUS(status), out, err};
-}
+Result run(const std::string& args) { return gearmc::testing_support::run_gearmc(args); }
 
 TEST(Cli, GeometryOfTheReferenceScenarioIsP1Table1) {
   const Result r = run("geometry");

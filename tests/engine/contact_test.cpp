@@ -10,6 +10,7 @@
 //  * random smooth fields: Newton's C and O agree with a nested brute-force grid search to 1 nm;
 //  * symmetry: the same deviation on either flank of any tooth gives the same delta.
 #include "engine/probing/contact.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -22,14 +23,8 @@
 namespace gearmc {
 namespace {
 
-InvoluteGear p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return InvoluteGear(p);
-}
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
 FlankExtent extent_of(const InvoluteGear& g) {
   return {g.form_roll_length_mm(), g.tip_roll_length_mm(), 0.0, g.face_width_mm()};
@@ -96,22 +91,6 @@ TEST(Contact, ConstantProfileSlopeOnTheConvexInvolute) {
 }
 
 // Independent answer: maximise the contact height over nested, shrinking grids.
-Eigen::Vector2d brute_force(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                            const Eigen::Vector3d& n, double R, double L0, double z0) {
-  double L = L0, z = z0, half = 0.6 * R;
-  for (int level = 0; level < 16; ++level) {
-    double best = -std::numeric_limits<double>::infinity(), bL = L, bz = z;
-    for (int a = -20; a <= 20; ++a) {
-      for (int b = -20; b <= 20; ++b) {
-        const double Lc = L + half * a / 20.0, zc = z + half * b / 20.0;
-        const double f = contact_height(flank, p, n, R, Lc, zc);
-        if (f > best) best = f, bL = Lc, bz = zc;
-      }
-    }
-    L = bL, z = bz, half *= 0.25;
-  }
-  return {L, z};
-}
 
 TEST(Contact, RandomSmoothFieldsAgreeWithBruteForce) {
   const InvoluteGear gear = p1_gear();
@@ -137,11 +116,12 @@ TEST(Contact, RandomSmoothFieldsAgreeWithBruteForce) {
           const ContactResult r =
               solve_contact(flank, extent_of(gear), pp.point, pp.normal, 0.5, pp.roll_length, pp.z);
           ASSERT_EQ(r.status, ContactResult::Status::kOk);
-          const Eigen::Vector2d b =
-              brute_force(flank, pp.point, pp.normal, 0.5, pp.roll_length, pp.z);
+          const Eigen::Vector2d b = testing_support::brute_force_contact(flank, pp.point, pp.normal,
+                                                                         0.5, pp.roll_length, pp.z);
           const Eigen::Vector3d C = flank.point(b[0], b[1]);
-          const Eigen::Vector3d O =
-              pp.point + contact_height(flank, pp.point, pp.normal, 0.5, b[0], b[1]) * pp.normal;
+          const Eigen::Vector3d O = pp.point + testing_support::brute_force_contact_height(
+                                                   flank, pp.point, pp.normal, 0.5, b[0], b[1]) *
+                                                   pp.normal;
           EXPECT_LT((C - r.contact).norm(), 1e-6);  // 1 nm
           EXPECT_LT((O - r.centre).norm(), 1e-6);
           EXPECT_NEAR((r.centre - r.contact).norm(), 0.5, 1e-9);

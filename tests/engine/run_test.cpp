@@ -14,6 +14,7 @@
 #include <string>
 
 #include "engine/mc/monte_carlo.h"
+#include "tests/support/run_gearmc.h"
 
 namespace gearmc {
 namespace {
@@ -61,22 +62,9 @@ TEST(MonteCarlo, OnlyGearReproducesThatGearOfTheFullRun) {
   EXPECT_EQ(single[0].point_delta[1], full[4].point_delta[1]);
 }
 
-struct Result {
-  int exit_code;
-  std::string out, err;
-};
+using Result = testing_support::CommandResult;
 
-Result run_cli(const std::string& args) {
-  const std::string err_file = testing::TempDir() + "gearmc_run_err.txt";
-  FILE* pipe = popen((std::string(GEARMC_BINARY) + " " + args + " 2>" + err_file).c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  std::ifstream e(err_file);
-  return {WEXITSTATUS(status), out, std::string(std::istreambuf_iterator<char>(e), {})};
-}
+Result run_cli(const std::string& args) { return testing_support::run_gearmc(args); }
 
 TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   namespace fs = std::filesystem;

@@ -2,6 +2,7 @@
 // answers, the runout measurement on pure eccentricity and pure flank offsets, and the
 // sampler's reproducibility (gear k depends only on (seed, k)).
 #include "gears/deviations.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -12,14 +13,8 @@
 namespace gearmc {
 namespace {
 
-GearParameters p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return p;
-}
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
 TEST(CubicBSpline, ReproducesLinesThroughGrevilleAbscissae) {
   const CubicBSpline knots(2.0, 7.0, std::vector<double>(9, 0.0));
@@ -78,7 +73,7 @@ TEST(EvaluateTrace, LineGivesSlopeOnlyAndSineGivesForm) {
 }
 
 TEST(RadialRunout, PureEccentricityAndUniformOffsets) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   PerturbedGear g;
   g.flanks.resize(48);
   EXPECT_NEAR(radial_runout_um(gear, g), 0.0, 1e-6);
@@ -112,7 +107,7 @@ TEST(RadialRunout, PureEccentricityAndUniformOffsets) {
 }
 
 TEST(GearSampler, GearKDependsOnlyOnSeedAndK) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   ToleranceSet tol;
   tol.values[ToleranceKind::kRunout] = {50, "P1", true};
   tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};

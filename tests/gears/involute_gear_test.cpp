@@ -2,6 +2,7 @@
 // closed forms must have (normals unit, perpendicular to the flank, out of the material;
 // offsets along the normal and rotations about the axis keep every normal).
 #include "gears/involute_gear.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -12,18 +13,11 @@
 namespace gearmc {
 namespace {
 
-GearParameters p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.pressure_angle_deg = 20.0;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return p;
-}
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
 TEST(InvoluteGear, ReproducesP1Table1) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   // P1 Table 1 values, printed to 0.001 mm (s to 0.01 mm).
   EXPECT_NEAR(gear.reference_diameter_mm(), 134.4, 1e-3);
   EXPECT_NEAR(gear.tip_diameter_mm(), 155.693, 1e-3);
@@ -33,11 +27,11 @@ TEST(InvoluteGear, ReproducesP1Table1) {
   EXPECT_NEAR(gear.angular_pitch_rad() * 180.0 / std::numbers::pi, 15.0, 1e-12);
   // p_b = pi m cos(alpha) = 17.592919 * 0.9396926 = 16.531936 mm (hand computation).
   EXPECT_NEAR(gear.base_pitch_mm(), 16.531936, 1e-5);
-  EXPECT_TRUE(validate_gear_parameters(p1_gear()).empty());
+  EXPECT_TRUE(validate_gear_parameters(p1_gear_parameters()).empty());
 }
 
 TEST(InvoluteGear, FormCircleFromRackGeneration) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   // Independent hand computation (ISO 21771 construction), sin 20° = 0.3420201433:
   // h_FfP = 1.25 m - 0.38 m (1 - sin 20°) = 7.0 - 2.128 * 0.6579798567 = 5.599818865 mm;
   // x m = 5.046496 mm; L_Ff = 67.2 sin 20° - (5.599818865 - 5.046496) / sin 20°
@@ -51,14 +45,14 @@ TEST(InvoluteGear, FormCircleFromRackGeneration) {
   EXPECT_NEAR(gear.roll_length_at_diameter(gear.tip_diameter_mm()), gear.tip_roll_length_mm(),
               1e-12);
   // A small gear without profile shift is undercut (z < 17 for alpha 20°, ISO 53 A).
-  GearParameters small = p1_gear();
+  GearParameters small = p1_gear_parameters();
   small.teeth = 12;
   small.profile_shift = 0.0;
   EXPECT_TRUE(InvoluteGear(small).undercut());
 }
 
 TEST(InvoluteGear, PointsLieOnTheInvoluteAtTheRightRadiusAndThickness) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   const double r_b = gear.base_diameter_mm() / 2.0;
   for (int tooth : {1, 2, 13, 24}) {
     for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
@@ -88,7 +82,7 @@ TEST(InvoluteGear, PointsLieOnTheInvoluteAtTheRightRadiusAndThickness) {
 }
 
 TEST(InvoluteGear, NormalsAreUnitPerpendicularAndOutward) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   constexpr double h = 1e-4;
   for (int tooth = 1; tooth <= 24; ++tooth) {
     for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
@@ -125,7 +119,7 @@ TEST(InvoluteGear, NormalsAreUnitPerpendicularAndOutward) {
 }
 
 TEST(InvoluteGear, CurvatureIsOneOverRollLength) {
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   // Curvature from three closed-form points (circumscribed circle) must equal 1/L.
   for (double L : {22.0, 33.0, 44.0}) {
     const double h = 1e-3;
@@ -144,7 +138,7 @@ TEST(InvoluteGear, OffsetAlongNormalAndRotationKeepEveryNormal) {
   // along its normal is the point at roll length L + a of the involute offset by a: its normal
   // equals the original one. (2) Rotating the flank about the axis by beta equals an offset of
   // r_b beta along the normal: the rotated point is on the normal line of the original point.
-  const InvoluteGear gear(p1_gear());
+  const InvoluteGear gear(p1_gear_parameters());
   const double r_b = gear.base_diameter_mm() / 2.0;
   for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
     for (double L = 22.0; L < 45.0; L += 3.7) {
@@ -167,13 +161,13 @@ TEST(InvoluteGear, OffsetAlongNormalAndRotationKeepEveryNormal) {
 }
 
 TEST(InvoluteGear, ValidationSaysWhatIsWrong) {
-  GearParameters p = p1_gear();
+  GearParameters p = p1_gear_parameters();
   p.profile_shift = 2.5;  // pointed teeth
   EXPECT_NE(validate_gear_parameters(p).find("pointed"), std::string::npos);
-  p = p1_gear();
+  p = p1_gear_parameters();
   p.teeth = 3;
   EXPECT_NE(validate_gear_parameters(p).find("teeth"), std::string::npos);
-  p = p1_gear();
+  p = p1_gear_parameters();
   p.tip_diameter_mm = 120.0;  // below the base circle
   EXPECT_NE(validate_gear_parameters(p).find("base diameter"), std::string::npos);
 }

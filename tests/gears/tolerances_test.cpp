@@ -3,6 +3,7 @@
 // overrides. Reference values come from /work/shared/docs/references.md ("references.md") and
 // P1 Table 1 (sources.md); every expected number below says which one, or shows its arithmetic.
 #include "gears/tolerances.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -16,15 +17,7 @@ namespace gearmc {
 namespace {
 
 // P1 Table 1 (sources.md): z 24, m 5.6 mm, alpha 20 deg, x 0.90116, b 78.89 mm -> d 134.4 mm.
-GearParameters p1_parameters() {
-  GearParameters p;
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.pressure_angle_deg = 20.0;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return p;
-}
+GearParameters p1_parameters() { return testing_support::p1_gear_parameters(); }
 
 GearParameters parameters(int teeth, double module_mm, double face_width_mm) {
   GearParameters p;

@@ -2,6 +2,7 @@
 // and its normal against the geometric facts (offsets and eccentricity keep the nominal
 // normal at corresponding points; a slope tilts it by atan(slope)).
 #include "surfaces/analytic_flank.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -10,14 +11,8 @@
 namespace gearmc {
 namespace {
 
-InvoluteGear p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return InvoluteGear(p);
-}
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
 FlankDeviation wavy_deviation() {
   FlankDeviation d;

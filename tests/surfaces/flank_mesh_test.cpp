@@ -13,6 +13,7 @@
 //  * an unreadable file, an unknown extension, a garbage file and an unwritable place all give
 //    MeshIoError.
 #include "surfaces/flank_mesh.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -31,16 +32,10 @@
 namespace gearmc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
-InvoluteGear p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return InvoluteGear(p);
-}
+constexpr double kPi = std::numbers::pi;
 
 FlankDeviation wavy_deviation() {
   FlankDeviation d;

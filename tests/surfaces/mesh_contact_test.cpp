@@ -12,6 +12,7 @@
 //  * on a whole-gear mesh a flank probe gives the flank mesh's answer, and a stylus too big for
 //    the tooth space touches something other than the planned flank.
 #include "surfaces/mesh_contact.h"
+#include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -27,14 +28,8 @@
 namespace gearmc {
 namespace {
 
-InvoluteGear p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return InvoluteGear(p);
-}
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
 ToleranceSet p1_tolerances() {  // P1 Table 1 (sources.md), F_beta as within_tolerance_test.cpp
   ToleranceSet tol;
@@ -173,32 +168,8 @@ TEST(MeshContact, TreeTraversalEqualsTestingEveryTriangle) {
   EXPECT_GT(found, 100);
 }
 
-// The analytic first contact (contact.h's definition, computed independently): maximise the
-// contact height f(L, z) = w.n + sqrt(R^2 - |w_perp|^2), w = S(L, z) - p, over nested grids
-// shrinking around the best point (the brute force of tests/engine/contact_test.cpp).
-double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                      const Eigen::Vector3d& n, double R, double L, double z) {
-  const Eigen::Vector3d w = flank.point(L, z) - p;
-  const double q2 = R * R - (w - w.dot(n) * n).squaredNorm();
-  return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
-}
-
-Eigen::Vector2d brute_force(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                            const Eigen::Vector3d& n, double R, double L0, double z0) {
-  double L = L0, z = z0, half = 0.6 * R;
-  for (int level = 0; level < 18; ++level) {
-    double best = -std::numeric_limits<double>::infinity(), bL = L, bz = z;
-    for (int a = -20; a <= 20; ++a) {
-      for (int b = -20; b <= 20; ++b) {
-        const double Lc = L + half * a / 20.0, zc = z + half * b / 20.0;
-        const double f = contact_height(flank, p, n, R, Lc, zc);
-        if (f > best) best = f, bL = Lc, bz = zc;
-      }
-    }
-    L = bL, z = bz, half *= 0.25;
-  }
-  return {L, z};
-}
+// The analytic first contact comes from testing_support::brute_force_contact (nested grid
+// search of the contact height, tests/support/p1_fixtures.h), independent of the Newton solver.
 
 // Convergence of the mesh contact to the analytic one. The mesh is the piecewise-linear
 // interpolant of S on the (L, z) grid; along the normal it misses the surface by at most
@@ -240,10 +211,13 @@ TEST(MeshContact, RefinedFlankMeshesConvergeToTheAnalyticContact) {
       for (int j = 0; j < 5; ++j) {  // P1's grid: N = 10, M = 5, 5 % margins
         const double L = L0 + (L1 - L0) * (0.05 + 0.9 * i / 9), z = b * (0.05 + 0.9 * j / 4);
         const FlankPoint fp = gear.flank_point(6, flank.side(), L, z);
-        const Eigen::Vector2d x = brute_force(flank, fp.point, fp.normal, R, L, z);
+        const Eigen::Vector2d x =
+            testing_support::brute_force_contact(flank, fp.point, fp.normal, R, L, z, 18);
         Probe pr{&flank, fp.point, fp.normal, {}, {}, x[0], x[1]};
         pr.C = flank.point(x[0], x[1]);
-        pr.O = fp.point + contact_height(flank, fp.point, fp.normal, R, x[0], x[1]) * fp.normal;
+        pr.O = fp.point + testing_support::brute_force_contact_height(flank, fp.point, fp.normal, R,
+                                                                      x[0], x[1]) *
+                              fp.normal;
         probes.push_back(pr);
       }
     }

@@ -20,20 +20,15 @@
 
 #include "gears/deviations.h"
 #include "surfaces/analytic_flank.h"
+#include "tests/support/p1_fixtures.h"
 
 namespace gearmc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using testing_support::p1_gear;
+using testing_support::p1_gear_parameters;
 
-InvoluteGear p1_gear() {
-  GearParameters p;  // P1 Table 1 (sources.md)
-  p.teeth = 24;
-  p.module_mm = 5.6;
-  p.profile_shift = 0.90116;
-  p.face_width_mm = 78.89;
-  return InvoluteGear(p);
-}
+constexpr double kPi = std::numbers::pi;
 
 // Signed normal distance (µm) of a point from the nominal flank, closed form for an involute:
 // r_b (inv(alpha_X) + s phi - theta_b) (derivation in gears/deviations.cpp).

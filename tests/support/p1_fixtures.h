@@ -1,0 +1,56 @@
+// Shared test fixtures: P1's gear (sources.md, Table 1) and an independent brute-force answer
+// to the stylus contact problem, used by the gears, surfaces and engine test suites.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+
+#include "gears/involute_gear.h"
+#include "surfaces/analytic_flank.h"
+
+namespace gearmc::testing_support {
+
+// P1 Table 1: z 24, m 5.6 mm, alpha 20°, x 0.90116, b 78.89 mm, ISO 53 A basic rack.
+inline GearParameters p1_gear_parameters() {
+  GearParameters p;
+  p.teeth = 24;
+  p.module_mm = 5.6;
+  p.pressure_angle_deg = 20.0;
+  p.profile_shift = 0.90116;
+  p.face_width_mm = 78.89;
+  return p;
+}
+
+inline InvoluteGear p1_gear() { return InvoluteGear(p1_gear_parameters()); }
+
+// The contact height f(L, z) = w.n + sqrt(R^2 - |w_perp|^2), w = S(L, z) - p (mm): where the
+// stylus centre stops on the line p + t n when the sphere touches S(L, z); -inf if out of reach.
+inline double brute_force_contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                                         const Eigen::Vector3d& n, double R, double L, double z) {
+  const Eigen::Vector3d w = flank.point(L, z) - p;
+  const double q2 = R * R - (w - w.dot(n) * n).squaredNorm();
+  return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
+}
+
+// First contact by search, not by Newton: maximise the contact height on nested 41 x 41 grids
+// shrinking by 4 around the best point (`levels` levels, from +/- 0.6 R). Returns (L, z).
+inline Eigen::Vector2d brute_force_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                                           const Eigen::Vector3d& n, double R, double L0, double z0,
+                                           int levels = 16) {
+  double L = L0, z = z0, half = 0.6 * R;
+  for (int level = 0; level < levels; ++level) {
+    double best = -std::numeric_limits<double>::infinity(), bL = L, bz = z;
+    for (int a = -20; a <= 20; ++a) {
+      for (int b = -20; b <= 20; ++b) {
+        const double Lc = L + half * a / 20.0, zc = z + half * b / 20.0;
+        const double f = brute_force_contact_height(flank, p, n, R, Lc, zc);
+        if (f > best) best = f, bL = Lc, bz = zc;
+      }
+    }
+    L = bL, z = bz, half *= 0.25;
+  }
+  return {L, z};
+}
+
+}  // namespace gearmc::testing_support
