@@ -94,11 +94,8 @@ TEST(Contact, ConstantProfileSlopeOnTheConvexInvolute) {
 
 TEST(Contact, RandomSmoothFieldsAgreeWithBruteForce) {
   const InvoluteGear gear = p1_gear();
-  ToleranceSet tol;  // P1's profile tolerance with a wavy field: 20 control values
-  tol.values[ToleranceKind::kProfileTotal] = {8, "P1", true};
-  tol.values[ToleranceKind::kHelixTotal] = {10, "references.md", false};
-  tol.values[ToleranceKind::kRunout] = {50, "P1", true};
-  tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};
+  // P1's tolerances with wavy fields: 20 profile and 12 helix control values.
+  const ToleranceSet tol = testing_support::p1_tolerance_set();
   DeviationModel model;
   model.profile_form_control_points = 20;
   model.helix_form_control_points = 12;

@@ -108,13 +108,7 @@ TEST(RadialRunout, PureEccentricityAndUniformOffsets) {
 
 TEST(GearSampler, GearKDependsOnlyOnSeedAndK) {
   const InvoluteGear gear(p1_gear_parameters());
-  ToleranceSet tol;
-  tol.values[ToleranceKind::kRunout] = {50, "P1", true};
-  tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};
-  tol.values[ToleranceKind::kProfileTotal] = {8, "P1", true};
-  tol.values[ToleranceKind::kHelixTotal] = {10, "test", true};
-  tol.values[ToleranceKind::kThicknessUpper] = {110, "P1", true};
-  tol.values[ToleranceKind::kThicknessTolerance] = {100, "P1", true};
+  const ToleranceSet tol = testing_support::p1_tolerance_set();
   const GearSampler a(gear, tol, DeviationModel{}, 7);
   const GearSampler b(gear, tol, DeviationModel{}, 7);
   const GearSampler other_seed(gear, tol, DeviationModel{}, 8);

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include "gears/deviations.h"
 #include "gears/involute_gear.h"
+#include "gears/tolerances.h"
 #include "surfaces/analytic_flank.h"
 
 namespace gearmc::testing_support {
@@ -23,6 +25,48 @@ inline GearParameters p1_gear_parameters() {
 }
 
 inline InvoluteGear p1_gear() { return InvoluteGear(p1_gear_parameters()); }
+
+// P1 Table 1 tolerances (F_r 50, f_pb 9, f_f 8, E_Hs 110, T_H 100 µm) plus GOST grade-5
+// F_beta 10 µm (references.md, recalled: P1 gives no helix tolerance).
+inline ToleranceSet p1_tolerance_set() {
+  ToleranceSet tol;
+  tol.values[ToleranceKind::kRunout] = {50, "P1", true};
+  tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};
+  tol.values[ToleranceKind::kProfileTotal] = {8, "P1", true};
+  tol.values[ToleranceKind::kHelixTotal] = {10, "references.md (recalled)", false};
+  tol.values[ToleranceKind::kThicknessUpper] = {110, "P1", true};
+  tol.values[ToleranceKind::kThicknessTolerance] = {100, "P1", true};
+  return tol;
+}
+
+// ISO 1328-1:2013 class 5 for P1's gear (references.md, verified).
+inline ToleranceSet iso_class5_tolerance_set() {
+  ToleranceSet tol;
+  tol.standard = ToleranceStandard::kIso1328_1_2013;
+  tol.values[ToleranceKind::kSinglePitch] = {7.5, "ISO", true};
+  tol.values[ToleranceKind::kRunout] = {20, "ISO", true};
+  tol.values[ToleranceKind::kProfileSlope] = {6.5, "ISO", true};
+  tol.values[ToleranceKind::kProfileForm] = {8.0, "ISO", true};
+  tol.values[ToleranceKind::kProfileTotal] = {10, "ISO", true};
+  tol.values[ToleranceKind::kHelixSlope] = {7.5, "ISO", true};
+  tol.values[ToleranceKind::kHelixForm] = {9.0, "ISO", true};
+  tol.values[ToleranceKind::kHelixTotal] = {12, "ISO", true};
+  return tol;
+}
+
+// A hand-made flank deviation with offset, slopes and wavy profile and helix forms (µm) over
+// P1's flank (L 21–45 mm, z 4–75 mm).
+inline FlankDeviation wavy_deviation() {
+  FlankDeviation d;
+  d.offset_um = -30.0;
+  d.profile_slope_um_per_mm = 0.2;
+  d.profile_mid_mm = 33.0;
+  d.profile_form = CubicBSpline(21.0, 45.0, {1.0, -2.0, 3.0, 0.5, -1.5, 2.5, -0.7, 0.2});
+  d.helix_slope_um_per_mm = -0.05;
+  d.helix_mid_mm = 39.0;
+  d.helix_form = CubicBSpline(4.0, 75.0, {0.0, 2.0, -1.0, 1.5, -2.0, 0.3});
+  return d;
+}
 
 // The contact height f(L, z) = w.n + sqrt(R^2 - |w_perp|^2), w = S(L, z) - p (mm): where the
 // stylus centre stops on the line p + t n when the sphere touches S(L, z); -inf if out of reach.

@@ -34,20 +34,9 @@ namespace {
 
 using testing_support::p1_gear;
 using testing_support::p1_gear_parameters;
+using testing_support::wavy_deviation;
 
 constexpr double kPi = std::numbers::pi;
-
-FlankDeviation wavy_deviation() {
-  FlankDeviation d;
-  d.offset_um = -30.0;
-  d.profile_slope_um_per_mm = 0.2;
-  d.profile_mid_mm = 33.0;
-  d.profile_form = CubicBSpline(21.0, 45.0, {1.0, -2.0, 3.0, 0.5, -1.5, 2.5, -0.7, 0.2});
-  d.helix_slope_um_per_mm = -0.05;
-  d.helix_mid_mm = 39.0;
-  d.helix_form = CubicBSpline(4.0, 75.0, {0.0, 2.0, -1.0, 1.5, -2.0, 0.3});
-  return d;
-}
 
 Eigen::Vector3d to_eigen(const TriangleMesh::Point& x) { return {x[0], x[1], x[2]}; }
 

@@ -31,17 +31,6 @@ namespace {
 using testing_support::p1_gear;
 using testing_support::p1_gear_parameters;
 
-ToleranceSet p1_tolerances() {  // P1 Table 1 (sources.md), F_beta as within_tolerance_test.cpp
-  ToleranceSet tol;
-  tol.values[ToleranceKind::kRunout] = {50, "P1", true};
-  tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};
-  tol.values[ToleranceKind::kProfileTotal] = {8, "P1", true};
-  tol.values[ToleranceKind::kHelixTotal] = {10, "references.md (recalled)", false};
-  tol.values[ToleranceKind::kThicknessUpper] = {110, "P1", true};
-  tol.values[ToleranceKind::kThicknessTolerance] = {100, "P1", true};
-  return tol;
-}
-
 TriangleMesh mesh_of(const std::vector<Eigen::Vector3d>& points,
                      const std::vector<std::array<int, 3>>& faces) {
   TriangleMesh mesh;
@@ -140,7 +129,7 @@ TEST(MeshContact, SearchWindow) {
 
 TEST(MeshContact, TreeTraversalEqualsTestingEveryTriangle) {
   const InvoluteGear gear = p1_gear();
-  const GearSampler sampler(gear, p1_tolerances(), DeviationModel{}, 7);
+  const GearSampler sampler(gear, testing_support::p1_tolerance_set(), DeviationModel{}, 7);
   const PerturbedGear g = sampler.draw(2);
   const AnalyticFlank flank(gear, 4, FlankSide::kLeft, g.flank(4, FlankSide::kLeft),
                             g.eccentricity_mm);
@@ -192,7 +181,7 @@ TEST(MeshContact, TreeTraversalEqualsTestingEveryTriangle) {
 // O: order 1.93 over the three halvings; C: 1.06; C_s: 2.02. (The test prints this table.)
 TEST(MeshContact, RefinedFlankMeshesConvergeToTheAnalyticContact) {
   const InvoluteGear gear = p1_gear();
-  const GearSampler sampler(gear, p1_tolerances(), DeviationModel{}, 2024);
+  const GearSampler sampler(gear, testing_support::p1_tolerance_set(), DeviationModel{}, 2024);
   const PerturbedGear g = sampler.draw(1);
   const double R = 0.5, r_b = gear.base_diameter_mm() / 2;
   const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
@@ -290,7 +279,7 @@ TEST(MeshContact, RefinedFlankMeshesConvergeToTheAnalyticContact) {
 
 TEST(MeshContact, WholeGearMeshMatchesTheFlankMeshAndSeesCollisions) {
   const InvoluteGear gear = p1_gear();
-  const GearSampler sampler(gear, p1_tolerances(), DeviationModel{}, 3);
+  const GearSampler sampler(gear, testing_support::p1_tolerance_set(), DeviationModel{}, 3);
   const PerturbedGear g = sampler.draw(0);
   const GearMeshSpec spec{30, 6, 12, 60};
   const GearMesh gm = mesh_gear(gear, g, spec);

@@ -205,29 +205,13 @@ void expect_within_tolerance(const InvoluteGear& gear, const ToleranceSet& tol,
 
 TEST(WithinTolerance, P1GostScenarioOver1000Gears) {
   const InvoluteGear gear = p1_gear();
-  ToleranceSet tol;  // P1 Table 1 (sources.md), plus GOST grade-5 F_beta (references.md)
-  tol.values[ToleranceKind::kRunout] = {50, "P1", true};
-  tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};
-  tol.values[ToleranceKind::kProfileTotal] = {8, "P1", true};
-  tol.values[ToleranceKind::kHelixTotal] = {10, "references.md (recalled)", false};
-  tol.values[ToleranceKind::kThicknessUpper] = {110, "P1", true};
-  tol.values[ToleranceKind::kThicknessTolerance] = {100, "P1", true};
+  const ToleranceSet tol = testing_support::p1_tolerance_set();
   expect_within_tolerance(gear, tol, DeviationModel{}, 1000, "GOST");
 }
 
 TEST(WithinTolerance, IsoClass5NormalLawOver1000Gears) {
   const InvoluteGear gear = p1_gear();
-  // ISO 1328-1:2013 class 5 for P1's gear (references.md).
-  ToleranceSet tol;
-  tol.standard = ToleranceStandard::kIso1328_1_2013;
-  tol.values[ToleranceKind::kSinglePitch] = {7.5, "ISO", true};
-  tol.values[ToleranceKind::kRunout] = {20, "ISO", true};
-  tol.values[ToleranceKind::kProfileSlope] = {6.5, "ISO", true};
-  tol.values[ToleranceKind::kProfileForm] = {8.0, "ISO", true};
-  tol.values[ToleranceKind::kProfileTotal] = {10, "ISO", true};
-  tol.values[ToleranceKind::kHelixSlope] = {7.5, "ISO", true};
-  tol.values[ToleranceKind::kHelixForm] = {9.0, "ISO", true};
-  tol.values[ToleranceKind::kHelixTotal] = {12, "ISO", true};
+  const ToleranceSet tol = testing_support::iso_class5_tolerance_set();
   DeviationModel model;
   model.profile_slope.law = model.profile_form.law = DeviationDistribution::Law::kNormal;
   model.helix_slope.law = model.helix_form.law = DeviationDistribution::Law::kNormal;
