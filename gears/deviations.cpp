@@ -261,12 +261,71 @@ double amplitude_draw(const DeviationDistribution& law, RandomStream& rng) {
   return std::abs(signed_draw(law, rng));
 }
 
-std::vector<double> dense_grid(double t0, double t1, int spans) {
-  const int m = kSamplesPerSpan * spans + 1;
-  std::vector<double> x(m);
-  for (int i = 0; i < m; ++i) x[i] = t0 + (t1 - t0) * i / (m - 1);
-  return x;
-}
+}  // namespace
+
+// A trace's dense evaluation grid (kSamplesPerSpan samples per spline span, uniform) with the
+// B-spline basis precomputed on it, so that drawing a trace is a few passes of fused
+// multiply-adds instead of spline evaluations. Everything here is linear in the coefficients c:
+//   grid values      d_i = sum_k basis[i][k] c[first[i] + k]
+//   mean line        md = mean_weights . c,  slope b = slope_weights . c   (trapezoid-weighted
+//                    least squares, as evaluate_trace), about the weighted centre mx.
+struct TraceBasis {
+  TraceBasis(int control_points, double start, double end) : t0(start), t1(end) {
+    const int spans = control_points - 3;
+    const int m = kSamplesPerSpan * spans + 1;
+    x.resize(m);
+    for (int i = 0; i < m; ++i) x[i] = t0 + (t1 - t0) * i / (m - 1);
+    // Basis values by evaluating the spline of each unit coefficient vector (the spline class
+    // is the single implementation of the basis; this runs once per sampler).
+    std::vector<double> e(control_points, 0.0);
+    std::vector<CubicBSpline> splines;
+    for (int j = 0; j < control_points; ++j) {
+      std::fill(e.begin(), e.end(), 0.0);
+      e[j] = 1.0;
+      splines.emplace_back(t0, t1, e);
+    }
+    basis.resize(m);
+    first.resize(m);
+    for (int i = 0; i < m; ++i) {
+      const int span = std::min(i / kSamplesPerSpan, spans - 1);  // support: c[span .. span+3]
+      first[i] = span;
+      for (int k = 0; k < 4; ++k) basis[i][k] = splines[span + k].value(x[i]);
+    }
+    for (int j = 0; j < control_points; ++j) greville.push_back(splines[j].greville(j));
+    // Trapezoid weights on the uniform grid, and the linear functionals of the mean line.
+    const double h = x[1] - x[0];
+    std::vector<double> w(m, h);
+    w.front() = w.back() = 0.5 * h;
+    double W = 0.0;
+    for (int i = 0; i < m; ++i) W += w[i], mx += w[i] * x[i];
+    mx /= W;
+    double sxx = 0.0;
+    for (int i = 0; i < m; ++i) sxx += w[i] * (x[i] - mx) * (x[i] - mx);
+    mean_weights.assign(control_points, 0.0);
+    slope_weights.assign(control_points, 0.0);
+    for (int i = 0; i < m; ++i) {
+      for (int k = 0; k < 4; ++k) {
+        mean_weights[first[i] + k] += w[i] * basis[i][k] / W;
+        slope_weights[first[i] + k] += w[i] * (x[i] - mx) * basis[i][k] / sxx;
+      }
+    }
+  }
+  // d_i for coefficients c, written into d (size of x).
+  void values(const std::vector<double>& c, std::vector<double>& d) const {
+    d.resize(x.size());
+    for (size_t i = 0; i < x.size(); ++i) {
+      const double* cc = c.data() + first[i];
+      const std::array<double, 4>& B = basis[i];
+      d[i] = B[0] * cc[0] + B[1] * cc[1] + B[2] * cc[2] + B[3] * cc[3];
+    }
+  }
+  double t0, t1, mx = 0.0;
+  std::vector<double> x, greville, mean_weights, slope_weights;
+  std::vector<std::array<double, 4>> basis;
+  std::vector<int> first;
+};
+
+namespace {
 
 // Tolerances bounding one trace (profile or helix); absent ones are infinite.
 struct TraceTolerances {
@@ -276,11 +335,12 @@ struct TraceTolerances {
 
 // One random trace shape within its tolerances: writes the slope (µm/mm) and the form spline.
 void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_law,
-                const DeviationDistribution& form_law, int control_points, double t0, double t1,
-                RandomStream& rng, double* slope_um_per_mm, CubicBSpline* form) {
+                const DeviationDistribution& form_law, const TraceBasis& basis, RandomStream& rng,
+                double* slope_um_per_mm, CubicBSpline* form) {
   *slope_um_per_mm = 0.0;
   *form = CubicBSpline();
   if (!tol.any()) return;
+  const double t0 = basis.t0, t1 = basis.t1;
   const double range = t1 - t0, mid = 0.5 * (t0 + t1);
 
   // Targets. With only a total tolerance (GOST f_f, F_beta) the drawn total band is split
@@ -298,43 +358,36 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
     total_target = total;
   }
 
-  // Form shape: N(0,1) control values, mean line removed, scaled to the target band. The
-  // spline is linear in its coefficients and reproduces lines exactly, so the grid values are
-  // computed once and every later step is applied to them and to the coefficients alike.
-  std::vector<double> c(control_points);
+  // Form shape: N(0,1) control values with their least-squares mean line removed. The spline
+  // reproduces lines exactly (linear precision), so subtracting the line md + b (x - mx) from
+  // the coefficients at their Greville abscissae subtracts it from the curve.
+  std::vector<double> c(basis.greville.size());
   for (double& v : c) v = rng.normal();
-  const CubicBSpline raw(t0, t1, c);
-  const std::vector<double> x = dense_grid(t0, t1, control_points - 3);
-  std::vector<double> d(x.size());
-  for (size_t i = 0; i < x.size(); ++i) d[i] = raw.value(x[i]);
-  // Its weighted least-squares line (as evaluate_trace: trapezoid weights on the uniform grid).
-  const double h = x[1] - x[0];
-  double W = 0.0, mx = 0.0, md = 0.0, sxx = 0.0, sxd = 0.0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    const double w = (i == 0 || i + 1 == x.size()) ? 0.5 * h : h;
-    W += w, mx += w * x[i], md += w * d[i];
+  double md = 0.0, b = 0.0;
+  for (size_t j = 0; j < c.size(); ++j) {
+    md += basis.mean_weights[j] * c[j];
+    b += basis.slope_weights[j] * c[j];
   }
-  mx /= W;
-  md /= W;
-  for (size_t i = 0; i < x.size(); ++i) {
-    const double w = (i == 0 || i + 1 == x.size()) ? 0.5 * h : h;
-    sxx += w * (x[i] - mx) * (x[i] - mx);
-    sxd += w * (x[i] - mx) * (d[i] - md);
-  }
-  const double b = sxd / sxx;
-  for (int i = 0; i < control_points; ++i) {  // linear precision: subtracts the line exactly
-    c[i] -= md + b * (raw.greville(i) - mx);
-  }
-  for (size_t i = 0; i < x.size(); ++i) d[i] -= md + b * (x[i] - mx);
-  const double band = evaluate_trace(x, d).form_um;
+  for (size_t j = 0; j < c.size(); ++j) c[j] -= md + b * (basis.greville[j] - basis.mx);
+  std::vector<double> d;
+  basis.values(c, d);
+  // Its form band (its mean line is now zero): scaled to the target.
+  const auto [lo, hi] = std::minmax_element(d.begin(), d.end());
+  const double band = *hi - *lo;
   const double to_target = band > 0.0 ? form_target / band : 0.0;
-  std::vector<double> form_values(x.size());
-  for (size_t i = 0; i < x.size(); ++i) form_values[i] = d[i] * to_target;
 
-  // Compose, measure, and scale the whole trace into every tolerance.
+  // Compose, measure the ISO way, and scale the whole trace into every tolerance. The form
+  // part has a zero mean line, so the composed trace's mean line is the drawn line itself: its
+  // slope deviation is slope * range and its form band is the scaled band (evaluate_trace would
+  // return the same to rounding); only the total needs a pass over the grid.
   const double slope = slope_target / range;
-  for (size_t i = 0; i < x.size(); ++i) d[i] = slope * (x[i] - mid) + form_values[i];
-  const TraceEvaluation e = evaluate_trace(x, d);
+  double total_lo = std::numeric_limits<double>::infinity(), total_hi = -total_lo;
+  for (size_t i = 0; i < d.size(); ++i) {
+    const double v = slope * (basis.x[i] - mid) + d[i] * to_target;
+    total_lo = std::min(total_lo, v);
+    total_hi = std::max(total_hi, v);
+  }
+  const TraceEvaluation e{slope * range, band * to_target, total_hi - total_lo};
   double factor = 1.0;
   auto limit = [&](std::optional<double> tolerance, double measured) {
     if (tolerance && measured > 0.0) factor = std::min(factor, *tolerance / measured);
@@ -416,7 +469,13 @@ GearSampler::GearSampler(const InvoluteGear& gear, const ToleranceSet& tolerance
       tolerances_(tolerances),
       model_(std::move(model)),
       seed_(seed),
-      ranges_(evaluation_ranges(gear)) {}
+      ranges_(evaluation_ranges(gear)),
+      profile_basis_(std::make_shared<const TraceBasis>(
+          model_.profile_form_control_points, ranges_.profile_start_mm, ranges_.profile_end_mm)),
+      helix_basis_(std::make_shared<const TraceBasis>(
+          model_.helix_form_control_points, ranges_.helix_start_mm, ranges_.helix_end_mm)) {}
+
+GearSampler::~GearSampler() = default;
 
 PerturbedGear GearSampler::draw(int gear_index) const {
   const int z = gear_.teeth();
@@ -471,13 +530,11 @@ PerturbedGear GearSampler::draw(int gear_index) const {
   for (int i = 0; i < 2 * z; ++i) {
     FlankDeviation& f = g.flanks[i];
     RandomStream profile_rng(seed_, k, StreamPurpose::kProfile, static_cast<std::uint32_t>(i));
-    draw_trace(profile_tol, model_.profile_slope, model_.profile_form,
-               model_.profile_form_control_points, r.profile_start_mm, r.profile_end_mm,
-               profile_rng, &f.profile_slope_um_per_mm, &f.profile_form);
+    draw_trace(profile_tol, model_.profile_slope, model_.profile_form, *profile_basis_, profile_rng,
+               &f.profile_slope_um_per_mm, &f.profile_form);
     RandomStream helix_rng(seed_, k, StreamPurpose::kHelix, static_cast<std::uint32_t>(i));
-    draw_trace(helix_tol, model_.helix_slope, model_.helix_form, model_.helix_form_control_points,
-               r.helix_start_mm, r.helix_end_mm, helix_rng, &f.helix_slope_um_per_mm,
-               &f.helix_form);
+    draw_trace(helix_tol, model_.helix_slope, model_.helix_form, *helix_basis_, helix_rng,
+               &f.helix_slope_um_per_mm, &f.helix_form);
   }
 
   // Runout without eccentricity; shrink the pitch part if it alone breaks F_r.

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -123,12 +124,15 @@ struct EvaluationRanges {
 };
 EvaluationRanges evaluation_ranges(const InvoluteGear& gear);
 
+struct TraceBasis;  // deviations.cpp: a trace's dense grid with its B-spline basis
+
 // Draws perturbed gears within the resolved tolerances. Thread-safe: draw() is const and every
 // random number comes from the gear's own streams (seed, gear index, purpose, flank).
 class GearSampler {
  public:
   GearSampler(const InvoluteGear& gear, const ToleranceSet& tolerances, DeviationModel model,
               std::uint64_t seed);
+  ~GearSampler();
   PerturbedGear draw(int gear_index) const;
   const EvaluationRanges& ranges() const { return ranges_; }
 
@@ -138,6 +142,8 @@ class GearSampler {
   DeviationModel model_;
   std::uint64_t seed_;
   EvaluationRanges ranges_;
+  // Dense evaluation grids of the profile and helix traces with their B-spline basis.
+  std::shared_ptr<const TraceBasis> profile_basis_, helix_basis_;
 };
 
 // Radial runout (µm) as ISO 10064-4 measures it: a ball touching both flanks of every tooth
