@@ -18,9 +18,11 @@ enum class StreamPurpose : std::uint32_t {
   kThickness = 1,
   kPitch = 2,
   kEccentricity = 3,
-  kProfile = 4,   // sub-index: flank index
-  kHelix = 5,     // sub-index: flank index
-  kProbing = 16,  // measurement effects and noise (engine)
+  kProfile = 4,  // sub-index: flank index
+  kHelix = 5,    // sub-index: flank index
+  // 16: reserved (was planned for probing noise, never used).
+  kEffectParameters = 17,  // sub-index: effect index in the chain (per-gear parameter draws)
+  kEffectNoise = 18,       // sub-index: point order (random parts of effects at one point)
 };
 
 class RandomStream {

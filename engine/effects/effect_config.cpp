@@ -1,0 +1,177 @@
+// Reading the `effects:` section of a scenario into an EffectChain (see effect_config.h).
+#include "engine/effects/effect_config.h"
+
+#include "engine/effects/effects.h"
+#include "engine/effects/probe_lobing.h"
+
+namespace gearmc {
+namespace {
+
+// A parameter: a number, or {uniform: [lo, hi]}, or {normal: [mean, sd]}; absent = `fallback`.
+EffectParameter read_parameter(const YamlMap& map, const std::string& key, double fallback,
+                               const NumberRange& range = NumberRange::any()) {
+  EffectParameter p;
+  p.name = key;
+  p.value = fallback;
+  const auto value = map.find(key);
+  if (!value) return p;
+  if (!value->is_map()) {
+    p.value = value->as_number(range);
+    return p;
+  }
+  const YamlMap law = value->as_map({"uniform", "normal"});
+  if (law.entries().size() != 1) {
+    throw value->error("a number, {uniform: [lo, hi]} or {normal: [mean, sd]}");
+  }
+  const YamlValue& spec = law.entries().front().value;
+  const std::vector<YamlValue> pair = spec.as_sequence();
+  if (pair.size() != 2) throw spec.error("two numbers [a, b]");
+  const double a = pair[0].as_number(), b = pair[1].as_number();
+  if (law.entries().front().key == "uniform") {
+    if (!(a <= b)) throw spec.error("[lo, hi] with lo <= hi");
+    if (!range.contains(a) || !range.contains(b))
+      throw spec.error("bounds that are " + range.describe());
+    p.law = EffectParameter::Law::kUniform;
+    p.lo = a;
+    p.hi = b;
+  } else {
+    if (!(b >= 0.0)) throw pair[1].error("a standard deviation >= 0");
+    p.law = EffectParameter::Law::kNormal;
+    p.value = a;
+    p.spread = b;
+  }
+  return p;
+}
+
+std::vector<std::string> with_enabled(std::vector<std::string> keys) {
+  keys.insert(keys.begin(), "enabled");
+  return keys;
+}
+
+std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m) {
+  EffectParameter pretravel = read_parameter(m, "pretravel_um", 0.0);
+  std::vector<int> orders;
+  std::vector<EffectParameter> harmonic_parameters;
+  if (const auto list = m.find("harmonics")) {
+    for (const YamlValue& item : list->as_sequence()) {
+      const YamlMap h = item.as_map({"order", "amplitude_um", "phase_deg"});
+      const int order = static_cast<int>(h.require_int("order", 1, 36));
+      for (int existing : orders) {
+        if (existing == order) throw h.require("order", "").error("an order not listed before");
+      }
+      orders.push_back(order);
+      EffectParameter a = read_parameter(h, "amplitude_um", 0.0);
+      a.name = "amplitude_" + std::to_string(order) + "_um";
+      a.unit = "µm";
+      EffectParameter phase = read_parameter(h, "phase_deg", 0.0);
+      phase.name = "phase_" + std::to_string(order) + "_deg";
+      phase.unit = "deg";
+      harmonic_parameters.push_back(std::move(a));
+      harmonic_parameters.push_back(std::move(phase));
+    }
+  }
+  pretravel.unit = "µm";
+  EffectParameter repeatability =
+      read_parameter(m, "repeatability_um", 0.0, NumberRange::non_negative());
+  repeatability.unit = "µm";
+  ProbeQualificationSpec q;
+  if (const auto s =
+          m.get_choice("calibration", {"none", "mean6", "six_directions", "per_direction"})) {
+    q.strategy = *s == "none"             ? ProbeQualification::kNone
+                 : *s == "mean6"          ? ProbeQualification::kMean6
+                 : *s == "six_directions" ? ProbeQualification::kSixDirections
+                                          : ProbeQualification::kPerDirection;
+  }
+  if (const auto u = m.get_choice("six_directions_use", {"nearest", "interpolated"})) {
+    q.use = *u == "nearest" ? SixDirectionUse::kNearest : SixDirectionUse::kInterpolated;
+  }
+  q.start_deg = m.get_number("calibration_start_deg").value_or(90.0);
+  return std::make_unique<ProbeLobingEffect>(std::move(pretravel), std::move(orders),
+                                             std::move(harmonic_parameters),
+                                             std::move(repeatability), q);
+}
+
+}  // namespace
+
+const std::vector<std::string>& effect_names() {
+  static const std::vector<std::string> names = {
+      "probe_lobing",      "stylus_radius", "tip_form",          "scale",        "squareness",
+      "thermal_expansion", "drift",         "step_quantization", "eccentricity", "noise"};
+  return names;
+}
+
+EffectChain parse_effects(const YamlValue& section) {
+  EffectChain chain;
+  if (section.is_null()) return chain;
+  const YamlMap effects = section.as_map(effect_names());
+  for (const auto& entry : effects.entries()) {
+    const std::string& name = entry.key;
+    std::vector<std::string> keys;
+    if (name == "probe_lobing") {
+      keys = {"pretravel_um", "harmonics",          "repeatability_um",
+              "calibration",  "six_directions_use", "calibration_start_deg"};
+    } else if (name == "stylus_radius") {
+      keys = {"error_um"};
+    } else if (name == "tip_form") {
+      keys = {"order", "amplitude_um", "phase_deg"};
+    } else if (name == "scale") {
+      keys = {"x_ppm", "y_ppm", "z_ppm"};
+    } else if (name == "squareness") {
+      keys = {"xy_urad", "xz_urad", "yz_urad"};
+    } else if (name == "thermal_expansion") {
+      keys = {"workpiece_delta_t_k", "scale_delta_t_k", "workpiece_cte_ppm_per_k",
+              "scale_cte_ppm_per_k"};
+    } else if (name == "drift") {
+      keys = {"x_um", "y_um", "z_um"};
+    } else if (name == "step_quantization") {
+      keys = {"step_um", "approach_mm"};
+    } else if (name == "eccentricity") {
+      keys = {"x_um", "y_um"};
+    } else {  // noise
+      keys = {"sigma_um"};
+    }
+    const YamlMap m = entry.value.as_map(with_enabled(keys));
+    if (!m.get_bool("enabled").value_or(true)) continue;
+    std::unique_ptr<MeasurementEffect> effect;
+    if (name == "probe_lobing") {
+      effect = read_probe_lobing(m);
+    } else if (name == "stylus_radius") {
+      effect = std::make_unique<StylusRadiusEffect>(read_parameter(m, "error_um", 0.0));
+    } else if (name == "tip_form") {
+      effect = std::make_unique<TipFormEffect>(
+          static_cast<int>(m.get_int("order", 1, 36).value_or(2)),
+          read_parameter(m, "amplitude_um", 0.0), read_parameter(m, "phase_deg", 0.0));
+    } else if (name == "scale") {
+      effect = std::make_unique<ScaleEffect>(read_parameter(m, "x_ppm", 0.0),
+                                             read_parameter(m, "y_ppm", 0.0),
+                                             read_parameter(m, "z_ppm", 0.0));
+    } else if (name == "squareness") {
+      effect = std::make_unique<SquarenessEffect>(read_parameter(m, "xy_urad", 0.0),
+                                                  read_parameter(m, "xz_urad", 0.0),
+                                                  read_parameter(m, "yz_urad", 0.0));
+    } else if (name == "thermal_expansion") {
+      effect = std::make_unique<ThermalExpansionEffect>(
+          read_parameter(m, "workpiece_delta_t_k", 0.0), read_parameter(m, "scale_delta_t_k", 0.0),
+          read_parameter(m, "workpiece_cte_ppm_per_k", 11.5, NumberRange::non_negative()),
+          read_parameter(m, "scale_cte_ppm_per_k", 0.0, NumberRange::non_negative()));
+    } else if (name == "drift") {
+      effect = std::make_unique<DriftEffect>(read_parameter(m, "x_um", 0.0),
+                                             read_parameter(m, "y_um", 0.0),
+                                             read_parameter(m, "z_um", 0.0));
+    } else if (name == "step_quantization") {
+      effect = std::make_unique<StepQuantizationEffect>(
+          read_parameter(m, "step_um", 0.0, NumberRange::non_negative()),
+          m.get_number("approach_mm", NumberRange::positive()).value_or(2.0));
+    } else if (name == "eccentricity") {
+      effect = std::make_unique<EccentricityEffect>(read_parameter(m, "x_um", 0.0),
+                                                    read_parameter(m, "y_um", 0.0));
+    } else {
+      effect = std::make_unique<NoiseEffect>(
+          read_parameter(m, "sigma_um", 0.0, NumberRange::non_negative()));
+    }
+    chain.add(std::move(effect));
+  }
+  return chain;
+}
+
+}  // namespace gearmc

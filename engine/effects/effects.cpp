@@ -1,0 +1,151 @@
+// The measurement effects of effects.h: apply() and the closed-form signatures.
+#include "engine/effects/effects.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace gearmc {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+EffectParameter named(EffectParameter p, const char* name, const char* unit) {
+  p.name = name;
+  p.unit = unit;
+  return p;
+}
+
+}  // namespace
+
+EccentricityEffect::EccentricityEffect(EffectParameter x_um, EffectParameter y_um)
+    : MeasurementEffect(
+          {named(std::move(x_um), "x_um", "µm"), named(std::move(y_um), "y_um", "µm")}) {}
+void EccentricityEffect::apply(const PointContext&, std::span<const double> v, Eigen::Vector3d& c,
+                               RandomStream&) const {
+  c.x() += 1e-3 * v[0];
+  c.y() += 1e-3 * v[1];
+}
+void EccentricityEffect::signature(const PointContext& point, std::span<const double>,
+                                   std::span<double> out) const {
+  out[0] = point.n.x();
+  out[1] = point.n.y();
+}
+
+ThermalExpansionEffect::ThermalExpansionEffect(EffectParameter workpiece_delta_t_k,
+                                               EffectParameter scale_delta_t_k,
+                                               EffectParameter workpiece_cte_ppm_per_k,
+                                               EffectParameter scale_cte_ppm_per_k)
+    : MeasurementEffect(
+          {named(std::move(workpiece_delta_t_k), "workpiece_delta_t_k", "K"),
+           named(std::move(scale_delta_t_k), "scale_delta_t_k", "K"),
+           named(std::move(workpiece_cte_ppm_per_k), "workpiece_cte_ppm_per_k", "ppm/K"),
+           named(std::move(scale_cte_ppm_per_k), "scale_cte_ppm_per_k", "ppm/K")}) {}
+void ThermalExpansionEffect::apply(const PointContext&, std::span<const double> v,
+                                   Eigen::Vector3d& c, RandomStream&) const {
+  c *= 1.0 + 1e-6 * (v[2] * v[0] - v[3] * v[1]);
+}
+
+StylusRadiusEffect::StylusRadiusEffect(EffectParameter error_um)
+    : MeasurementEffect({named(std::move(error_um), "error_um", "µm")}) {}
+void StylusRadiusEffect::apply(const PointContext& point, std::span<const double> v,
+                               Eigen::Vector3d& c, RandomStream&) const {
+  c -= point.n * (1e-3 * v[0]);
+}
+void StylusRadiusEffect::signature(const PointContext&, std::span<const double>,
+                                   std::span<double> out) const {
+  out[0] = -1.0;
+}
+
+TipFormEffect::TipFormEffect(int order, EffectParameter amplitude_um, EffectParameter phase_deg)
+    : MeasurementEffect({named(std::move(amplitude_um), "amplitude_um", "µm"),
+                         named(std::move(phase_deg), "phase_deg", "deg")}),
+      order_(order) {}
+void TipFormEffect::apply(const PointContext& point, std::span<const double> v, Eigen::Vector3d& c,
+                          RandomStream&) const {
+  const Eigen::Vector3d& m = point.contact_normal;
+  const double psi = std::atan2(m.y(), m.x());
+  c += m * (1e-3 * v[0] * std::cos(order_ * (psi - v[1] * kDeg)));
+}
+
+ScaleEffect::ScaleEffect(EffectParameter x_ppm, EffectParameter y_ppm, EffectParameter z_ppm)
+    : MeasurementEffect({named(std::move(x_ppm), "x_ppm", "ppm"),
+                         named(std::move(y_ppm), "y_ppm", "ppm"),
+                         named(std::move(z_ppm), "z_ppm", "ppm")}) {}
+void ScaleEffect::apply(const PointContext&, std::span<const double> v, Eigen::Vector3d& c,
+                        RandomStream&) const {
+  for (int i = 0; i < 3; ++i) c[i] *= 1.0 + 1e-6 * v[i];
+}
+void ScaleEffect::signature(const PointContext& point, std::span<const double>,
+                            std::span<double> out) const {
+  // 1e-6 per ppm times c_i n_i (mm) times 1000 µm/mm, at the nominal centre.
+  const Eigen::Vector3d c = point.p + point.stylus_radius_mm * point.n;
+  for (int i = 0; i < 3; ++i) out[i] = 1e-3 * c[i] * point.n[i];
+}
+
+SquarenessEffect::SquarenessEffect(EffectParameter xy_urad, EffectParameter xz_urad,
+                                   EffectParameter yz_urad)
+    : MeasurementEffect({named(std::move(xy_urad), "xy_urad", "µrad"),
+                         named(std::move(xz_urad), "xz_urad", "µrad"),
+                         named(std::move(yz_urad), "yz_urad", "µrad")}) {}
+void SquarenessEffect::apply(const PointContext&, std::span<const double> v, Eigen::Vector3d& c,
+                             RandomStream&) const {
+  const Eigen::Vector3d c0 = c;
+  c.x() += 1e-6 * (v[0] * c0.y() + v[1] * c0.z());
+  c.y() += 1e-6 * v[2] * c0.z();
+}
+void SquarenessEffect::signature(const PointContext& point, std::span<const double>,
+                                 std::span<double> out) const {
+  const Eigen::Vector3d c = point.p + point.stylus_radius_mm * point.n;
+  out[0] = 1e-3 * point.n.x() * c.y();
+  out[1] = 1e-3 * point.n.x() * c.z();
+  out[2] = 1e-3 * point.n.y() * c.z();
+}
+
+DriftEffect::DriftEffect(EffectParameter x_um, EffectParameter y_um, EffectParameter z_um)
+    : MeasurementEffect({named(std::move(x_um), "x_um", "µm"), named(std::move(y_um), "y_um", "µm"),
+                         named(std::move(z_um), "z_um", "µm")}) {}
+namespace {
+double sequence_fraction(const PointContext& point) {
+  return point.sequence_length > 1 ? static_cast<double>(point.order) / (point.sequence_length - 1)
+                                   : 0.0;
+}
+}  // namespace
+void DriftEffect::apply(const PointContext& point, std::span<const double> v, Eigen::Vector3d& c,
+                        RandomStream&) const {
+  const double f = 1e-3 * sequence_fraction(point);
+  c += f * Eigen::Vector3d(v[0], v[1], v[2]);
+}
+void DriftEffect::signature(const PointContext& point, std::span<const double>,
+                            std::span<double> out) const {
+  const double f = sequence_fraction(point);
+  for (int i = 0; i < 3; ++i) out[i] = f * point.n[i];
+}
+
+StepQuantizationEffect::StepQuantizationEffect(EffectParameter step_um, double approach_mm)
+    : MeasurementEffect({named(std::move(step_um), "step_um", "µm")}), approach_mm_(approach_mm) {}
+void StepQuantizationEffect::apply(const PointContext& point, std::span<const double> v,
+                                   Eigen::Vector3d& c, RandomStream&) const {
+  const double q = 1e-3 * v[0];  // mm
+  if (q <= 0.0) return;
+  const Eigen::Vector3d start = point.p + (point.stylus_radius_mm + approach_mm_) * point.n;
+  const double s = (start - c).dot(point.n);  // travel along −n to the trigger, mm
+  const double u = std::ceil(s / q) * q - s;
+  c -= point.n * u;
+}
+void StepQuantizationEffect::signature(const PointContext&, std::span<const double>,
+                                       std::span<double> out) const {
+  out[0] = -0.5;
+}
+
+NoiseEffect::NoiseEffect(EffectParameter sigma_um)
+    : MeasurementEffect({named(std::move(sigma_um), "sigma_um", "µm")}) {}
+void NoiseEffect::apply(const PointContext&, std::span<const double> v, Eigen::Vector3d& c,
+                        RandomStream& rng) const {
+  for (int i = 0; i < 3; ++i) c[i] += 1e-3 * v[0] * rng.normal();
+}
+void NoiseEffect::signature(const PointContext&, std::span<const double>,
+                            std::span<double> out) const {
+  out[0] = 0.0;  // zero-mean: no first-order systematic change of the reading
+}
+
+}  // namespace gearmc

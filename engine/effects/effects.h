@@ -1,0 +1,145 @@
+// The library of measurement effects besides probe lobing (issue 5; names from interface.md):
+// what each models, its parameters with units, and the closed-form signature where it is
+// linear. All act on the recorded stylus centre c (CMM frame = gear frame, mm). Workpiece
+// effects (eccentricity, thermal expansion) move the real surface; they are applied to the
+// stylus centre at contact, which is exact for a translation and first-order exact for a
+// uniform expansion (the contact point moves with the surface; the normal changes by < 1e-5 rad).
+#pragma once
+
+#include "engine/effects/measurement_effect.h"
+
+namespace gearmc {
+
+// `eccentricity` (set-up): the gear axis sits off the datum axis by (x_um, y_um): every point of
+// the real surface, hence the stylus centre at contact, moves by that vector.
+class EccentricityEffect : public MeasurementEffect {
+ public:
+  EccentricityEffect(EffectParameter x_um, EffectParameter y_um);
+  std::string_view name() const override { return "eccentricity"; }
+  EffectStage stage() const override { return EffectStage::kWorkpiece; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
+// `thermal_expansion`: the workpiece at 20 °C + workpiece_delta_t_k expands by its CTE, the
+// CMM's scales at 20 °C + scale_delta_t_k by theirs, and the CMM reads positions in scale
+// units: c ← c (1 + α_w ΔT_w − α_s ΔT_s) about the gear centre (ISO 1 reference temperature).
+// Parameters: workpiece_delta_t_k (K), scale_delta_t_k (K), workpiece_cte_ppm_per_k (steel
+// 11.5), scale_cte_ppm_per_k (glass-ceramic ≈ 0, steel 11.5).
+class ThermalExpansionEffect : public MeasurementEffect {
+ public:
+  ThermalExpansionEffect(EffectParameter workpiece_delta_t_k, EffectParameter scale_delta_t_k,
+                         EffectParameter workpiece_cte_ppm_per_k,
+                         EffectParameter scale_cte_ppm_per_k);
+  std::string_view name() const override { return "thermal_expansion"; }
+  EffectStage stage() const override { return EffectStage::kWorkpiece; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+};
+
+// `stylus_radius`: the radius the software uses (from qualification) is error_um larger than
+// the stylus's effective radius, so every reading comes out error_um too small along n.
+class StylusRadiusEffect : public MeasurementEffect {
+ public:
+  explicit StylusRadiusEffect(EffectParameter error_um);
+  std::string_view name() const override { return "stylus_radius"; }
+  EffectStage stage() const override { return EffectStage::kProbe; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
+// `tip_form`: the stylus ball's radius varies with the direction of contact on the ball,
+// r(ψ) = R + amplitude·cos(order (ψ − phase)), ψ the azimuth of the contact normal (the ball
+// touches the flank at −m, m the real outward normal). A larger radius there holds the centre
+// further from the surface: c ← c + m (r(ψ) − R). Parameters: amplitude_um, phase_deg; the
+// order (lobes of the ball's form) is a setting.
+class TipFormEffect : public MeasurementEffect {
+ public:
+  TipFormEffect(int order, EffectParameter amplitude_um, EffectParameter phase_deg);
+  std::string_view name() const override { return "tip_form"; }
+  EffectStage stage() const override { return EffectStage::kProbe; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+
+ private:
+  int order_;
+};
+
+// `scale`: each CMM axis reads (1 + s) times the true displacement from the origin (the gear
+// centre): c_i ← c_i (1 + s_i 1e-6). Parameters x_ppm, y_ppm, z_ppm.
+class ScaleEffect : public MeasurementEffect {
+ public:
+  ScaleEffect(EffectParameter x_ppm, EffectParameter y_ppm, EffectParameter z_ppm);
+  std::string_view name() const override { return "scale"; }
+  EffectStage stage() const override { return EffectStage::kMachine; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
+// `squareness`: out-of-squareness of the axis pairs as small shears (µrad):
+// c_x ← c_x + θ_xy c_y + θ_xz c_z, c_y ← c_y + θ_yz c_z (θ > 0: the first axis leans towards
+// the second one's positive direction). Parameters xy_urad, xz_urad, yz_urad.
+class SquarenessEffect : public MeasurementEffect {
+ public:
+  SquarenessEffect(EffectParameter xy_urad, EffectParameter xz_urad, EffectParameter yz_urad);
+  std::string_view name() const override { return "squareness"; }
+  EffectStage stage() const override { return EffectStage::kMachine; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
+// `drift`: the CMM's reading of the workpiece drifts linearly over the probing sequence (warm-up,
+// temperature change): c ← c + d·order/(sequence_length − 1), d = (x_um, y_um, z_um) reached at
+// the last point.
+class DriftEffect : public MeasurementEffect {
+ public:
+  DriftEffect(EffectParameter x_um, EffectParameter y_um, EffectParameter z_um);
+  std::string_view name() const override { return "drift"; }
+  EffectStage stage() const override { return EffectStage::kMachine; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
+// `step_quantization`: the controller latches the trigger at the next multiple of the servo
+// interpolation step q along the approach. The approach starts approach_mm above the nominal
+// touch (stylus centre at p + (R + approach) n); the travel s to the trigger is rounded up to
+// a multiple of q, so the centre is recorded u = ceil(s/q) q − s ∈ [0, q) further along −n.
+// Parameter step_um; approach_mm is a setting. First-order signature: −1/2 per µm of q (the
+// mean of u).
+class StepQuantizationEffect : public MeasurementEffect {
+ public:
+  StepQuantizationEffect(EffectParameter step_um, double approach_mm);
+  std::string_view name() const override { return "step_quantization"; }
+  EffectStage stage() const override { return EffectStage::kController; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+
+ private:
+  double approach_mm_;
+};
+
+// `noise`: random probing noise, independent N(0, sigma²) on each CMM axis at each point.
+class NoiseEffect : public MeasurementEffect {
+ public:
+  explicit NoiseEffect(EffectParameter sigma_um);
+  std::string_view name() const override { return "noise"; }
+  EffectStage stage() const override { return EffectStage::kNoise; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
+}  // namespace gearmc
