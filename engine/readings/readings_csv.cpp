@@ -1,0 +1,214 @@
+// Reading and writing the readings CSV (see readings_csv.h).
+#include "engine/readings/readings_csv.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "engine/report/html_report.h"
+#include "engine/scenario/input_error.h"
+
+namespace gearmc {
+namespace {
+
+const std::vector<std::string> kColumns = {"gear",  "tooth", "flank", "i",  "j",
+                                           "order", "px",    "py",    "pz", "nx",
+                                           "ny",    "nz",    "cx",    "cy", "cz"};
+
+std::string number_text(double x) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+std::vector<std::string> split(const std::string& line, std::vector<int>* columns) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', start);
+    columns->push_back(static_cast<int>(start) + 1);
+    fields.push_back(
+        line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  for (std::string& f : fields) {  // trim spaces
+    const auto b = f.find_first_not_of(" \t"), e = f.find_last_not_of(" \t");
+    f = b == std::string::npos ? "" : f.substr(b, e - b + 1);
+  }
+  return fields;
+}
+
+}  // namespace
+
+double measured_deviation_um(const ReadingRow& row, double stylus_radius_mm) {
+  return ((row.c - row.p).dot(row.n) - stylus_radius_mm) * 1000.0 - row.ref_dev_um.value_or(0.0);
+}
+
+std::string format_readings(const Readings& readings) {
+  std::ostringstream out;
+  out << "# gearmc readings v1\n# stylus_radius_mm=" << number_text(readings.stylus_radius_mm)
+      << "\n";
+  for (std::size_t k = 0; k < kColumns.size(); ++k) out << (k ? "," : "") << kColumns[k];
+  if (readings.has_ref_dev) out << ",ref_dev_um";
+  out << "\n";
+  for (const ReadingRow& r : readings.rows) {
+    out << r.gear << ',' << r.tooth << ',' << (r.side == FlankSide::kRight ? 'R' : 'L') << ','
+        << r.i << ',' << r.j << ',' << r.order;
+    for (const Eigen::Vector3d* v : {&r.p, &r.n, &r.c}) {
+      for (int a = 0; a < 3; ++a) out << ',' << number_text((*v)[a]);
+    }
+    if (readings.has_ref_dev) out << ',' << number_text(r.ref_dev_um.value_or(0.0));
+    out << "\n";
+  }
+  return out.str();
+}
+
+void write_readings(const std::string& path, const Readings& readings) {
+  write_file_atomically(path, format_readings(readings));
+}
+
+Readings read_readings(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path, 0, 0}, "cannot read the readings file '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_readings(text.str(), path);
+}
+
+Readings parse_readings(const std::string& text, const std::string& source) {
+  Readings readings;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  auto error = [&](int column, const std::string& key, const std::string& value,
+                   const std::string& expected) {
+    return InputError({source, line_no, column}, key, value, expected);
+  };
+  // Header: the version line, key=value comment lines, then the column line.
+  bool version = false, radius = false;
+  std::vector<std::string> header;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      const std::string body = line.substr(line.find_first_not_of("# ") == std::string::npos
+                                               ? line.size()
+                                               : line.find_first_not_of("# "));
+      if (!version) {
+        if (body != "gearmc readings v1") {
+          throw error(1, "header", line, "the first line '# gearmc readings v1'");
+        }
+        version = true;
+        continue;
+      }
+      const auto eq = body.find('=');
+      const std::string key = body.substr(0, eq);
+      if (eq == std::string::npos) continue;  // a free comment
+      if (key.rfind("stylus_radius", 0) == 0 && key != "stylus_radius_mm") {
+        throw error(1, key, body, "the stylus radius in millimetres: '# stylus_radius_mm=R'");
+      }
+      if (key == "stylus_radius_mm") {
+        const std::string v = body.substr(eq + 1);
+        double r = 0.0;
+        const auto res = std::from_chars(v.data(), v.data() + v.size(), r);
+        if (res.ec != std::errc() || res.ptr != v.data() + v.size() || !(r > 0.0) ||
+            !std::isfinite(r)) {
+          throw error(static_cast<int>(line.find('=')) + 2, "stylus_radius_mm", v,
+                      "a radius > 0 in mm");
+        }
+        readings.stylus_radius_mm = r;
+        radius = true;
+      }
+      continue;
+    }
+    if (!version) throw error(1, "header", line, "the first line '# gearmc readings v1'");
+    if (!radius) {
+      throw error(1, "stylus_radius_mm", line,
+                  "a header line '# stylus_radius_mm=R' before the column names");
+    }
+    std::vector<int> cols;
+    header = split(line, &cols);
+    for (std::size_t k = 0; k < kColumns.size(); ++k) {
+      if (k >= header.size() || header[k] != kColumns[k]) {
+        throw error(k < cols.size() ? cols[k] : static_cast<int>(line.size()) + 1,
+                    "column " + std::to_string(k + 1), k < header.size() ? header[k] : "",
+                    "'" + kColumns[k] +
+                        "' (columns: gear,tooth,flank,i,j,order,px,py,pz,nx,"
+                        "ny,nz,cx,cy,cz[,ref_dev_um])");
+      }
+    }
+    if (header.size() == kColumns.size() + 1 && header.back() == "ref_dev_um") {
+      readings.has_ref_dev = true;
+    } else if (header.size() != kColumns.size()) {
+      throw error(cols[kColumns.size()], "column " + std::to_string(kColumns.size() + 1),
+                  header[kColumns.size()], "'ref_dev_um' or the end of the line");
+    }
+    break;
+  }
+  if (header.empty()) {
+    throw InputError({source, line_no, 0},
+                     "no column line 'gear,tooth,flank,...' in the readings file");
+  }
+  const std::size_t width = header.size();
+  std::set<int> orders;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<int> cols;
+    const std::vector<std::string> f = split(line, &cols);
+    if (f.size() != width) {
+      throw InputError({source, line_no, 0}, "row has " + std::to_string(f.size()) +
+                                                 " fields, expected " + std::to_string(width) +
+                                                 " (as the column line)");
+    }
+    auto integer = [&](std::size_t k, int min) {
+      int v = 0;
+      const auto res = std::from_chars(f[k].data(), f[k].data() + f[k].size(), v);
+      if (res.ec != std::errc() || res.ptr != f[k].data() + f[k].size() || v < min) {
+        throw error(cols[k], header[k], f[k], "an integer >= " + std::to_string(min));
+      }
+      return v;
+    };
+    auto real = [&](std::size_t k) {
+      double v = 0.0;
+      const auto res = std::from_chars(f[k].data(), f[k].data() + f[k].size(), v);
+      if (res.ec != std::errc() || res.ptr != f[k].data() + f[k].size() || !std::isfinite(v)) {
+        throw error(cols[k], header[k], f[k], "a finite number");
+      }
+      return v;
+    };
+    ReadingRow r;
+    r.gear = integer(0, 0);
+    r.tooth = integer(1, 1);
+    if (f[2] != "L" && f[2] != "R") throw error(cols[2], "flank", f[2], "L or R");
+    r.side = f[2] == "R" ? FlankSide::kRight : FlankSide::kLeft;
+    r.i = integer(3, 0);
+    r.j = integer(4, 0);
+    r.order = integer(5, 0);
+    if (!orders.insert(r.order).second) {
+      throw error(cols[5], "order", f[5], "an order not used by an earlier row");
+    }
+    for (int a = 0; a < 3; ++a) {
+      r.p[a] = real(6 + a);
+      r.n[a] = real(9 + a);
+      r.c[a] = real(12 + a);
+    }
+    if (std::abs(r.n.norm() - 1.0) > 1e-6) {
+      throw error(cols[9], "nx,ny,nz", f[9] + "," + f[10] + "," + f[11],
+                  "a unit normal (|n| = 1 within 1e-6)");
+    }
+    if (readings.has_ref_dev) r.ref_dev_um = real(15);
+    readings.rows.push_back(r);
+  }
+  if (readings.rows.empty()) {
+    throw InputError({source, line_no, 0}, "the readings file has no rows");
+  }
+  return readings;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,57 @@
+// The readings CSV of interface.md: what a CMM recorded when probing a gear, one row per point
+// (the nominal point p and outward normal n, the recorded stylus centre c at trigger, the
+// probing order), written by `gearmc simulate` and read by `gearmc diagnose`. Real CMM data
+// exported to this format is read the same way.
+//
+//   # gearmc readings v1
+//   # stylus_radius_mm=0.5
+//   gear,tooth,flank,i,j,order,px,py,pz,nx,ny,nz,cx,cy,cz[,ref_dev_um]
+//
+// Lengths in mm, ref_dev_um in µm, gear frame = CMM frame (interface.md conventions).
+// The measured deviation of a point is e = ((c − p)·n − R)·1000 µm (measured_deviation_um).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gears/involute_gear.h"
+
+namespace gearmc {
+
+struct ReadingRow {
+  int gear = 0, tooth = 1;
+  FlankSide side = FlankSide::kLeft;
+  int i = 0, j = 0;  // grid indices: along the profile, across the face
+  int order = 0;     // probing sequence, 0-based per file
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // recorded stylus centre at trigger, mm
+  std::optional<double> ref_dev_um;             // calibrated deviation of the artefact at p along n
+};
+
+struct Readings {
+  double stylus_radius_mm = 0.5;
+  bool has_ref_dev = false;  // the ref_dev_um column is present (then every row has it)
+  std::vector<ReadingRow> rows;
+};
+
+// e = ((c − p)·n − R)·1000 µm, less ref_dev_um when given: the measurement error of the point
+// along n for a calibrated artefact (ref_dev_um = its true deviation), else the deviation.
+double measured_deviation_um(const ReadingRow& row, double stylus_radius_mm);
+
+// The file's text (shortest round-trip decimal for every real number).
+std::string format_readings(const Readings& readings);
+// Writes the file atomically (temp name, then rename); throws std::runtime_error on I/O errors.
+void write_readings(const std::string& path, const Readings& readings);
+
+// Reads and validates a readings file. Bad input throws InputError naming the file and CSV line
+// (and column number of the field): a missing or unknown header line or column, a wrong unit
+// in the header (e.g. stylus_radius_in=), a non-numeric, NaN or infinite field, a flank other
+// than L/R, a normal that is not a unit vector (|n| off by > 1e-6), a row with too few or too
+// many fields, an order used twice, a file without rows.
+Readings read_readings(const std::string& path);
+// Same from text; `source_name` is used in messages.
+Readings parse_readings(const std::string& text, const std::string& source_name);
+
+}  // namespace gearmc
