@@ -33,12 +33,15 @@ struct MeshContactResult {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   // Index of the touched triangle in the mesh (OpenMesh face idx; GearMesh::faces labels it).
   int face = -1;
-  // O - R nu, nu the barycentric interpolation at C of the mesh's angle-weighted vertex normals
-  // (Thuermer & Wuethrich 1998), turned towards O. Not a point of the mesh: an estimate of the
-  // contact with the smooth surface the mesh samples. On a piecewise-planar mesh C follows the
-  // facet normals and converges only as O(h) to the smooth surface's contact (C - O = -R m_facet);
-  // this estimate converges as O(h^2) on regular meshes of smooth surfaces (measured in
-  // tests/surfaces/mesh_contact_test.cpp). Use it for delta_Rcomp on meshed smooth flanks.
+  // X = O - R nu(X), nu the barycentric interpolation of the mesh's angle-weighted vertex normals
+  // (Thuermer & Wuethrich 1998) on the touched triangle, turned towards O, evaluated where X lies
+  // (a short fixed-point iteration from the facet point C). Not a point of the mesh: an estimate
+  // of the contact with the smooth surface the mesh samples. On a piecewise-planar mesh C
+  // follows the facet normals and converges only as O(h) to the smooth surface's contact
+  // (C - O = -R m_facet); this estimate converges as O(h^2) on regular meshes of surfaces with
+  // continuous curvature, like O (measured in tests/surfaces/mesh_contact_test.cpp), and as O(h)
+  // (with a small constant) where the curvature jumps. Use it for delta_Rcomp on meshed smooth
+  // flanks.
   Eigen::Vector3d smoothed_contact = Eigen::Vector3d::Zero();
 };
 

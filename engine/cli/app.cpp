@@ -10,6 +10,7 @@
 #include "engine/cli/export_mesh_command.h"
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
+#include "engine/cli/simulate_command.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
@@ -67,6 +68,20 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                    "Sections across the face width (default 40)")
       ->check(CLI::Range(2, 20000));
 
+  SimulateCommandOptions simulate_options;
+  CLI::App* simulate = app.add_subcommand(
+      "simulate", "Simulated CMM readings of the scenario's gears with its effects (readings CSV)");
+  simulate->add_option("SCENARIO", simulate_options.scenario_path,
+                       "Scenario file (default: the built-in reference)");
+  simulate->add_option("--out", simulate_options.out, "Readings file to write (.csv)")->required();
+  simulate->add_option("--gears", simulate_options.gears, "Gears 0 .. N-1 (default 1)")
+      ->check(CLI::Range(1, 100000));
+  simulate->add_option("--seed", simulate_options.seed, "Random seed (overrides seed)");
+  simulate->add_flag("--master", simulate_options.master,
+                     "Measure a nominal master gear (no random deviations)");
+  simulate->add_flag("--reference-deviations", simulate_options.reference_deviations,
+                     "Add ref_dev_um: the surface's true normal deviation at each point");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -91,6 +106,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     }
     if (run->parsed()) return run_command(run_options, out, err);
     if (export_mesh->parsed()) return export_mesh_command(mesh_options, out);
+    if (simulate->parsed()) return simulate_command(simulate_options, out);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

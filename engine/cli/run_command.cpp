@@ -93,6 +93,50 @@ void print_table(std::ostream& out, const RunResults& r) {
   row("flank mean R", r.flank_mean[1]);
 }
 
+// The error budget of a run with measurement effects: the radius-compensation normal error and
+// each effect's change of the reading along n, with its share of the summed variances
+// (covariances between sources are not split; they are small when the sources are independent).
+struct BudgetLine {
+  std::string source;
+  const RunningStats* stats;
+  double share;
+};
+std::vector<BudgetLine> error_budget(const Scenario& scenario, const RunResults& r) {
+  std::vector<BudgetLine> lines;
+  lines.push_back({"radius_compensation", &r.effects.radius_compensation, 0.0});
+  for (std::size_t e = 0; e < r.effects.contribution.size(); ++e) {
+    lines.push_back(
+        {std::string(scenario.effects->effect(e).name()), &r.effects.contribution[e], 0.0});
+  }
+  double sum = 0.0;
+  for (const BudgetLine& l : lines) sum += l.stats->count() > 1 ? l.stats->variance() : 0.0;
+  for (BudgetLine& l : lines) {
+    l.share = sum > 0.0 && l.stats->count() > 1 ? l.stats->variance() / sum : 0.0;
+  }
+  return lines;
+}
+
+void print_effects(std::ostream& out, const Scenario& scenario, const RunResults& r) {
+  out << "total error (µm)   n        mean     std      min      max      |e| p95  |e| p99.73\n";
+  for (int s = 0; s < 2; ++s) {
+    const RunningStats& m = r.effects.total_signed[s];
+    out << std::left << std::setw(18) << (s == 0 ? "point L, along n" : "point R, along n")
+        << std::right << std::setw(8) << m.count();
+    for (double v : {m.mean(), m.stddev(), m.min(), m.max(),
+                     m.count() ? r.total_abs[s].histogram.quantile(0.95) : NAN,
+                     m.count() ? r.total_abs[s].histogram.quantile(0.9973) : NAN}) {
+      out << std::setw(9) << format_stat(v);
+    }
+    out << '\n';
+  }
+  out << "error budget (µm)    mean     std      share of variance\n";
+  for (const BudgetLine& l : error_budget(scenario, r)) {
+    out << std::left << std::setw(20) << l.source << std::right << std::setw(8)
+        << format_stat(l.stats->mean()) << std::setw(9) << format_stat(l.stats->stddev())
+        << std::setw(9) << format_stat(100.0 * l.share) << " %\n";
+  }
+}
+
 // Histogram counts at the display width, one column per quantity.
 std::string histogram_csv(const RunResults& r) {
   const std::size_t factor = r.point[0].histogram.rebin_factor(0.05);
@@ -134,6 +178,7 @@ void write_point_row(std::ostream& f, const ProbedPoint& p, double R) {
     f << ','
       << (c.status == ContactResult::Status::kEdge        ? "edge"
           : c.status == ContactResult::Status::kCollision ? c.collision
+          : *c.failure != '\0'                            ? c.failure
                                                           : "not_converged")
       << '\n';
   }
@@ -187,6 +232,14 @@ std::string report_html(const Scenario& scenario, const RunResults& r,
         << scenario.stylus_radius_mm << " mm, seed " << scenario.seed << ". δRcomp = |C − E|: "
         << "distance between the true contact point and the point the CMM reports.";
   report.paragraph(intro.str());
+  for (const FlankMeshSurface& surface : scenario.surfaces) {
+    std::ostringstream mesh;
+    mesh << "Flank " << surface.tooth << side_letter(surface.side) << " is the mesh "
+         << surface.mesh_path << " (" << surface.mesh->n_faces() << " triangles, "
+         << (surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facet")
+         << " contact point) in every gear; its random deviations are not used.";
+    report.paragraph(mesh.str());
+  }
   HtmlTable table;
   table.caption =
       "δRcomp statistics (µm). Quantiles at 0.001 µm resolution; mode = centre of "
@@ -206,6 +259,31 @@ std::string report_html(const Scenario& scenario, const RunResults& r,
         {{"P1 Table 2, right", "1200", "", "0.6", "0.7", "1.6", "", "", "3.2"}, true});
   }
   report.table(table);
+  if (!scenario.effects->empty()) {
+    HtmlTable total;
+    total.caption =
+        "Total point error with the measurement effects on (µm): (E' − C)·n, E' the point "
+        "reported from the recorded stylus centre, C the true contact point.";
+    total.header = {"flank", "n", "mean", "std", "min", "max"};
+    for (int s = 0; s < 2; ++s) {
+      const RunningStats& m = r.effects.total_signed[s];
+      total.rows.push_back(
+          {{s == 0 ? "left" : "right", std::to_string(m.count()), format_stat(m.mean()),
+            format_stat(m.stddev()), format_stat(m.min()), format_stat(m.max())}});
+    }
+    report.table(total);
+    HtmlTable budget;
+    budget.caption =
+        "Error budget: each source's change of the reading along n (µm) and its share of the "
+        "summed variances.";
+    budget.header = {"source", "mean", "std", "share of variance"};
+    for (const BudgetLine& l : error_budget(scenario, r)) {
+      budget.rows.push_back(
+          {{l.source, format_stat(l.stats->mean()), format_stat(l.stats->stddev()),
+            format_stat(100.0 * l.share) + " %"}});
+    }
+    report.table(budget);
+  }
   std::ostringstream claim;
   const double worst = std::max(r.flank_max[0].moments.max(), r.flank_max[1].moments.max());
   std::uint64_t above = 0, total = 0;
@@ -322,11 +400,50 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   summary["collisions"] = r.collisions;
   summary["wall_s"] = r.wall_s;
   summary["contacts_per_s"] = r.wall_s > 0 ? static_cast<double>(r.contacts) / r.wall_s : 0.0;
+  // Flanks probed on a mesh instead of the analytic perturbed flank (`surfaces:`).
+  nlohmann::ordered_json mesh_surfaces = nlohmann::ordered_json::array();
+  for (const FlankMeshSurface& surface : scenario.surfaces) {
+    mesh_surfaces.push_back(
+        {{"tooth", surface.tooth},
+         {"flank", std::string(1, side_letter(surface.side))},
+         {"mesh", surface.mesh_path},
+         {"contact", surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facets"},
+         {"triangles", surface.mesh->n_faces()}});
+  }
+  summary["mesh_surfaces"] = mesh_surfaces;
   summary["quantile_resolution_um"] = r.point[0].histogram.width();
   summary["mode_display_width_um"] = kModeDisplayWidthUm;
   summary["delta_rcomp_um"] = {{"point", side_pair(r.point)},
                                {"flank_max", side_pair(r.flank_max)},
                                {"flank_mean", side_pair(r.flank_mean)}};
+  if (!scenario.effects->empty()) {
+    nlohmann::ordered_json names = nlohmann::ordered_json::array();
+    for (std::size_t e = 0; e < scenario.effects->size(); ++e) {
+      names.push_back(std::string(scenario.effects->effect(e).name()));
+    }
+    summary["effects"] = names;
+    auto signed_stats = [](const RunningStats& m) {
+      nlohmann::ordered_json j;
+      j["n"] = m.count();
+      for (auto [key, v] : {std::pair{"mean", m.mean()}, std::pair{"std", m.stddev()},
+                            std::pair{"min", m.min()}, std::pair{"max", m.max()}}) {
+        j[key] = std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+      }
+      return j;
+    };
+    summary["total_error_um"] = {{"signed",
+                                  {{"left", signed_stats(r.effects.total_signed[0])},
+                                   {"right", signed_stats(r.effects.total_signed[1])}}},
+                                 {"abs", side_pair(r.total_abs)}};
+    nlohmann::ordered_json budget = nlohmann::ordered_json::array();
+    for (const BudgetLine& l : error_budget(scenario, r)) {
+      nlohmann::ordered_json line = signed_stats(*l.stats);
+      line["source"] = l.source;
+      line["variance_share"] = l.share;
+      budget.push_back(line);
+    }
+    summary["error_budget_um"] = budget;
+  }
   // Laws fitted to the per-flank maximum (P1 names a law for its per-flank values).
   std::vector<DistributionFit> fits[2];
   for (int s = 0; s < 2; ++s) {
@@ -381,7 +498,14 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
       << r.edge_contacts << ", collisions " << r.collisions << ") in " << std::fixed
       << std::setprecision(2) << r.wall_s << " s\n"
       << std::defaultfloat;
+  for (const FlankMeshSurface& surface : scenario.surfaces) {
+    out << "flank " << surface.tooth << side_letter(surface.side) << " is the mesh "
+        << surface.mesh_path << " (" << surface.mesh->n_faces() << " triangles, "
+        << (surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facet")
+        << " contact point) in every gear\n";
+  }
   print_table(out, r);
+  if (!scenario.effects->empty()) print_effects(out, scenario, r);
   out << "report: " << dir.string() << "/report.html\n";
   return 0;
 }

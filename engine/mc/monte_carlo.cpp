@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "engine/cli/geometry_command.h"
 #include "gears/normal_expression.h"
@@ -15,8 +16,11 @@
 namespace gearmc {
 namespace {
 
-constexpr double kApproachMm = 1.0;  // stylus pre-position distance outside the planned point
-constexpr int kChunk = 256;          // gears per parallel chunk (bounds memory)
+constexpr int kChunk = 256;  // gears per parallel chunk (bounds memory)
+
+std::size_t flank_index(int tooth, FlankSide side) {
+  return 2 * static_cast<std::size_t>(tooth - 1) + (side == FlankSide::kRight ? 1 : 0);
+}
 
 }  // namespace
 
@@ -28,6 +32,17 @@ void ErrorStatistics::add(double value_um) {
 void ErrorStatistics::merge(const ErrorStatistics& other) {
   moments.merge(other.moments);
   histogram.merge(other.histogram);
+}
+
+void EffectTotals::merge(const EffectTotals& other) {
+  for (int s = 0; s < 2; ++s) total_signed[s].merge(other.total_signed[s]);
+  radius_compensation.merge(other.radius_compensation);
+  if (contribution.size() < other.contribution.size()) {
+    contribution.resize(other.contribution.size());
+  }
+  for (std::size_t e = 0; e < other.contribution.size(); ++e) {
+    contribution[e].merge(other.contribution[e]);
+  }
 }
 
 // muParser is not thread-safe: each thread compiles its own copy of the expression.
@@ -54,6 +69,18 @@ MonteCarloRun::MonteCarloRun(const Scenario& scenario)
   if (!scenario_.normal_expression_um.empty()) {
     expressions_ = std::make_unique<ThreadExpressions>(scenario_.normal_expression_um);
   }
+  order_.resize(2 * static_cast<std::size_t>(gear_->teeth()));
+  const int N = scenario_.probing.grid.points_along_profile;
+  for (const PlannedPoint& q : probing_sequence(*gear_, scenario_.probing)) {
+    std::vector<int>& flank = order_[flank_index(q.tooth, q.side)];
+    flank.resize(static_cast<std::size_t>(points_per_flank()), -1);
+    flank[static_cast<std::size_t>(q.j * N + q.i)] = sequence_length_++;
+  }
+  mesh_probes_.resize(2 * static_cast<std::size_t>(gear_->teeth()));
+  for (const FlankMeshSurface& surface : scenario_.surfaces) {
+    mesh_probes_[flank_index(surface.tooth, surface.side)] = std::make_unique<MeshFlankProbe>(
+        *gear_, surface.tooth, surface.side, *surface.mesh, surface.contact);
+  }
 }
 
 MonteCarloRun::~MonteCarloRun() = default;
@@ -69,19 +96,26 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
   const NormalExpression* expression = expressions_ ? &expressions_->per_thread.local() : nullptr;
   const double R = scenario_.stylus_radius_mm;
   const ProbingGridCoordinates grid = probing_grid_coordinates(*gear_, scenario_.probing.grid);
+  const EffectChain& effects = *scenario_.effects;
+  const EffectValues effect_values = effects.draw(scenario_.seed, k);
+  std::vector<double> contributions(effects.size());
+  out.effects.contribution.resize(effects.size());
+  const int N = static_cast<int>(grid.roll_lengths.size());
   for (int tooth : teeth_) {
     for (FlankSide side : sides_) {
       const int s = side == FlankSide::kRight ? 1 : 0;
       const AnalyticFlank flank(*gear_, tooth, side, g.flank(tooth, side), g.eccentricity_mm,
                                 expression);
+      const MeshFlankProbe* mesh = mesh_probes_[flank_index(tooth, side)].get();
       double max = 0.0, sum = 0.0;
       int valid = 0;
       for (int j = 0; j < static_cast<int>(grid.heights.size()); ++j) {
         for (int i = 0; i < static_cast<int>(grid.roll_lengths.size()); ++i) {
           const double L = grid.roll_lengths[i], z = grid.heights[j];
           const FlankPoint fp = gear_->flank_point(tooth, side, L, z);
-          ContactResult r = solve_contact(flank, extent_, fp.point, fp.normal, R, L, z);
-          check_tooth_space(*gear_, tooth, side, fp.normal, R, kApproachMm, &r);
+          ContactResult r = mesh ? mesh->probe(fp.point, fp.normal, R)
+                                 : solve_contact(flank, extent_, fp.point, fp.normal, R, L, z);
+          check_tooth_space(*gear_, tooth, side, fp.normal, R, kProbeApproachMm, &r);
           ++out.contacts;
           switch (r.status) {
             case ContactResult::Status::kOk:
@@ -89,6 +123,29 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
               max = std::max(max, r.delta_um);
               sum += r.delta_um;
               ++valid;
+              if (!effects.empty()) {
+                PointContext context;
+                context.p = fp.point;
+                context.n = fp.normal;
+                context.contact_normal = (r.centre - r.contact).normalized();
+                context.azimuth_rad = std::atan2(-fp.normal.y(), -fp.normal.x());
+                context.order =
+                    order_[flank_index(tooth, side)][static_cast<std::size_t>(j * N + i)];
+                context.sequence_length = sequence_length_;
+                context.tooth = tooth;
+                context.side = side;
+                context.stylus_radius_mm = R;
+                RandomStream rng = point_effect_stream(scenario_.seed, k, context.order);
+                effects.apply(context, effect_values, r.centre, rng, contributions);
+                double total = r.normal_error_um;
+                for (std::size_t e = 0; e < contributions.size(); ++e) {
+                  total += contributions[e];
+                  out.effects.contribution[e].add(contributions[e]);
+                }
+                out.effects.radius_compensation.add(r.normal_error_um);
+                out.effects.total_signed[s].add(total);
+                out.point_total_abs[s].push_back(std::abs(total));
+              }
               break;
             case ContactResult::Status::kEdge:
               ++out.edge;
@@ -138,7 +195,9 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
         for (double v : o.point_delta[s]) results.point[s].add(v);
         for (double v : o.flank_max[s]) results.flank_max[s].add(v);
         for (double v : o.flank_mean[s]) results.flank_mean[s].add(v);
+        for (double v : o.point_total_abs[s]) results.total_abs[s].add(v);
       }
+      results.effects.merge(o.effects);
       results.contacts += o.contacts;
       results.failed_contacts += o.failed;
       results.edge_contacts += o.edge;

@@ -1,9 +1,10 @@
 // The Monte-Carlo batch (interface.md `run`, design.md "What flows through the engine"):
 // gear k is drawn from its own random streams, every planned point of every probed flank is
 // probed with the exact contact solver, and the errors are reduced into streaming statistics.
-// Gears run in parallel (oneTBB) in chunks; each chunk's per-gear outcomes are merged in gear
-// order, so the results are bit-identical for any thread count and memory does not grow with
-// the number of gears. Errors in µm, lengths in mm.
+// A flank the scenario replaces by a mesh (`surfaces:`) is probed on that mesh, with the same
+// plan and result semantics, in every gear. Gears run in parallel (oneTBB) in chunks; each chunk's
+// per-gear outcomes are merged in gear order, so the results are bit-identical for any thread count
+// and memory does not grow with the number of gears. Errors in µm, lengths in mm.
 #pragma once
 
 #include <Eigen/Core>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "engine/probing/contact.h"
+#include "engine/probing/mesh_probe.h"
 #include "engine/probing/probing_grid.h"
 #include "engine/scenario/scenario.h"
 #include "engine/stats/histogram.h"
@@ -39,11 +41,23 @@ struct ProbedPoint {
   ContactResult contact;
 };
 
+// The measurement effects' part of a gear's or a run's results (scenario `effects:`): the total
+// point error along n, (E' − C)·n with E' = c − R n the point reported from the recorded centre
+// c, and its budget: the δRcomp normal error (E − C)·n and each effect's change of the reading.
+struct EffectTotals {
+  RunningStats total_signed[2];            // [0] L, [1] R, µm
+  RunningStats radius_compensation;        // (E − C)·n, µm
+  std::vector<RunningStats> contribution;  // per effect of the chain, µm
+  void merge(const EffectTotals& other);
+};
+
 // What one gear gave.
 struct GearOutcome {
   int gear = 0;
   std::vector<double> point_delta[2];  // [0] L flanks, [1] R flanks, every valid point
   std::vector<double> flank_max[2], flank_mean[2];
+  std::vector<double> point_total_abs[2];  // |total point error| with effects (when any), µm
+  EffectTotals effects;
   std::uint64_t contacts = 0, failed = 0, edge = 0, collisions = 0;
   std::vector<ProbedPoint> points;  // only when asked for
 };
@@ -62,6 +76,8 @@ struct RunOptions {
 
 struct RunResults {
   ErrorStatistics point[2], flank_max[2], flank_mean[2];  // [0] L, [1] R
+  ErrorStatistics total_abs[2];  // |total point error| with the effects on (when there are any)
+  EffectTotals effects;
   std::uint64_t contacts = 0, failed_contacts = 0, edge_contacts = 0, collisions = 0;
   int gears = 0;
   double wall_s = 0.0;
@@ -90,6 +106,13 @@ class MonteCarloRun {
   std::vector<int> teeth_;
   std::vector<FlankSide> sides_;
   FlankExtent extent_;
+  // The scenario's mesh flanks (`surfaces:`), index 2 (tooth - 1) + (R ? 1 : 0); null = the
+  // analytic perturbed flank. Built once per run (AABB trees), read-only across threads.
+  std::vector<std::unique_ptr<const MeshFlankProbe>> mesh_probes_;
+  // Probing order of each planned point, [flank index][j * N + i], and the sequence's length
+  // (the measurement effects' `order` within one gear's measurement).
+  std::vector<std::vector<int>> order_;
+  int sequence_length_ = 0;
   struct ThreadExpressions;
   std::unique_ptr<ThreadExpressions> expressions_;
 };

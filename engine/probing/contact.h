@@ -35,8 +35,17 @@ struct ContactResult {
   double delta_um = 0;            // |C - E|
   double normal_error_um = 0;     // (E - C).n
   int iterations = 0;
-  const char* collision = "";  // kCollision: "neighbour_flank", "root" or "tip"
+  // kCollision: "neighbour_flank", "root" or "tip"; on a mesh flank also "touching_at_start"
+  // (the sphere already touches the mesh where the approach starts, mesh_probe.h).
+  const char* collision = "";
+  // kNotConverged: why, when it is not the Newton iteration's failure: "no_mesh_contact" (the
+  // sphere passed a mesh flank without touching it, mesh_probe.h). Empty otherwise.
+  const char* failure = "";
 };
+
+// The stylus's pre-position distance outside the planned point along n (mm): where the
+// approach that check_tooth_space checks starts.
+inline constexpr double kProbeApproachMm = 1.0;
 
 // p, n: planned point and nominal outward unit normal (datum frame, mm); R: tip radius (mm);
 // (L0, z0): the flank parameters of p, the starting guess.

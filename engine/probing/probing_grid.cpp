@@ -55,4 +55,28 @@ std::vector<PlannedPoint> plan_flank(const InvoluteGear& gear, const ProbingGrid
   return points;
 }
 
+std::vector<PlannedPoint> probing_sequence(const InvoluteGear& gear, const ProbingPlanSpec& plan) {
+  std::vector<int> teeth = plan.teeth;
+  if (teeth.empty()) {
+    for (int t = 1; t <= gear.teeth(); ++t) teeth.push_back(t);
+  }
+  std::vector<FlankSide> sides;
+  if (plan.left) sides.push_back(FlankSide::kLeft);
+  if (plan.right) sides.push_back(FlankSide::kRight);
+  std::vector<PlannedPoint> sequence;
+  auto append = [&](int tooth, FlankSide side) {
+    for (const PlannedPoint& q : plan_flank(gear, plan.grid, tooth, side)) sequence.push_back(q);
+  };
+  if (plan.order == ProbingOrder::kToothByTooth) {
+    for (int tooth : teeth) {
+      for (FlankSide side : sides) append(tooth, side);
+    }
+  } else {
+    for (FlankSide side : sides) {
+      for (int tooth : teeth) append(tooth, side);
+    }
+  }
+  return sequence;
+}
+
 }  // namespace gearmc

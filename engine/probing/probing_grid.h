@@ -25,10 +25,19 @@ struct ProbingGridSpec {
 };
 
 // Which flanks a run probes.
+// The order in which a CMM probes the planned points (drift and other time-dependent effects
+// depend on it). Within a flank the grid is always scanned section by section, along the
+// profile within a section (plan_flank's order).
+enum class ProbingOrder {
+  kToothByTooth,  // tooth after tooth (in the plan's tooth order): its L flank, then its R flank
+  kSideBySide,    // every tooth's L flank, then every tooth's R flank
+};
+
 struct ProbingPlanSpec {
   ProbingGridSpec grid;
   std::vector<int> teeth;  // 1-based tooth numbers; empty = every tooth
   bool left = true, right = true;
+  ProbingOrder order = ProbingOrder::kToothByTooth;
 };
 
 // One planned point: nominal position and outward normal, its grid indices (0-based).
@@ -51,5 +60,9 @@ ProbingGridCoordinates probing_grid_coordinates(const InvoluteGear& gear,
 // The planned points of one flank, profile index fastest.
 std::vector<PlannedPoint> plan_flank(const InvoluteGear& gear, const ProbingGridSpec& spec,
                                      int tooth, FlankSide side);
+
+// Every planned point of the plan, in probing order (the position in the vector is the point's
+// `order`).
+std::vector<PlannedPoint> probing_sequence(const InvoluteGear& gear, const ProbingPlanSpec& plan);
 
 }  // namespace gearmc

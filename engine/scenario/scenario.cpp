@@ -6,10 +6,14 @@
 // The schema is documented with each section reader below.
 #include "engine/scenario/scenario.h"
 
+#include "engine/effects/effect_config.h"
+
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -232,7 +236,7 @@ std::string read_name(const YamlValue& value) {
 }
 
 // probing: {points_along_profile, sections_across_face, margin_fraction, profile_spacing,
-// teeth: all | [list], flanks: both | L | R}
+// teeth: all | [list], flanks: both | L | R, order: tooth_by_tooth | side_by_side}
 ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth) {
   ProbingPlanSpec plan;
   ProbingGridSpec& grid = plan.grid;
@@ -271,7 +275,112 @@ ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth) {
     plan.left = *flanks != "R";
     plan.right = *flanks != "L";
   }
+  if (const auto order = probing.get_choice("order", {"tooth_by_tooth", "side_by_side"})) {
+    plan.order =
+        *order == "tooth_by_tooth" ? ProbingOrder::kToothByTooth : ProbingOrder::kSideBySide;
+  }
   return plan;
+}
+
+// One `surfaces:` entry's mesh file: read (OpenMesh), every coordinate finite, and at least one
+// vertex within kMeshSearchMm of the nominal flank it replaces, over that flank's extent (form
+// to tip circle, z 0..b): a mesh of another tooth or flank, in another frame or in other units
+// would otherwise only show up as failed contacts. Errors are placed at the `mesh` value.
+std::shared_ptr<const TriangleMesh> read_flank_mesh(const YamlValue& value, const std::string& path,
+                                                    const InvoluteGear& gear, int tooth,
+                                                    FlankSide side) {
+  const std::string expected =
+      "a triangle mesh file (.stl, .ply, .obj or .off; datum frame, mm; a relative path is taken "
+      "from the scenario file's folder)";
+  auto mesh = std::make_shared<TriangleMesh>();
+  try {
+    *mesh = read_mesh_file(path);
+  } catch (const MeshIoError& e) {
+    throw value.error(expected + ", but " + e.what());
+  }
+  const std::string flank = std::to_string(tooth) + side_letter(side);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const TriangleMesh::VertexHandle v : mesh->vertices()) {
+    const TriangleMesh::Point& x = mesh->point(v);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) {
+      throw value.error(expected + ", but vertex " + std::to_string(v.idx()) + " of '" + path +
+                        "' has a coordinate that is not a finite number");
+    }
+    const NominalFlankCoordinates at =
+        nominal_flank_coordinates(gear, tooth, side, Eigen::Vector3d(x[0], x[1], x[2]));
+    if (at.roll_length_mm >= gear.form_roll_length_mm() &&
+        at.roll_length_mm <= gear.tip_roll_length_mm() && at.z_mm >= 0.0 &&
+        at.z_mm <= gear.face_width_mm()) {
+      nearest = std::min(nearest, std::abs(at.offset_mm));
+    }
+  }
+  if (nearest > kMeshSearchMm) {
+    std::ostringstream why;
+    why << expected << ", but no vertex of '" << path << "' lies within " << kMeshSearchMm
+        << " mm of the nominal flank " << flank << " (";
+    if (std::isfinite(nearest)) {
+      why << "the nearest over the flank is " << nearest << " mm from it";
+    } else {
+      why << "none lies over the flank at all";
+    }
+    why << "): is it another tooth's or flank's mesh, or in another frame or unit?";
+    throw value.error(why.str());
+  }
+  return mesh;
+}
+
+// surfaces: a list of flanks whose real surface is a mesh file, each
+//   {tooth: 1..z (required), flank: L | R (required), mesh: file (required),
+//    contact: smoothed | facets (default smoothed, see MeshContactPoint)};
+// each flank at most once, and only flanks the probing plan probes (a mesh that is never probed
+// is a mistake, not a no-op).
+std::vector<FlankMeshSurface> read_surfaces(const YamlValue& value, const GearParameters& gear,
+                                            const ProbingPlanSpec& plan,
+                                            const std::string& source_name) {
+  const std::string expected =
+      "a list of flank meshes, e.g. [{tooth: 3, flank: R, mesh: flank_3R.stl, contact: smoothed}]";
+  if (!value.is_sequence()) throw value.error(expected);
+  const InvoluteGear nominal(gear);
+  const std::filesystem::path folder = std::filesystem::path(source_name).parent_path();
+  std::vector<FlankMeshSurface> surfaces;
+  std::vector<int> lines;  // where each entry's tooth is, for the duplicate message
+  for (const YamlValue& item : value.as_sequence()) {
+    const YamlMap entry = item.as_map({"tooth", "flank", "mesh", "contact"});
+    FlankMeshSurface surface;
+    const YamlValue tooth =
+        entry.require("tooth", "a tooth number from 1 to " + std::to_string(gear.teeth));
+    surface.tooth = static_cast<int>(tooth.as_int(1, gear.teeth));
+    const YamlValue flank = entry.require("flank", "one of L, R");
+    surface.side = flank.as_choice({"L", "R"}) == "R" ? FlankSide::kRight : FlankSide::kLeft;
+    const std::string name = std::to_string(surface.tooth) + side_letter(surface.side);
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+      if (surfaces[k].tooth == surface.tooth && surfaces[k].side == surface.side) {
+        throw flank.error("each flank once (flank " + name + " is already given at line " +
+                          std::to_string(lines[k]) + ")");
+      }
+    }
+    const bool side_probed = surface.side == FlankSide::kRight ? plan.right : plan.left;
+    bool tooth_probed = plan.teeth.empty();
+    for (int t : plan.teeth) tooth_probed = tooth_probed || t == surface.tooth;
+    if (!side_probed || !tooth_probed) {
+      throw tooth.error("a flank the probing plan probes (probing.teeth and probing.flanks leave " +
+                        name + " out, so its mesh would never be used)");
+    }
+    if (const auto contact = entry.get_choice("contact", {"smoothed", "facets"})) {
+      surface.contact =
+          *contact == "facets" ? MeshContactPoint::kFacets : MeshContactPoint::kSmoothed;
+    }
+    const YamlValue mesh = entry.require("mesh", "a triangle mesh file (.stl, .ply, .obj or .off)");
+    const std::string written = mesh.as_string();
+    if (written.empty()) throw mesh.error("a triangle mesh file (.stl, .ply, .obj or .off)");
+    const std::filesystem::path file(written);
+    surface.mesh_path =
+        file.is_absolute() || folder.empty() ? file.string() : (folder / file).string();
+    surface.mesh = read_flank_mesh(mesh, surface.mesh_path, nominal, surface.tooth, surface.side);
+    surfaces.push_back(std::move(surface));
+    lines.push_back(tooth.location().line);
+  }
+  return surfaces;
 }
 
 }  // namespace
@@ -279,13 +388,14 @@ ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth) {
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name) {
   const YamlValue root = parse_yaml_document(yaml_text, source_name);
   const std::string expected_top =
-      "a map of scenario keys (name, seed, gear, tolerances, deviations, probing, stylus, run)";
+      "a map of scenario keys (name, seed, gear, tolerances, deviations, probing, stylus, run, "
+      "surfaces, effects)";
   if (root.is_null()) {
     throw InputError(root.location(), "", "", expected_top + ", but the scenario is empty");
   }
   if (!root.is_map()) throw root.error(expected_top);
-  const YamlMap top =
-      root.as_map({"name", "seed", "gear", "tolerances", "deviations", "probing", "stylus", "run"});
+  const YamlMap top = root.as_map({"name", "seed", "gear", "tolerances", "deviations", "probing",
+                                   "stylus", "run", "surfaces", "effects"});
 
   Scenario scenario;
   scenario.source_path = source_name;
@@ -310,7 +420,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   }
   if (const auto probing =
           top.get_map("probing", {"points_along_profile", "sections_across_face", "margin_fraction",
-                                  "profile_spacing", "teeth", "flanks"})) {
+                                  "profile_spacing", "teeth", "flanks", "order"})) {
     scenario.probing = read_probing(*probing, scenario.gear.teeth);
   }
   if (const auto stylus = top.get_map("stylus", {"radius_mm"})) {
@@ -319,6 +429,12 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   }
   if (const auto run = top.get_map("run", {"gears"})) {
     scenario.gears = static_cast<int>(run->get_int("gears", 1, 100000000).value_or(scenario.gears));
+  }
+  if (const auto surfaces = top.find("surfaces")) {
+    scenario.surfaces = read_surfaces(*surfaces, scenario.gear, scenario.probing, source_name);
+  }
+  if (const auto effects = top.find("effects")) {
+    scenario.effects = std::make_shared<const EffectChain>(parse_effects(*effects));
   }
   return scenario;
 }

@@ -4,15 +4,33 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "engine/effects/measurement_effect.h"
+#include "engine/probing/mesh_probe.h"
 #include "engine/probing/probing_grid.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
 
 namespace gearmc {
+
+// A flank whose real surface is a triangle mesh file (`surfaces:`, e.g. a scanned or CAD flank):
+// in every gear of a run it is probed instead of the analytic perturbed flank, so that flank's
+// random deviations, the gear's eccentricity and `normal_um` do not apply to it. The mesh is in
+// the datum frame in mm (the frame `gearmc export-mesh` writes).
+struct FlankMeshSurface {
+  int tooth = 1;  // 1..z
+  FlankSide side = FlankSide::kRight;
+  std::string mesh_path;  // as opened: a relative path is taken from the scenario file's folder
+  MeshContactPoint contact = MeshContactPoint::kSmoothed;
+  // Read and checked (finite coordinates, some vertex within kMeshSearchMm of the nominal flank)
+  // when the scenario is parsed; shared, read-only.
+  std::shared_ptr<const TriangleMesh> mesh;
+};
 
 struct Scenario {
   std::string name;         // from `name:`, else the file's stem
@@ -28,6 +46,10 @@ struct Scenario {
   ProbingPlanSpec probing;        // `probing:` (P1: N 10, M 5, 5 % margins, all teeth, both)
   double stylus_radius_mm = 0.5;  // `stylus: radius_mm` (P1: 0.5 mm)
   int gears = 50;                 // `run: gears` (P1: 50)
+  std::vector<FlankMeshSurface> surfaces;  // `surfaces:` (none: every flank is analytic)
+  // `effects:` — the measurement effects, in physical order (empty: δRcomp alone). Shared,
+  // read-only; never null.
+  std::shared_ptr<const EffectChain> effects = std::make_shared<const EffectChain>();
 };
 
 // Reads and validates a scenario file. Throws InputError.

@@ -1,15 +1,35 @@
 // Contact solves per second (issue 3 speed goals), single thread:
 //  * BM_AnalyticContact: the Newton solver on random-field flanks of P1's reference scenario
 //    (8/6 control values, P1's tolerances), P1's 10 x 5 grid on every flank of a gear;
+//  * BM_AnalyticContactOneFlank / BM_MeshContact: the same flank (tooth 1 R of gear 3) probed
+//    at the same 40 x 20 grid of planned points (5 % margins) by the analytic solver and by
+//    the mesh path (mesh_flank of that flank, MeshFlankProbe with the smoothed contact point,
+//    as a scenario's `surfaces:` entry probes it), the mesh at the roll-length and z steps
+//    given as arguments (µm). The mesh is built once per step pair, outside the timing. Its
+//    counters give the accuracy against the analytic solver (which converges to < 1 nm):
+//    max |C_s - C|, max |O_mesh - O| and max |delta_mesh - delta| over all 800 points ("all")
+//    and over the points off the deviation model's curvature-jump lines ("interior": the
+//    B-spline form deviations are continued linearly beyond the ISO evaluation ranges, whose
+//    ends P1's 5 % margins hit exactly: z = 3.94 and 74.95 mm, L = 44.32 mm; there the mesh's
+//    vertex normals converge only with order 1);
 //  * BM_GearDraw: drawing one perturbed gear (the sampler's share of a Monte-Carlo run);
 //  * BM_ReferenceRun: the whole reference scenario (50 gears x 2400 points), all threads.
 // Run: build/tests/bench/contact_bench --benchmark_repetitions=5
 // --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
+
 #include "engine/cli/geometry_command.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/contact.h"
+#include "engine/probing/mesh_probe.h"
+#include "surfaces/flank_mesh.h"
 
 namespace gearmc {
 namespace {
@@ -49,6 +69,130 @@ void BM_AnalyticContact(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(solves), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_AnalyticContact)->Unit(benchmark::kMillisecond);
+
+// One flank of gear 3 and the 40 x 20 planned points on it, with the analytic answers.
+struct OneFlank {
+  static constexpr int kTooth = 1;
+  static constexpr FlankSide kSide = FlankSide::kRight;
+  static constexpr double kR = 0.5;
+  Fixture f;
+  PerturbedGear g = f.sampler.draw(3);
+  AnalyticFlank flank{f.gear, kTooth, kSide, g.flank(kTooth, kSide), g.eccentricity_mm};
+  FlankExtent extent{f.gear.form_roll_length_mm(), f.gear.tip_roll_length_mm(), 0.0,
+                     f.gear.face_width_mm()};
+  std::vector<PlannedPoint> points;
+  std::vector<ContactResult> exact;
+  std::vector<bool> interior;  // off the deviation field's curvature-jump lines
+  OneFlank() {
+    ProbingGridSpec grid;
+    grid.points_along_profile = 40;
+    grid.sections_across_face = 20;
+    points = plan_flank(f.gear, grid, kTooth, kSide);
+    const EvaluationRanges ranges = f.sampler.ranges();
+    for (const PlannedPoint& p : points) {
+      exact.push_back(solve_contact(flank, extent, p.point, p.normal, kR, p.roll_length, p.z));
+      auto near = [](double a, double b) { return std::abs(a - b) < 0.01; };
+      interior.push_back(!near(p.z, ranges.helix_start_mm) && !near(p.z, ranges.helix_end_mm) &&
+                         !near(p.roll_length, ranges.profile_start_mm) &&
+                         !near(p.roll_length, ranges.profile_end_mm));
+    }
+  }
+};
+
+const OneFlank& one_flank() {
+  static const OneFlank instance;
+  return instance;
+}
+
+void BM_AnalyticContactOneFlank(benchmark::State& state) {
+  const OneFlank& c = one_flank();
+  std::int64_t solves = 0;
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (const PlannedPoint& p : c.points) {
+      const ContactResult r =
+          solve_contact(c.flank, c.extent, p.point, p.normal, OneFlank::kR, p.roll_length, p.z);
+      sink += r.delta_um;
+      ++solves;
+    }
+  }
+  benchmark::DoNotOptimize(sink);
+  state.counters["solves_per_s"] =
+      benchmark::Counter(static_cast<double>(solves), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_AnalyticContactOneFlank)->Unit(benchmark::kMillisecond);
+
+// The mesh of the flank at (roll-length step, z step) in µm, with its build time; built once.
+struct MeshCase {
+  std::unique_ptr<MeshFlankProbe> probe;
+  double build_s = 0.0;
+};
+const MeshCase& mesh_case(int dL_um, int dz_um) {
+  static std::map<std::pair<int, int>, MeshCase> cache;
+  MeshCase& m = cache[{dL_um, dz_um}];
+  if (!m.probe) {
+    const OneFlank& c = one_flank();
+    const auto start = std::chrono::steady_clock::now();
+    const TriangleMesh mesh =
+        mesh_flank(c.flank, whole_flank_spec(c.f.gear, 1e-3 * dL_um, 1e-3 * dz_um));
+    m.probe = std::make_unique<MeshFlankProbe>(c.f.gear, OneFlank::kTooth, OneFlank::kSide, mesh,
+                                               MeshContactPoint::kSmoothed);
+    m.build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return m;
+}
+
+void BM_MeshContact(benchmark::State& state) {
+  const OneFlank& c = one_flank();
+  const MeshCase& m = mesh_case(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  std::int64_t solves = 0;
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (const PlannedPoint& p : c.points) {
+      const ContactResult r = m.probe->probe(p.point, p.normal, OneFlank::kR);
+      sink += r.delta_um;
+      ++solves;
+    }
+  }
+  benchmark::DoNotOptimize(sink);
+  // Accuracy against the analytic solver, nm.
+  double C_all = 0, O_all = 0, d_all = 0, C_in = 0, O_in = 0, d_in = 0;
+  int failed = 0;
+  for (std::size_t k = 0; k < c.points.size(); ++k) {
+    const ContactResult r = m.probe->probe(c.points[k].point, c.points[k].normal, OneFlank::kR);
+    if (r.status != ContactResult::Status::kOk) {
+      ++failed;
+      continue;
+    }
+    const double dC = 1e6 * (r.contact - c.exact[k].contact).norm();
+    const double dO = 1e6 * (r.centre - c.exact[k].centre).norm();
+    const double dd = 1e3 * std::abs(r.delta_um - c.exact[k].delta_um);
+    C_all = std::max(C_all, dC), O_all = std::max(O_all, dO), d_all = std::max(d_all, dd);
+    if (c.interior[k])
+      C_in = std::max(C_in, dC), O_in = std::max(O_in, dO), d_in = std::max(d_in, dd);
+  }
+  state.counters["solves_per_s"] =
+      benchmark::Counter(static_cast<double>(solves), benchmark::Counter::kIsRate);
+  state.counters["triangles"] = m.probe->triangle_count();
+  state.counters["build_s"] = m.build_s;
+  state.counters["failed"] = failed;
+  state.counters["dC_all_nm"] = C_all;
+  state.counters["dO_all_nm"] = O_all;
+  state.counters["ddelta_all_nm"] = d_all;
+  state.counters["dC_interior_nm"] = C_in;
+  state.counters["dO_interior_nm"] = O_in;
+  state.counters["ddelta_interior_nm"] = d_in;
+}
+// (roll-length step, z step) in µm: the test resolution of tests/engine/mesh_surface_test.cpp,
+// two finer isotropic ones, and the anisotropic one whose interior error reaches 1 nm (the
+// involute's curvature across the profile, up to 1/L, dominates the chord error; along z only
+// the helix form bends the flank, so z can be sampled 10 times more coarsely).
+BENCHMARK(BM_MeshContact)
+    ->Args({250, 250})
+    ->Args({100, 100})
+    ->Args({50, 50})
+    ->Args({20, 200})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_GearDraw(benchmark::State& state) {
   Fixture f;

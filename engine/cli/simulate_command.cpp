@@ -1,0 +1,40 @@
+// `gearmc simulate` (see simulate_command.h).
+#include "engine/cli/simulate_command.h"
+
+#include <filesystem>
+
+#include "engine/mc/simulate.h"
+#include "engine/scenario/input_error.h"
+
+namespace gearmc {
+
+int simulate_command(const SimulateCommandOptions& o, std::ostream& out) {
+  const Scenario scenario =
+      o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  const std::filesystem::path target(o.out);
+  if (target.has_parent_path() && !std::filesystem::is_directory(target.parent_path())) {
+    throw InputError({}, "--out", o.out, "a file in an existing folder");
+  }
+  SimulateOptions options;
+  options.gears = o.gears;
+  options.seed = o.seed;
+  options.master = o.master;
+  options.reference_deviations = o.reference_deviations;
+  const SimulatedReadings simulated = simulate_readings(scenario, options);
+  write_readings(o.out, simulated.readings);
+  out << "gearmc simulate: " << scenario.name << ", " << o.gears
+      << (o.gears == 1 ? " gear" : " gears") << (o.master ? " (nominal master)" : "") << ", "
+      << scenario.effects->size() << (scenario.effects->size() == 1 ? " effect" : " effects");
+  for (std::size_t e = 0; e < scenario.effects->size(); ++e) {
+    out << (e ? ", " : " (") << scenario.effects->effect(e).name()
+        << (e + 1 == scenario.effects->size() ? ")" : "");
+  }
+  out << ": " << simulated.readings.rows.size() << " readings -> " << o.out << "\n";
+  if (simulated.skipped > 0) {
+    out << "  " << simulated.skipped
+        << " planned points not measurable (first: " << simulated.first_skip_reason << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace gearmc

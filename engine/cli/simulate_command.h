@@ -1,0 +1,24 @@
+// `gearmc simulate SCENARIO --out READINGS.csv` (interface.md): what a CMM would record
+// measuring the scenario's gears with its effects on, as the readings CSV.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace gearmc {
+
+struct SimulateCommandOptions {
+  std::string scenario_path;  // empty: the built-in reference
+  std::string out;            // the readings CSV
+  int gears = 1;
+  std::optional<std::uint64_t> seed;
+  bool master = false;
+  bool reference_deviations = false;
+};
+
+// Returns the exit code; throws InputError for bad input.
+int simulate_command(const SimulateCommandOptions& options, std::ostream& out);
+
+}  // namespace gearmc

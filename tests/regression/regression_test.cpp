@@ -1,0 +1,167 @@
+// Regression tests on the scenarios (the OpenMC pattern, design.md principle 7): every
+// scenarios/NAME.yaml is run through the gearmc executable with a small fixed number of gears
+// and its own seed, and the run's summary.json — without the timing fields — is compared with
+// the stored reference scenarios/NAME.ref.json.
+//
+// Comparison: counts (gears, contacts, collisions, n, ...) and strings exactly; real numbers to
+// a relative 1e-9 (absolute 1e-12 µm near zero). Reason for not comparing the reals bit for
+// bit: glibc's libm selects FMA or non-FMA code for sin/cos/atan2/tan at run time from the CPU,
+// and the two can differ in the last bit; the run is otherwise bit-reproducible (tests/engine/
+// run_test.cpp checks 1 thread against all threads exactly), and a last-bit change moves a
+// statistic by ~1e-15 relative, far below 1e-9, while any change of the model moves it by far
+// more.
+//
+// Regenerating the references after an intended change of results:
+//   scripts/update-references        (runs this test binary with --update)
+// and say in the commit message why the results changed.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/run_gearmc.h"
+
+namespace gearmc {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+using testing_support::run_gearmc;
+
+bool g_update = false;     // --update: write the references instead of comparing
+constexpr int kGears = 3;  // small: the whole suite stays within a few seconds
+
+std::vector<std::string> scenario_stems() {
+  std::vector<std::string> stems;
+  for (const auto& entry : fs::directory_iterator(fs::path(GEARMC_SOURCE_DIR) / "scenarios")) {
+    if (entry.path().extension() == ".yaml") stems.push_back(entry.path().stem().string());
+  }
+  std::sort(stems.begin(), stems.end());
+  return stems;
+}
+
+// summary.json without what changes from run to run (timing) or from machine to machine (paths).
+ordered_json regression_view(ordered_json summary) {
+  for (const char* key : {"wall_s", "contacts_per_s", "source"}) summary.erase(key);
+  return summary;
+}
+
+// Recursive comparison; appends one line per difference to `out`.
+void compare(const ordered_json& expected, const ordered_json& actual, const std::string& path,
+             std::vector<std::string>& out) {
+  if (expected.is_number_float() || actual.is_number_float()) {
+    if (!expected.is_number() || !actual.is_number()) {
+      out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
+      return;
+    }
+    const double e = expected.get<double>(), a = actual.get<double>();
+    if (std::abs(a - e) > std::max(1e-12, 1e-9 * std::abs(e))) {
+      out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
+    }
+    return;
+  }
+  if (expected.type() != actual.type()) {
+    out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
+    return;
+  }
+  if (expected.is_object()) {
+    for (const auto& [key, value] : expected.items()) {
+      if (!actual.contains(key)) {
+        out.push_back(path + "/" + key + ": missing from the run's summary");
+      } else {
+        compare(value, actual[key], path + "/" + key, out);
+      }
+    }
+    for (const auto& [key, value] : actual.items()) {
+      if (!expected.contains(key)) {
+        out.push_back(path + "/" + key + ": new in the run's summary (not in the reference)");
+      }
+    }
+    return;
+  }
+  if (expected.is_array()) {
+    if (expected.size() != actual.size()) {
+      out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
+      return;
+    }
+    for (size_t i = 0; i < expected.size(); ++i) {
+      compare(expected[i], actual[i], path + "/" + std::to_string(i), out);
+    }
+    return;
+  }
+  if (expected != actual) {
+    out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
+  }
+}
+
+class ScenarioRegression : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ScenarioRegression, MatchesStoredReference) {
+  const std::string stem = GetParam();
+  const fs::path scenarios = fs::path(GEARMC_SOURCE_DIR) / "scenarios";
+  const fs::path reference_path = scenarios / (stem + ".ref.json");
+  const fs::path out = fs::path(::testing::TempDir()) / ("gearmc_regression_" + stem);
+  fs::remove_all(out);
+  const auto result = run_gearmc("run " + (scenarios / (stem + ".yaml")).string() + " --gears " +
+                                 std::to_string(kGears) + " --quiet --out " + out.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::ifstream summary_file(out / "summary.json");
+  ASSERT_TRUE(summary_file) << "no summary.json in " << out;
+  const ordered_json actual = regression_view(ordered_json::parse(summary_file));
+  fs::remove_all(out);
+
+  if (g_update) {
+    ordered_json reference;
+    reference["_about"] =
+        "Regression reference of scenarios/" + stem + ".yaml: summary.json of `gearmc run " +
+        "scenarios/" + stem + ".yaml --gears " + std::to_string(kGears) +
+        "` without timing fields. Written by scripts/update-references; compared by "
+        "tests/regression/regression_test.cpp.";
+    for (const auto& [key, value] : actual.items()) reference[key] = value;
+    std::ofstream(reference_path) << reference.dump(2) << "\n";
+    GTEST_SKIP() << "reference written: " << reference_path;
+  }
+
+  std::ifstream reference_file(reference_path);
+  ASSERT_TRUE(reference_file) << "no stored reference " << reference_path
+                              << "; create it with scripts/update-references";
+  ordered_json reference = ordered_json::parse(reference_file);
+  reference.erase("_about");
+  std::vector<std::string> differences;
+  compare(reference, actual, "", differences);
+  std::string report;
+  for (const auto& d : differences) report += "  " + d + "\n";
+  EXPECT_TRUE(differences.empty())
+      << "scenario " << stem << " differs from " << reference_path << ":\n"
+      << report
+      << "If the change is intended, run scripts/update-references and give the reason in the "
+         "commit message.";
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, ScenarioRegression, ::testing::ValuesIn(scenario_stems()),
+                         [](const ::testing::TestParamInfo<std::string>& param_info) {
+                           return param_info.param;
+                         });
+
+}  // namespace
+}  // namespace gearmc
+
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--update") == 0) {
+      gearmc::g_update = true;
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  int count = static_cast<int>(args.size());
+  ::testing::InitGoogleTest(&count, args.data());
+  return RUN_ALL_TESTS();
+}
