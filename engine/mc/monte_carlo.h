@@ -113,6 +113,11 @@ class MonteCarloRun {
   // (the measurement effects' `order` within one gear's measurement).
   std::vector<std::vector<int>> order_;
   int sequence_length_ = 0;
+  // Per planned point, [flank index][j * N + i]: the nominal point and normal, and the nominal
+  // stylus path's tooth-space clearance (mm), computed once per run (they do not depend on the
+  // gear drawn).
+  std::vector<std::vector<FlankPoint>> nominal_;
+  std::vector<std::vector<double>> nominal_clearance_;
   struct ThreadExpressions;
   std::unique_ptr<ThreadExpressions> expressions_;
 };

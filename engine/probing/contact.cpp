@@ -161,10 +161,9 @@ double distance_to_flank(const InvoluteGear& gear, int tooth, FlankSide side,
 
 }  // namespace
 
-void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
-                       const Eigen::Vector3d& n, double R, double approach_mm,
-                       ContactResult* result) {
-  if (result->status != ContactResult::Status::kOk) return;
+ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, FlankSide side,
+                                          const Eigen::Vector3d& centre, const Eigen::Vector3d& n,
+                                          double R, double approach_mm) {
   // The facing flank: R of tooth k faces L of tooth k+1; L of tooth k faces R of tooth k-1.
   const int z = gear.teeth();
   const int facing_tooth = side == FlankSide::kRight ? tooth % z + 1 : (tooth + z - 2) % z + 1;
@@ -172,21 +171,30 @@ void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
   const double r_root = 0.5 * gear.root_diameter_mm();
   // Along the approach the sphere moves away from the facing flank and up from the root; check
   // the path at a few stations (start, middle, end) — enough for a straight approach.
-  const Eigen::Vector3d end = result->centre;
-  const Eigen::Vector3d start = end + approach_mm * n;
+  const Eigen::Vector3d start = centre + approach_mm * n;
+  ToothSpaceClearance c{std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::infinity()};
   for (double a : {0.0, 0.25, 0.5, 0.75, 1.0}) {
-    const Eigen::Vector3d O = start + a * (end - start);
-    const Eigen::Vector2d X = O.head<2>();
-    if (distance_to_flank(gear, facing_tooth, facing_side, X) < R) {
-      result->status = ContactResult::Status::kCollision;
-      result->collision = "neighbour_flank";
-      return;
-    }
-    if (X.norm() - R < r_root) {
-      result->status = ContactResult::Status::kCollision;
-      result->collision = "root";
-      return;
-    }
+    const Eigen::Vector2d X = (start + a * (centre - start)).head<2>();
+    c.facing_flank_mm =
+        std::min(c.facing_flank_mm, distance_to_flank(gear, facing_tooth, facing_side, X) - R);
+    c.root_mm = std::min(c.root_mm, X.norm() - R - r_root);
+  }
+  return c;
+}
+
+void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
+                       const Eigen::Vector3d& n, double R, double approach_mm,
+                       ContactResult* result) {
+  if (result->status != ContactResult::Status::kOk) return;
+  const ToothSpaceClearance c =
+      tooth_space_clearance(gear, tooth, side, result->centre, n, R, approach_mm);
+  if (c.facing_flank_mm < 0.0) {
+    result->status = ContactResult::Status::kCollision;
+    result->collision = "neighbour_flank";
+  } else if (c.root_mm < 0.0) {
+    result->status = ContactResult::Status::kCollision;
+    result->collision = "root";
   }
 }
 

@@ -62,6 +62,17 @@ void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
                        const Eigen::Vector3d& n, double R, double approach_mm,
                        ContactResult* result);
 
+// The clearances check_tooth_space tests (mm; negative = the sphere overlaps): the smallest,
+// over the stations of the approach from centre + approach_mm n to `centre`, of the distance
+// to the facing flank minus R and of the distance from the axis minus R minus the root radius.
+struct ToothSpaceClearance {
+  double facing_flank_mm, root_mm;
+  double smallest() const { return facing_flank_mm < root_mm ? facing_flank_mm : root_mm; }
+};
+ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, FlankSide side,
+                                          const Eigen::Vector3d& centre, const Eigen::Vector3d& n,
+                                          double R, double approach_mm);
+
 // The objective f(L, z) above (mm), -infinity where the sphere cannot reach the point. Exposed
 // for independent checks.
 double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,

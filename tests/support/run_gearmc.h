@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -19,7 +20,11 @@ struct CommandResult {
 };
 
 inline CommandResult run_gearmc(const std::string& args) {
-  const std::string err_file = ::testing::TempDir() + "gearmc_command_err.txt";
+  // One file per process and call: ctest runs test processes in parallel.
+  static int calls = 0;
+  const std::string err_file = ::testing::TempDir() + "gearmc_command_err_" +
+                               std::to_string(::getpid()) + "_" + std::to_string(calls++) +
+                               ".txt";
   const std::string cmd = std::string(GEARMC_BINARY) + " " + args + " 2>" + err_file;
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
@@ -29,6 +34,7 @@ inline CommandResult run_gearmc(const std::string& args) {
   const int status = pclose(pipe);
   std::ifstream e(err_file);
   std::string err((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  std::remove(err_file.c_str());
   return {WEXITSTATUS(status), out, err};
 }
 
