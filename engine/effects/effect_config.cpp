@@ -1,7 +1,10 @@
 // Reading the `effects:` section of a scenario into an EffectChain (see effect_config.h).
 #include "engine/effects/effect_config.h"
 
+#include <numbers>
+
 #include "engine/effects/effects.h"
+#include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
 
 namespace gearmc {
@@ -48,10 +51,69 @@ std::vector<std::string> with_enabled(std::vector<std::string> keys) {
   return keys;
 }
 
+// `from_probe_model:` — p0 and the harmonics of orders 3, 6, 9, … computed by the CVODE
+// touch-trigger probe model (probe_dynamics.h) for the given stylus and approach speed.
+void read_probe_model(const YamlMap& m, EffectParameter* pretravel, std::vector<int>* orders,
+                      std::vector<EffectParameter>* harmonic_parameters) {
+  ProbeDynamicsParameters probe;
+  probe.stylus_length_mm = m.get_number("stylus_length_mm", NumberRange{1.0, 200.0, true, true})
+                               .value_or(probe.stylus_length_mm);
+  probe.stem_diameter_mm = m.get_number("stem_diameter_mm", NumberRange{0.1, 10.0, true, true})
+                               .value_or(probe.stem_diameter_mm);
+  probe.ball_diameter_mm = m.get_number("ball_diameter_mm", NumberRange{0.1, 20.0, true, true})
+                               .value_or(probe.ball_diameter_mm);
+  if (const auto material =
+          m.get_choice("stem_material", {"tungsten_carbide", "steel", "zirconia"})) {
+    probe.stem_material = *material == "steel"      ? probe_materials::kSteel
+                          : *material == "zirconia" ? probe_materials::kZirconia
+                                                    : probe_materials::kTungstenCarbide;
+  }
+  probe.trigger_latency_s = m.get_number("trigger_latency_s", NumberRange::non_negative())
+                                .value_or(probe.trigger_latency_s);
+  const double speed =
+      m.get_number("speed_mm_s", NumberRange{0.01, 100.0, true, true}).value_or(2.0);
+  const int directions = static_cast<int>(m.get_int("directions", 12, 720).value_or(72));
+  const int max_order = static_cast<int>(m.get_int("max_order", 3, 12).value_or(9));
+  if (2 * max_order >= directions) {
+    throw m.require("max_order", "").error("an order below half the number of directions");
+  }
+  LobingHarmonics h;
+  try {
+    h = ProbeDynamics(probe).lobing_harmonics(directions, speed, max_order);
+  } catch (const std::exception& e) {
+    throw InputError(m.location(), m.path() + ": the probe model failed: " + e.what());
+  }
+  pretravel->value = h.p0_um;
+  for (const PretravelHarmonic& k : h.harmonics) {
+    if (k.order % 3 != 0) continue;  // the three-leg seat: only orders 3, 6, 9, … (2π/3)
+    orders->push_back(k.order);
+    EffectParameter a, phase;
+    a.name = "amplitude_" + std::to_string(k.order) + "_um";
+    a.unit = "µm";
+    a.value = k.amplitude_um;
+    phase.name = "phase_" + std::to_string(k.order) + "_deg";
+    phase.unit = "deg";
+    phase.value = k.phase_rad * 180.0 / std::numbers::pi;
+    harmonic_parameters->push_back(a);
+    harmonic_parameters->push_back(phase);
+  }
+}
+
 std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m) {
   EffectParameter pretravel = read_parameter(m, "pretravel_um", 0.0);
   std::vector<int> orders;
   std::vector<EffectParameter> harmonic_parameters;
+  if (const auto model =
+          m.get_map("from_probe_model",
+                    {"stylus_length_mm", "stem_diameter_mm", "ball_diameter_mm", "stem_material",
+                     "trigger_latency_s", "speed_mm_s", "directions", "max_order"})) {
+    for (const char* key : {"pretravel_um", "harmonics"}) {
+      if (m.has(key)) {
+        throw m.find(key)->error("nothing: from_probe_model gives p0 and the harmonics");
+      }
+    }
+    read_probe_model(*model, &pretravel, &orders, &harmonic_parameters);
+  }
   if (const auto list = m.find("harmonics")) {
     for (const YamlValue& item : list->as_sequence()) {
       const YamlMap h = item.as_map({"order", "amplitude_um", "phase_deg"});
@@ -108,7 +170,7 @@ EffectChain parse_effects(const YamlValue& section) {
     const std::string& name = entry.key;
     std::vector<std::string> keys;
     if (name == "probe_lobing") {
-      keys = {"pretravel_um", "harmonics",          "repeatability_um",
+      keys = {"pretravel_um", "harmonics",          "from_probe_model",     "repeatability_um",
               "calibration",  "six_directions_use", "calibration_start_deg"};
     } else if (name == "stylus_radius") {
       keys = {"error_um"};

@@ -410,7 +410,7 @@ LobingHarmonics ProbeDynamics::lobing_harmonics(int n_directions, double speed_m
     }
     a *= 2.0 / n_directions;
     b *= 2.0 / n_directions;
-    LobingHarmonic h;
+    PretravelHarmonic h;
     h.order = k;
     h.amplitude_um = std::hypot(a, b);
     h.phase_rad = std::atan2(b, a) / k;

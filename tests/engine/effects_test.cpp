@@ -12,6 +12,7 @@
 
 #include "engine/effects/effect_config.h"
 #include "engine/effects/effects.h"
+#include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
 #include "engine/probing/probing_grid.h"
 #include "tests/support/p1_fixtures.h"
@@ -305,6 +306,39 @@ drift: {enabled: false, x_um: 1}
   EXPECT_EQ(chain.effect(1).parameters()[0].law, EffectParameter::Law::kUniform);
   EXPECT_EQ(chain.effect(1).parameters()[1].law, EffectParameter::Law::kNormal);
   EXPECT_EQ(chain.find("drift"), -1);
+}
+
+void expect_error(const std::string& yaml, const std::string& message);
+
+TEST(EffectConfig, ProbeLobingFromTheCvodeProbeModel) {
+  // from_probe_model: p0 and the orders 3, 6, 9 are those of ProbeDynamics::lobing_harmonics
+  // for the same probe and speed (the default TP20-like probe: p0 23.66 µm, a_3 6.57 µm at
+  // 90°, engine/effects/probe_dynamics.h); orders that are not multiples of 3 are dropped.
+  const EffectChain chain = parse(R"(
+probe_lobing:
+  from_probe_model: {stylus_length_mm: 20, speed_mm_s: 2, directions: 72, max_order: 9}
+  calibration: mean6
+)");
+  ASSERT_EQ(chain.size(), 1u);
+  const auto& lobing = dynamic_cast<const ProbeLobingEffect&>(chain.effect(0));
+  std::vector<double> values;
+  for (const auto& p : lobing.parameters()) values.push_back(p.value);
+  const LobingModel model = lobing.model(values);
+  ProbeDynamicsParameters probe;
+  probe.stylus_length_mm = 20.0;
+  const LobingHarmonics h = ProbeDynamics(probe).lobing_harmonics(72, 2.0, 9);
+  EXPECT_DOUBLE_EQ(model.pretravel_um, h.p0_um);
+  ASSERT_EQ(model.harmonics.size(), 3u);
+  for (const LobingHarmonic& k : model.harmonics) {
+    EXPECT_EQ(k.order % 3, 0);
+    EXPECT_DOUBLE_EQ(k.amplitude_um,
+                     h.harmonics[static_cast<std::size_t>(k.order - 1)].amplitude_um);
+  }
+  EXPECT_GT(model.harmonics[0].amplitude_um, model.harmonics[1].amplitude_um);  // 3-lobed
+  EXPECT_NEAR(model.harmonics[0].phase_deg, 90.0, 1e-6);  // towards the +Y leg
+  expect_error("probe_lobing:\n  pretravel_um: 1\n  from_probe_model: {}\n",
+               "e.yaml:2:17: probe_lobing.pretravel_um: got '1', expected nothing: "
+               "from_probe_model gives p0 and the harmonics");
 }
 
 void expect_error(const std::string& yaml, const std::string& message) {
