@@ -100,13 +100,14 @@ struct BudgetLine {
   std::string source;
   const RunningStats* stats;
   double share;
+  const RunningStats* alone = nullptr;  // the total with only this source on
 };
 std::vector<BudgetLine> error_budget(const Scenario& scenario, const RunResults& r) {
   std::vector<BudgetLine> lines;
   lines.push_back({"radius_compensation", &r.effects.radius_compensation, 0.0});
   for (std::size_t e = 0; e < r.effects.contribution.size(); ++e) {
-    lines.push_back(
-        {std::string(scenario.effects->effect(e).name()), &r.effects.contribution[e], 0.0});
+    lines.push_back({std::string(scenario.effects->effect(e).name()), &r.effects.contribution[e],
+                     0.0, &r.effects.alone[e]});
   }
   double sum = 0.0;
   for (const BudgetLine& l : lines) sum += l.stats->count() > 1 ? l.stats->variance() : 0.0;
@@ -129,11 +130,12 @@ void print_effects(std::ostream& out, const Scenario& scenario, const RunResults
     }
     out << '\n';
   }
-  out << "error budget (µm)    mean     std      share of variance\n";
+  out << "error budget (µm)    mean     std      share of variance   total σ with it alone\n";
   for (const BudgetLine& l : error_budget(scenario, r)) {
     out << std::left << std::setw(20) << l.source << std::right << std::setw(8)
         << format_stat(l.stats->mean()) << std::setw(9) << format_stat(l.stats->stddev())
-        << std::setw(9) << format_stat(100.0 * l.share) << " %\n";
+        << std::setw(9) << format_stat(100.0 * l.share) << " %" << std::setw(14)
+        << (l.alone ? format_stat(l.alone->stddev()) : "") << "\n";
   }
 }
 
@@ -274,13 +276,13 @@ std::string report_html(const Scenario& scenario, const RunResults& r,
     report.table(total);
     HtmlTable budget;
     budget.caption =
-        "Error budget: each source's change of the reading along n (µm) and its share of the "
-        "summed variances.";
-    budget.header = {"source", "mean", "std", "share of variance"};
+        "Error budget: each source's change of the reading along n (µm), its share of the "
+        "summed variances, and the total error's σ with that effect alone on (besides δRcomp).";
+    budget.header = {"source", "mean", "std", "share of variance", "total σ, alone"};
     for (const BudgetLine& l : error_budget(scenario, r)) {
       budget.rows.push_back(
           {{l.source, format_stat(l.stats->mean()), format_stat(l.stats->stddev()),
-            format_stat(100.0 * l.share) + " %"}});
+            format_stat(100.0 * l.share) + " %", l.alone ? format_stat(l.alone->stddev()) : ""}});
     }
     report.table(budget);
   }
@@ -440,6 +442,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
       nlohmann::ordered_json line = signed_stats(*l.stats);
       line["source"] = l.source;
       line["variance_share"] = l.share;
+      if (l.alone) line["total_std_alone"] = l.alone->stddev();
       budget.push_back(line);
     }
     summary["error_budget_um"] = budget;

@@ -39,9 +39,11 @@ void EffectTotals::merge(const EffectTotals& other) {
   radius_compensation.merge(other.radius_compensation);
   if (contribution.size() < other.contribution.size()) {
     contribution.resize(other.contribution.size());
+    alone.resize(other.contribution.size());
   }
   for (std::size_t e = 0; e < other.contribution.size(); ++e) {
     contribution[e].merge(other.contribution[e]);
+    alone[e].merge(other.alone[e]);
   }
 }
 
@@ -119,6 +121,7 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
   const EffectValues effect_values = effects.draw(scenario_.seed, k);
   std::vector<double> contributions(effects.size());
   out.effects.contribution.resize(effects.size());
+  out.effects.alone.resize(effects.size());
   const int N = static_cast<int>(grid.roll_lengths.size());  // planned index j * N + i
   for (int tooth : teeth_) {
     for (FlankSide side : sides_) {
@@ -169,6 +172,7 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
                 for (std::size_t e = 0; e < contributions.size(); ++e) {
                   total += contributions[e];
                   out.effects.contribution[e].add(contributions[e]);
+                  out.effects.alone[e].add(r.normal_error_um + contributions[e]);
                 }
                 out.effects.radius_compensation.add(r.normal_error_um);
                 out.effects.total_signed[s].add(total);

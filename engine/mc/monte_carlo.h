@@ -48,6 +48,9 @@ struct EffectTotals {
   RunningStats total_signed[2];            // [0] L, [1] R, µm
   RunningStats radius_compensation;        // (E − C)·n, µm
   std::vector<RunningStats> contribution;  // per effect of the chain, µm
+  // Per effect: the total error with that effect alone on, (E − C)·n + its contribution, µm
+  // (first order: at micrometre size an effect's change does not depend on the others).
+  std::vector<RunningStats> alone;
   void merge(const EffectTotals& other);
 };
 

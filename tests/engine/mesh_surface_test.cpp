@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "engine/cli/geometry_command.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/mesh_probe.h"
@@ -36,9 +38,11 @@ using ::testing::HasSubstr;
 
 constexpr double kR = 0.5;  // P1's stylus, mm
 
-// A fresh folder under the test temp dir.
+// A fresh folder under the test temp dir, one per process (ctest runs each test in its own
+// process, in parallel).
 fs::path temp_folder(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("gearmc_mesh_surface_" + name);
+  const fs::path dir = fs::path(testing::TempDir()) /
+                       ("gearmc_mesh_surface_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
