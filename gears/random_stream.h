@@ -23,6 +23,7 @@ enum class StreamPurpose : std::uint32_t {
   // 16: reserved (was planned for probing noise, never used).
   kEffectParameters = 17,  // sub-index: effect index in the chain (per-gear parameter draws)
   kEffectNoise = 18,       // sub-index: point order (random parts of effects at one point)
+  kDiagnoseNull = 19,      // gear index = null replicate; sub-index: selection step (diagnosis)
 };
 
 class RandomStream {

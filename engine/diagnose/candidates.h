@@ -1,0 +1,71 @@
+// Step 2 of the discrepancy diagnosis (issue 6): the candidate effects' design matrices. Each
+// candidate of interface.md's library is a group of columns, one per linear parameter, whose
+// entry at a point is the first-order change of the reading along n (µm) per unit of that
+// parameter — taken from the effect's own signature() (engine/effects), evaluated on a freshly
+// constructed effect with zero parameters (thermal expansion: workpiece CTE 11.5 ppm/K for steel,
+// scale CTE 0, the library's defaults), so that the columns are exactly the library's
+// first-order signatures:
+//
+//   probe_lobing       pretravel_um (−1), and for each order k (default 3 and 6) the cos/sin
+//                      pair cos_k_um = −cos kφ, sin_k_um = −sin kφ: the signature with respect
+//                      to the amplitude of a harmonic of phase 0 and of phase 90°/k. Linear in
+//                      (p0, a_k cos kφ_k, a_k sin kφ_k); converted back to amplitude and phase
+//                      by the fit (diagnosis.h). Calibration strategy `none` (the
+//                      qualification's share is what the model already predicts).
+//   stylus_radius      error_um (−1)
+//   scale              x_ppm, y_ppm, z_ppm (1e-3 c_i n_i, c = p + R n)
+//   thermal_expansion  workpiece_delta_t_k (11.5e-3 c·n)
+//   drift              x_um, y_um, z_um (f n_i, f = order / (sequence_length − 1))
+//   squareness         xy_urad, xz_urad, yz_urad
+//   eccentricity       x_um, y_um (n_x, n_y)
+//   step_quantization  step_um (−1/2: the mean latch delay, the library's first-order signature)
+//
+// No candidate is an intercept and the base model has none: a constant shift along n is itself a
+// physical effect here (stylus radius error, uncompensated pre-travel p0, the quantisation mean),
+// so a free intercept would make those three unidentifiable and hide them; the model's
+// prediction is taken as unbiased until an effect says otherwise.
+//
+// A column that vanishes on the probing plan (on a spur gear n_z = 0, so scale z and drift z)
+// or that repeats an earlier column of the same candidate is marked not observable: it gets no
+// estimate and is reported as such.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/effects/measurement_effect.h"
+
+namespace gearmc {
+
+struct CandidateDesign {
+  std::string name;                       // interface.md's effect name
+  std::vector<std::string> coefficients;  // one per column, e.g. "x_ppm", "cos_6_um"
+  std::vector<std::string> units;         // unit of each coefficient
+  Eigen::MatrixXd x;                      // points × columns, µm of reading per unit
+  std::vector<bool> observable;           // column carries information on this plan
+  // The observable columns only (what the selection and fits use).
+  Eigen::MatrixXd observable_columns() const;
+  std::vector<int> observable_indices() const;
+};
+
+struct CandidateOptions {
+  std::vector<int> lobing_orders = {3, 6};  // harmonic orders of the probe_lobing candidate
+};
+
+// The library's order of candidates (interface.md): probe_lobing, stylus_radius, scale,
+// thermal_expansion, drift, squareness, eccentricity, step_quantization (ties in the selection
+// are broken in this order).
+const std::vector<std::string>& candidate_effect_names();
+
+// The candidates' design matrices at `points` (PointContext of each measured point: nominal p
+// and n in the CMM frame, mm; approach azimuth; order within its gear's sequence).
+std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& points,
+                                               const CandidateOptions& options = {});
+
+// What extra measurement would tell effects `a` and `b` apart when this plan cannot (one
+// sentence, for diagnosis.json and the report).
+std::string separating_measurement(std::string_view a, std::string_view b);
+
+}  // namespace gearmc

@@ -1,0 +1,146 @@
+// The statistical core of `gearmc diagnose` (interface.md, issue 6): compares a model scenario's
+// prediction with measured readings, decides whether they disagree beyond the noise floor, names
+// the missing effect from the library (or says none / unexplained), fits its physical parameters
+// with standard errors, and shows the gap before and after, with a held-out check and the
+// residuals' harmonic spectrum against approach azimuth with null bands. The result maps onto
+// diagnosis.json (diagnosis_json.h). Steps:
+//  1. residuals r = measured − predicted and the noise floor σ (prediction.h);
+//  2. candidate design matrices from the effects' signatures (candidates.h);
+//  3. forward selection of at most 3 effects (selection.h);
+//  4. the joint least-squares fit of the selected effects, β with covariance σ̂² (XᵀX)⁻¹,
+//     σ̂² = RSS/(n − p) (the residual variance after the fit: an honest scale when structure
+//     remains); probe lobing's cos/sin pairs converted to amplitude a = √(c² + s²) and phase
+//     φ_k = atan2(s, c)/k (in [0, 360°/k)), standard errors by the delta method;
+//  5. the gap before / after: RMS, χ²/dof = Σr²/(dof σ²), the Kolmogorov–Smirnov distance of
+//     r/σ against N(0, 1), with p-values from K simulations of the null (N(0, σ²) noise at the
+//     same points; for the "after" values with the selected columns fitted out of the noise as
+//     out of the data, so the fit's own shrinkage is calibrated, and with σ re-estimated from each
+//     replicate when σ itself was estimated from the residuals; with null_replicates = 0 the χ²
+//     law of Σr²/σ² and Kolmogorov's asymptotic law instead); the held-out RMS: the selected
+//     effects fitted on odd teeth and evaluated on even ones, and the other way round;
+//  6. the harmonic spectrum of the residuals (orders 0–12, linear_model.h) before and after, with
+//     the 95 % quantile of each order's amplitude under the null;
+//  7. ambiguity: an effect B is reported `ambiguous_with` a selected effect A when B's columns can
+//     reproduce A's fitted contribution ŝ_A = X_A β_A (beyond the other selected effects):
+//     ρ = |P_B ŝ_A| / |ŝ_A| > 0.9 — the canonical correlation of the two column spaces taken in
+//     the direction the data excite — or when B was itself an eligible explanation at A's step
+//     with ΔBIC within 6 of A's (the data do not prefer A "strongly", Kass & Raftery 1995); two
+//     selected effects whose joint design has a scaled condition number > 100 are ambiguous with
+//     each other. The purely structural first canonical correlation and condition number are
+//     reported for each ambiguity but do not decide it alone: probe_lobing's p0 column equals
+//     stylus_radius's, so structurally they always overlap, yet 6-lobed residuals say nothing
+//     about a constant. Each ambiguity comes with the measurement that would separate the two.
+//  8. the verdict: gap_detected when an effect is selected or the χ² test (with an excess RMS of
+//     at least the practical size) or the KS test rejects at alpha; named_effect = the first
+//     selected effect when the selected effects explain ≥ 50 % of the excess residual variance
+//     (Σr² − nσ²), "unexplained" when a gap is detected but nothing in the library explains it,
+//     "none" when there is no gap; unexplained_structure when the gap tests still reject after
+//     the fit.
+// Units: residuals and RMS in µm, parameters in the units of their names (µm, ppm, µrad, K, deg).
+// Deterministic: the same inputs and seed give the same result (no threads, counter-based
+// streams).
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/diagnose/candidates.h"
+#include "engine/diagnose/prediction.h"
+#include "engine/diagnose/selection.h"
+
+namespace gearmc {
+
+struct DiagnoseOptions {
+  PredictionOptions prediction;
+  CandidateOptions candidates;
+  SelectionOptions selection;  // also: alpha, replicates and seed of the gap's null simulation
+  std::optional<double> noise_floor_um;  // overrides the estimate (source "given")
+  int spectrum_max_order = 12;
+  double min_explained_fraction = 0.5;  // of the excess variance, to name an effect
+  double ambiguity_correlation = 0.9;
+  double ambiguity_condition_number = 100.0;
+  double ambiguity_delta_bic = 6.0;
+};
+
+inline constexpr double kNotAvailable = std::numeric_limits<double>::quiet_NaN();
+
+struct FittedValue {
+  std::string name, unit;
+  double value = kNotAvailable;      // in `unit`
+  double std_error = kNotAvailable;  // in `unit`
+  bool estimable = false;            // false: not observable on this plan (no value)
+};
+
+struct Ambiguity {
+  std::string with;    // the other effect
+  std::string reason;  // "signal_correlation", "delta_bic", "condition_number"
+  double signal_correlation = kNotAvailable;     // ρ = |P_B ŝ_A| / |ŝ_A|
+  double canonical_correlation = kNotAvailable;  // first canonical correlation of the spaces
+  double condition_number = kNotAvailable;       // scaled, of [others, A, B]
+  double delta_bic_gap = kNotAvailable;          // ΔBIC_B − ΔBIC_A at A's step
+  std::string separate_by;                       // the measurement that would tell them apart
+};
+
+struct FittedEffect {
+  std::string name;
+  int step = 0;                           // 0-based selection step
+  std::vector<FittedValue> coefficients;  // the linear coefficients (the candidate's columns)
+  // The effect's physical parameters, named as in a scenario's `effects:` section (amplitude
+  // and phase per lobing order: amplitude_<k>_um, phase_<k>_deg). They are increments to the
+  // model's own values of that effect (the columns are first-order signatures about them).
+  std::vector<FittedValue> parameters;
+  CandidateTest evidence;            // the test that selected it
+  double fitted_rms_um = 0.0;        // RMS of X_A β_A over the points
+  std::vector<Ambiguity> ambiguous;  // empty: identified on this plan
+};
+
+struct GapStatistics {
+  double rms_um = kNotAvailable;
+  double chi2_dof = kNotAvailable;  // Σr² / (dof σ²)
+  int dof = 0;
+  double chi2_p = kNotAvailable;         // from the null simulation
+  double ks = kNotAvailable;             // KS distance of r/σ against N(0, 1)
+  double ks_p = kNotAvailable;           // from the null simulation
+  double excess_rms_um = kNotAvailable;  // √max(0, Σr²/dof − σ²)
+};
+
+struct Diagnosis {
+  bool gap_detected = false;
+  std::string named_effect = "none";  // library name, "none" or "unexplained"
+  std::vector<std::string> ambiguous_with;
+  bool unexplained_structure = false;
+  double explained_fraction = kNotAvailable;  // of the excess variance
+  std::vector<FittedEffect> effects;          // selected effects, in selection order
+  GapStatistics gap_before, gap_after;
+  double held_out_rms_um = kNotAvailable;
+  NoiseFloor noise;
+  Selection selection;
+  std::vector<std::string> candidate_names;  // index → name for `selection`
+  // Harmonic spectrum against approach azimuth, orders 0..spectrum_max_order (µm).
+  std::vector<double> spectrum_before_um, spectrum_after_um;
+  std::vector<double> spectrum_null95_before_um, spectrum_null95_after_um;
+  int points = 0;
+  int nominal_fallback = 0;  // rows predicted with the nominal contact (prediction.h)
+  // Remarks for the reader: rows predicted with the nominal contact; a robust residual noise
+  // estimate more than 20 % away from the model's noise floor (the model's noise is then
+  // probably wrong, which the χ² gap test also shows).
+  std::vector<std::string> notes;
+  int null_replicates = 0;
+  std::uint64_t seed = 0;
+  double alpha = 0.0;
+  // Per point, in the readings' order (for the report): residual before and after the fit.
+  std::vector<double> residual_before_um, residual_after_um;
+};
+
+// The whole diagnosis of `readings` against `model` (throws InputError on empty readings).
+Diagnosis diagnose(const Scenario& model, const Readings& readings,
+                   const DiagnoseOptions& options = {});
+
+// Steps 2–8 on given residuals and noise floor (the points' contexts are the design's points).
+Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise,
+                             const DiagnoseOptions& options = {});
+
+}  // namespace gearmc

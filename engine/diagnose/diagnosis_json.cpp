@@ -1,0 +1,150 @@
+// diagnosis.json from a Diagnosis (see diagnosis_json.h).
+#include "engine/diagnose/diagnosis_json.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "engine/report/html_report.h"
+
+namespace gearmc {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+Json numbers(const std::vector<double>& values) {
+  Json a = Json::array();
+  for (double v : values) a.push_back(number(v));
+  return a;
+}
+
+Json gap_json(const GapStatistics& g) {
+  Json j;
+  j["rms_um"] = number(g.rms_um);
+  j["ks"] = number(g.ks);
+  j["ks_p"] = number(g.ks_p);
+  j["chi2_dof"] = number(g.chi2_dof);
+  j["chi2_p"] = number(g.chi2_p);
+  j["dof"] = g.dof;
+  j["excess_rms_um"] = number(g.excess_rms_um);
+  return j;
+}
+
+Json test_json(const CandidateTest& t) {
+  Json j;
+  j["name"] = t.name;
+  j["added_columns"] = t.added_rank;
+  j["dof_residual"] = t.dof_residual;
+  j["f"] = number(t.f);
+  j["p_f"] = number(t.p_f);
+  j["p_holm"] = number(t.p_holm);
+  j["p_null"] = number(t.p_null);
+  j["delta_bic"] = number(t.delta_bic);
+  j["effect_rms_um"] = number(t.effect_rms_um);
+  j["significant"] = t.significant;
+  j["bic_support"] = t.bic_support;
+  j["practical"] = t.practical;
+  j["accepted"] = t.accepted;
+  if (!t.note.empty()) j["note"] = t.note;
+  return j;
+}
+
+Json values_json(const std::vector<FittedValue>& values, bool errors) {
+  Json j = Json::object();
+  for (const FittedValue& v : values) j[v.name] = number(errors ? v.std_error : v.value);
+  return j;
+}
+
+}  // namespace
+
+std::string diagnosis_json(const Diagnosis& d) {
+  Json j;
+  j["gap_detected"] = d.gap_detected;
+  j["named_effect"] = d.named_effect;
+  j["ambiguous_with"] = d.ambiguous_with;
+  Json effects = Json::array();
+  for (const FittedEffect& e : d.effects) {
+    Json je;
+    je["name"] = e.name;
+    je["parameters"] = values_json(e.parameters, false);
+    je["std_errors"] = values_json(e.parameters, true);
+    Json units = Json::object();
+    for (const FittedValue& v : e.parameters) units[v.name] = v.unit;
+    je["units"] = units;
+    Json not_observable = Json::array();
+    for (const FittedValue& v : e.parameters) {
+      if (!v.estimable) not_observable.push_back(v.name);
+    }
+    Json evidence = test_json(e.evidence);
+    evidence["step"] = e.step;
+    evidence["fitted_rms_um"] = number(e.fitted_rms_um);
+    evidence["not_observable"] = not_observable;
+    Json coefficients = Json::object();
+    for (const FittedValue& v : e.coefficients) {
+      coefficients[v.name] = {
+          {"value", number(v.value)}, {"std_error", number(v.std_error)}, {"unit", v.unit}};
+    }
+    evidence["coefficients"] = coefficients;
+    Json ambiguous = Json::array();
+    for (const Ambiguity& a : e.ambiguous) {
+      ambiguous.push_back({{"with", a.with},
+                           {"reason", a.reason},
+                           {"signal_correlation", number(a.signal_correlation)},
+                           {"canonical_correlation", number(a.canonical_correlation)},
+                           {"condition_number", number(a.condition_number)},
+                           {"delta_bic_gap", number(a.delta_bic_gap)},
+                           {"separate_by", a.separate_by}});
+    }
+    evidence["ambiguous"] = ambiguous;
+    je["evidence"] = evidence;
+    effects.push_back(je);
+  }
+  j["effects"] = effects;
+  j["gap_before"] = gap_json(d.gap_before);
+  Json after = gap_json(d.gap_after);
+  after["held_out_rms_um"] = number(d.held_out_rms_um);
+  j["gap_after"] = after;
+  j["noise_floor_um"] = number(d.noise.sigma_um);
+  j["noise_floor"] = {{"source", d.noise.source},
+                      {"model_um", number(d.noise.model_um)},
+                      {"robust_um", number(d.noise.robust_um)},
+                      {"second_differences", d.noise.differences}};
+  j["unexplained_structure"] = d.unexplained_structure;
+  j["explained_fraction"] = number(d.explained_fraction);
+  j["notes"] = d.notes;
+  j["points"] = d.points;
+  j["nominal_fallback_points"] = d.nominal_fallback;
+  j["null_replicates"] = d.null_replicates;
+  j["seed"] = d.seed;
+  j["alpha"] = d.alpha;
+  Json steps = Json::array();
+  for (const SelectionStep& s : d.selection.steps) {
+    Json js;
+    Json before = Json::array();
+    for (int c : s.selected_before) before.push_back(d.candidate_names.at(c));
+    js["selected_before"] = before;
+    js["rss_before_um2"] = number(s.rss_before);
+    js["null_max_f_95"] = number(s.null_max_f_95);
+    Json tests = Json::array();
+    for (const CandidateTest& t : s.tests) tests.push_back(test_json(t));
+    js["candidates"] = tests;
+    js["accepted"] = s.accepted >= 0 ? Json(s.tests[s.accepted].name) : Json(nullptr);
+    steps.push_back(js);
+  }
+  j["selection"] = steps;
+  Json orders = Json::array();
+  for (std::size_t k = 0; k < d.spectrum_before_um.size(); ++k) orders.push_back(k);
+  j["spectrum"] = {{"orders", orders},
+                   {"before_um", numbers(d.spectrum_before_um)},
+                   {"after_um", numbers(d.spectrum_after_um)},
+                   {"null95_before_um", numbers(d.spectrum_null95_before_um)},
+                   {"null95_after_um", numbers(d.spectrum_null95_after_um)}};
+  return j.dump(2) + "\n";
+}
+
+void write_diagnosis_json(const std::string& path, const Diagnosis& diagnosis) {
+  write_file_atomically(path, diagnosis_json(diagnosis));
+}
+
+}  // namespace gearmc

@@ -1,0 +1,251 @@
+// Numerical tools of the diagnosis: bases, least squares, F and KS tails, Holm, canonical
+// correlations, robust scale, harmonic spectrum (see linear_model.h for the sources).
+#include "engine/diagnose/linear_model.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace gearmc {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Continued fraction of the incomplete beta function, Numerical Recipes 3rd ed. §6.4 (betacf),
+// evaluated with the modified Lentz method.
+double beta_continued_fraction(double a, double b, double x) {
+  constexpr double kTiny = 1e-300, kEps = 1e-15;
+  const double qab = a + b, qap = a + 1.0, qam = a - 1.0;
+  double c = 1.0, d = 1.0 - qab * x / qap;
+  if (std::abs(d) < kTiny) d = kTiny;
+  d = 1.0 / d;
+  double h = d;
+  for (int m = 1; m <= 100000; ++m) {
+    const double m2 = 2.0 * m;
+    double aa = m * (b - m) * x / ((qam + m2) * (a + m2));
+    d = 1.0 + aa * d;
+    if (std::abs(d) < kTiny) d = kTiny;
+    c = 1.0 + aa / c;
+    if (std::abs(c) < kTiny) c = kTiny;
+    d = 1.0 / d;
+    h *= d * c;
+    aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+    d = 1.0 + aa * d;
+    if (std::abs(d) < kTiny) d = kTiny;
+    c = 1.0 + aa / c;
+    if (std::abs(c) < kTiny) c = kTiny;
+    d = 1.0 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1.0) < kEps) break;
+  }
+  return h;
+}
+
+double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+
+}  // namespace
+
+ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, const Eigen::MatrixXd& against,
+                              double relative_tolerance) {
+  ColumnBasis out;
+  out.q.resize(x.rows(), x.cols());
+  int k = 0;
+  for (int c = 0; c < x.cols(); ++c) {
+    Eigen::VectorXd v = x.col(c);
+    const double norm0 = v.norm();
+    if (!(norm0 > 0.0) || !std::isfinite(norm0)) continue;
+    for (int pass = 0; pass < 2; ++pass) {  // modified Gram–Schmidt, twice
+      for (int a = 0; a < against.cols(); ++a) v -= against.col(a) * against.col(a).dot(v);
+      for (int a = 0; a < k; ++a) v -= out.q.col(a) * out.q.col(a).dot(v);
+    }
+    const double norm = v.norm();
+    if (norm > relative_tolerance * norm0) {
+      out.q.col(k++) = v / norm;
+      out.kept.push_back(c);
+    }
+  }
+  out.q.conservativeResize(x.rows(), k);
+  return out;
+}
+
+LeastSquaresFit least_squares(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
+                              double relative_tolerance) {
+  LeastSquaresFit fit;
+  const int p = static_cast<int>(x.cols());
+  fit.beta = Eigen::VectorXd::Zero(p);
+  fit.cov_unscaled = Eigen::MatrixXd::Zero(p, p);
+  fit.estimable.assign(p, false);
+  fit.fitted = Eigen::VectorXd::Zero(x.rows());
+  const ColumnBasis basis = orthonormal_basis(x, relative_tolerance);
+  const int k = static_cast<int>(basis.kept.size());
+  fit.rank = k;
+  if (k > 0) {
+    Eigen::MatrixXd xs(x.rows(), k);
+    Eigen::VectorXd scale(k);
+    for (int a = 0; a < k; ++a) {
+      scale[a] = x.col(basis.kept[a]).norm();
+      xs.col(a) = x.col(basis.kept[a]) / scale[a];
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(xs);
+    const Eigen::VectorXd beta_s = qr.solve(y);
+    const Eigen::MatrixXd r = qr.matrixQR().topLeftCorner(k, k).triangularView<Eigen::Upper>();
+    const Eigen::MatrixXd r_inv =
+        r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(k, k));
+    const Eigen::MatrixXd cov_s = r_inv * r_inv.transpose();
+    for (int a = 0; a < k; ++a) {
+      const int ca = basis.kept[a];
+      fit.beta[ca] = beta_s[a] / scale[a];
+      fit.estimable[ca] = true;
+      for (int b = 0; b < k; ++b) {
+        fit.cov_unscaled(ca, basis.kept[b]) = cov_s(a, b) / (scale[a] * scale[b]);
+      }
+    }
+    fit.fitted = x * fit.beta;
+  }
+  fit.rss = (y - fit.fitted).squaredNorm();
+  return fit;
+}
+
+double regularized_incomplete_beta(double a, double b, double x) {
+  if (!(a > 0.0) || !(b > 0.0) || !(x >= 0.0) || !(x <= 1.0)) return kNaN;
+  if (x == 0.0 || x == 1.0) return x;
+  const double log_front =
+      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
+  const double front = std::exp(log_front);
+  if (x < (a + 1.0) / (a + b + 2.0)) return front * beta_continued_fraction(a, b, x) / a;
+  return 1.0 - front * beta_continued_fraction(b, a, 1.0 - x) / b;
+}
+
+double f_distribution_upper_tail(double f, double d1, double d2) {
+  if (!(d1 > 0.0) || !(d2 > 0.0) || std::isnan(f)) return kNaN;
+  if (f <= 0.0) return 1.0;
+  if (std::isinf(f)) return 0.0;
+  return regularized_incomplete_beta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * f));
+}
+
+std::vector<double> holm_adjust(const std::vector<double>& p) {
+  const std::size_t m = p.size();
+  std::vector<std::size_t> idx(m);
+  std::iota(idx.begin(), idx.end(), 0);
+  std::stable_sort(idx.begin(), idx.end(),
+                   [&](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<double> adjusted(m);
+  double running = 0.0;
+  for (std::size_t r = 0; r < m; ++r) {
+    const double v = std::min(1.0, static_cast<double>(m - r) * p[idx[r]]);
+    running = std::max(running, v);
+    adjusted[idx[r]] = running;
+  }
+  return adjusted;
+}
+
+std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eigen::MatrixXd& qb) {
+  if (qa.cols() == 0 || qb.cols() == 0) return {};
+  const Eigen::MatrixXd m = qa.transpose() * qb;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m);
+  std::vector<double> out;
+  for (int i = 0; i < svd.singularValues().size(); ++i) {
+    out.push_back(std::min(1.0, svd.singularValues()[i]));
+  }
+  return out;
+}
+
+double scaled_condition_number(const Eigen::MatrixXd& x) {
+  std::vector<int> nonzero;
+  for (int c = 0; c < x.cols(); ++c) {
+    if (x.col(c).norm() > 0.0) nonzero.push_back(c);
+  }
+  if (nonzero.empty()) return kNaN;
+  Eigen::MatrixXd s(x.rows(), static_cast<int>(nonzero.size()));
+  for (std::size_t a = 0; a < nonzero.size(); ++a) {
+    s.col(static_cast<int>(a)) = x.col(nonzero[a]).normalized();
+  }
+  if (s.cols() > s.rows()) return kInf;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(s);
+  const double hi = svd.singularValues()[0];
+  const double lo = svd.singularValues()[svd.singularValues().size() - 1];
+  return lo > hi * 1e-15 ? hi / lo : kInf;
+}
+
+double ks_distance_normal(std::vector<double> values, double sigma) {
+  if (values.empty() || !(sigma > 0.0)) return kNaN;
+  std::sort(values.begin(), values.end());
+  const double n = static_cast<double>(values.size());
+  double d = 0.0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double f = normal_cdf(values[i] / sigma);
+    d = std::max({d, (static_cast<double>(i) + 1.0) / n - f, f - static_cast<double>(i) / n});
+  }
+  return d;
+}
+
+double ks_p_value(double d, int n) {
+  if (n <= 0 || std::isnan(d)) return kNaN;
+  const double sn = std::sqrt(static_cast<double>(n));
+  const double lambda = (sn + 0.12 + 0.11 / sn) * d;
+  if (lambda < 0.2) return 1.0;
+  double sum = 0.0, sign = 1.0;
+  for (int j = 1; j <= 100; ++j) {
+    const double term = sign * std::exp(-2.0 * j * j * lambda * lambda);
+    sum += term;
+    if (std::abs(term) < 1e-16 * std::abs(sum)) break;
+    sign = -sign;
+  }
+  return std::clamp(2.0 * sum, 0.0, 1.0);
+}
+
+double mad_sigma(std::vector<double> values) {
+  if (values.empty()) return kNaN;
+  const double med = sample_quantile(values, 0.5);
+  for (double& v : values) v = std::abs(v - med);
+  return 1.482602218505602 * sample_quantile(std::move(values), 0.5);
+}
+
+double empirical_p_value(double observed, const std::vector<double>& null_values) {
+  if (std::isnan(observed)) return kNaN;
+  std::size_t at_least = 0;
+  for (double v : null_values) at_least += v >= observed ? 1 : 0;
+  return (1.0 + static_cast<double>(at_least)) / (1.0 + static_cast<double>(null_values.size()));
+}
+
+double sample_quantile(std::vector<double> values, double q) {
+  if (values.empty()) return kNaN;
+  std::sort(values.begin(), values.end());
+  const double h = (static_cast<double>(values.size()) - 1.0) * std::clamp(q, 0.0, 1.0);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (h - static_cast<double>(lo)) * (values[hi] - values[lo]);
+}
+
+HarmonicSpectrum::HarmonicSpectrum(const std::vector<double>& azimuth_rad, int max_order)
+    : max_order_(max_order) {
+  const int rows = static_cast<int>(azimuth_rad.size());
+  Eigen::MatrixXd x(rows, 2 * max_order + 1);
+  for (int r = 0; r < rows; ++r) {
+    x(r, 0) = 1.0;
+    for (int k = 1; k <= max_order; ++k) {
+      x(r, 2 * k - 1) = std::cos(k * azimuth_rad[r]);
+      x(r, 2 * k) = std::sin(k * azimuth_rad[r]);
+    }
+  }
+  // Minimum-norm least squares, pinv(X) = pinv(XᵀX) Xᵀ (complete orthogonal decomposition of
+  // the small Gram matrix): a plan that covers too few azimuths for the high orders still gives
+  // finite amplitudes.
+  const Eigen::MatrixXd gram = x.transpose() * x;
+  solve_ =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(gram).pseudoInverse() * x.transpose();
+}
+
+std::vector<double> HarmonicSpectrum::amplitudes(const Eigen::VectorXd& residual_um) const {
+  const Eigen::VectorXd c = solve_ * residual_um;
+  std::vector<double> a(max_order_ + 1);
+  a[0] = std::abs(c[0]);
+  for (int k = 1; k <= max_order_; ++k) a[k] = std::hypot(c[2 * k - 1], c[2 * k]);
+  return a;
+}
+
+}  // namespace gearmc

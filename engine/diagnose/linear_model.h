@@ -1,0 +1,104 @@
+// The numerical tools of the discrepancy diagnosis (issue 6): orthonormal bases of design
+// matrices with a column-by-column rank decision, least-squares fits with covariances, the
+// F-distribution tail for nested-model tests, Holm's step-down adjustment, canonical
+// correlations between column spaces, scaled condition numbers, the Kolmogorov–Smirnov
+// statistic against a normal law, robust scale (MAD) and the least-squares harmonic spectrum of
+// residuals against the approach azimuth. Nothing here knows about gears: vectors are residuals
+// along n in µm and matrices are signatures in µm per unit of a parameter.
+// Sources are cited where each method is implemented (linear_model.cpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace gearmc {
+
+// An orthonormal basis of the part of a matrix's column space that is orthogonal to a given
+// orthonormal basis, built column by column: column c is kept when what is left of it after
+// removing the given basis and the columns kept before it has a norm > `relative_tolerance`
+// times its own norm (zero columns are never kept). Modified Gram–Schmidt applied twice
+// (Kahan's "twice is enough", Parlett, "The Symmetric Eigenvalue Problem", 1980).
+struct ColumnBasis {
+  Eigen::MatrixXd q;      // rows × kept.size(), orthonormal columns
+  std::vector<int> kept;  // indices of the kept columns of the input, increasing
+};
+ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, const Eigen::MatrixXd& against,
+                              double relative_tolerance = 1e-6);
+inline ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, double relative_tolerance = 1e-6) {
+  return orthonormal_basis(x, Eigen::MatrixXd(x.rows(), 0), relative_tolerance);
+}
+
+// Ordinary least squares y ≈ X β on the columns of X that are linearly independent (chosen in
+// column order as orthonormal_basis does); the other columns get β = 0 and `estimable` false.
+// cov_unscaled = (X_kᵀ X_k)⁻¹ on the kept columns (zero rows/columns elsewhere): multiply by σ²
+// for the covariance of β. Solved by Householder QR on unit-norm scaled columns.
+struct LeastSquaresFit {
+  Eigen::VectorXd beta;
+  Eigen::MatrixXd cov_unscaled;
+  std::vector<bool> estimable;
+  Eigen::VectorXd fitted;  // X β
+  double rss = 0.0;        // |y − X β|²
+  int rank = 0;
+};
+LeastSquaresFit least_squares(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
+                              double relative_tolerance = 1e-6);
+
+// Regularised incomplete beta function I_x(a, b), a, b > 0, 0 <= x <= 1 (continued fraction,
+// Press et al., "Numerical Recipes", 3rd ed., §6.4, modified Lentz method). ~1e-13 relative.
+double regularized_incomplete_beta(double a, double b, double x);
+
+// Upper tail P(F > f) of Fisher's F distribution with (d1, d2) degrees of freedom:
+// I_{d2/(d2 + d1 f)}(d2/2, d1/2) (Abramowitz & Stegun 26.6.2).
+double f_distribution_upper_tail(double f, double d1, double d2);
+
+// Holm's step-down adjusted p-values (Holm, "A simple sequentially rejective multiple test
+// procedure", Scand. J. Statist. 6, 1979): sort ascending, p̃_(i) = max_{j<=i} min(1,
+// (m − j + 1) p_(j)); returned in the input order. Controls the family-wise error rate.
+std::vector<double> holm_adjust(const std::vector<double>& p);
+
+// Canonical correlations (cosines of the principal angles) between the column spaces of two
+// orthonormal bases: the singular values of Q_aᵀ Q_b, descending (Björck & Golub, "Numerical
+// methods for computing angles between linear subspaces", Math. Comp. 27, 1973).
+std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eigen::MatrixXd& qb);
+
+// Condition number (largest / smallest singular value) of X with every column scaled to unit
+// length (Belsley, Kuh & Welsch, "Regression Diagnostics", 1980, ch. 3). Zero columns are left
+// out; +inf when the scaled columns are linearly dependent.
+double scaled_condition_number(const Eigen::MatrixXd& x);
+
+// One-sample Kolmogorov–Smirnov distance D = sup |F_n(x) − Φ(x/σ)| of `values` against
+// N(0, σ²) (Kolmogorov 1933; the exact sup over the sample's jumps).
+double ks_distance_normal(std::vector<double> values, double sigma);
+// Asymptotic p-value of D for n values, Q_KS((√n + 0.12 + 0.11/√n) D) (Stephens, J. R. Statist.
+// Soc. B 32, 1970; Numerical Recipes §14.3.3). Valid for a fully specified law.
+double ks_p_value(double d, int n);
+
+// 1.4826 × median |x − median x| (Hampel, JASA 69, 1974): σ of normal data, robust to outliers.
+double mad_sigma(std::vector<double> values);
+
+// The empirical p-value of an observed statistic against its simulated null values, for a test
+// that rejects for large values: (1 + #{null >= observed}) / (K + 1) (Davison & Hinkley,
+// "Bootstrap Methods and their Application", 1997, ch. 4; never 0, Phipson & Smyth 2010).
+double empirical_p_value(double observed, const std::vector<double>& null_values);
+// The q-quantile (0..1) of values, linear interpolation between order statistics (Hyndman &
+// Fan 1996, type 7).
+double sample_quantile(std::vector<double> values, double q);
+
+// Least-squares harmonic spectrum of residuals against the approach azimuth φ (rad):
+// r ≈ a_0 + Σ_{k=1..K} (a_k cos kφ + b_k sin kφ), fitted jointly (the orders are not
+// orthogonal on an uneven azimuth sampling); amplitude_0 = |a_0|, amplitude_k = √(a_k² + b_k²)
+// in the residuals' unit (µm). The operator is factored once, so many residual vectors (the null
+// simulation) are cheap.
+class HarmonicSpectrum {
+ public:
+  HarmonicSpectrum(const std::vector<double>& azimuth_rad, int max_order);
+  int max_order() const { return max_order_; }
+  // Amplitudes of orders 0..max_order (µm).
+  std::vector<double> amplitudes(const Eigen::VectorXd& residual_um) const;
+
+ private:
+  int max_order_;
+  Eigen::MatrixXd solve_;  // (2K + 1) × rows: the least-squares operator (XᵀX)⁻¹Xᵀ
+};
+
+}  // namespace gearmc

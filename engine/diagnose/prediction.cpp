@@ -1,0 +1,182 @@
+// The model's prediction at the measured points, residuals and the noise floor (see
+// prediction.h).
+#include "engine/diagnose/prediction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include "engine/diagnose/linear_model.h"
+#include "engine/mc/monte_carlo.h"
+#include "engine/scenario/input_error.h"
+
+namespace gearmc {
+namespace {
+
+using PlanKey = std::tuple<int, int, int, int>;  // tooth, side (0 L, 1 R), i, j
+
+PlanKey plan_key(int tooth, FlankSide side, int i, int j) {
+  return {tooth, side == FlankSide::kRight ? 1 : 0, i, j};
+}
+
+// A row's nominal point must equal the model plan's to this (mm) to use the model's contact.
+constexpr double kSamePointMm = 1e-4;
+
+}  // namespace
+
+EffectValues deterministic_effect_values(const EffectChain& chain) {
+  EffectValues values = chain.nominal();
+  for (std::size_t e = 0; e < chain.size(); ++e) {
+    const auto& parameters = chain.effect(e).parameters();
+    for (std::size_t i = 0; i < parameters.size(); ++i) {
+      if (parameters[i].name == "sigma_um" || parameters[i].name == "repeatability_um") {
+        values[e][i] = 0.0;
+      }
+    }
+  }
+  return values;
+}
+
+Residuals compute_residuals(const Scenario& model, const Readings& readings,
+                            const PredictionOptions& options) {
+  if (readings.rows.empty()) {
+    throw InputError({"<readings>", 0, 0}, "the readings have no rows: nothing to diagnose");
+  }
+  Scenario scenario = model;
+  const bool nominal = options.artefact == ArtefactModel::kNominalMaster || readings.has_ref_dev;
+  if (nominal) scenario.deviations.random = false;
+  if (readings.has_ref_dev) scenario.normal_expression_um.clear();
+  scenario.stylus_radius_mm = readings.stylus_radius_mm;
+  const double R = readings.stylus_radius_mm;
+
+  Residuals out;
+  out.stylus_radius_mm = R;
+  out.artefact = nominal ? ArtefactModel::kNominalMaster : ArtefactModel::kModelGears;
+
+  // Each gear's place in the measurement: first and last order of its rows.
+  std::map<int, std::pair<int, int>> gear_orders;
+  for (const ReadingRow& row : readings.rows) {
+    auto [it, inserted] = gear_orders.try_emplace(row.gear, row.order, row.order);
+    if (!inserted) {
+      it->second.first = std::min(it->second.first, row.order);
+      it->second.second = std::max(it->second.second, row.order);
+    }
+  }
+
+  // The model's contacts, per gear (one nominal gear serves every gear of a master).
+  const MonteCarloRun run(scenario);
+  std::map<int, GearOutcome> outcomes;
+  std::map<int, std::map<PlanKey, const ProbedPoint*>> by_plan;
+  auto model_points = [&](int gear) -> const std::map<PlanKey, const ProbedPoint*>& {
+    const int key = nominal ? 0 : gear;
+    auto found = by_plan.find(key);
+    if (found != by_plan.end()) return found->second;
+    const GearOutcome& outcome = outcomes.emplace(key, run.measure_gear(key, true)).first->second;
+    auto& index = by_plan[key];
+    for (const ProbedPoint& q : outcome.points) index[plan_key(q.tooth, q.side, q.i, q.j)] = &q;
+    return index;
+  };
+
+  const EffectChain& effects = *scenario.effects;
+  const EffectValues values = deterministic_effect_values(effects);
+  out.points.reserve(readings.rows.size());
+  for (const ReadingRow& row : readings.rows) {
+    ResidualPoint point;
+    point.gear = row.gear;
+    point.tooth = row.tooth;
+    point.side = row.side;
+    point.i = row.i;
+    point.j = row.j;
+    point.order = row.order;
+    const auto [first, last] = gear_orders.at(row.gear);
+    PointContext& context = point.context;
+    context.p = row.p;
+    context.n = row.n;
+    context.contact_normal = row.n;
+    context.azimuth_rad = std::atan2(-row.n.y(), -row.n.x());
+    context.order = row.order - first;
+    context.sequence_length = last - first + 1;
+    context.tooth = row.tooth;
+    context.side = row.side;
+    context.stylus_radius_mm = R;
+
+    Eigen::Vector3d centre = row.p + R * row.n;  // nominal contact
+    const auto& plan = model_points(row.gear);
+    const auto found = plan.find(plan_key(row.tooth, row.side, row.i, row.j));
+    if (found != plan.end() && found->second->contact.status == ContactResult::Status::kOk &&
+        (found->second->p - row.p).norm() <= kSamePointMm) {
+      const ContactResult& contact = found->second->contact;
+      centre = contact.centre;
+      context.contact_normal = (contact.centre - contact.contact).normalized();
+    } else {
+      point.model_contact = false;
+      ++out.nominal_fallback;
+    }
+    RandomStream rng = point_effect_stream(scenario.seed, row.gear, context.order);
+    const Eigen::Vector3d recorded = effects.apply(context, values, centre, rng);
+    point.predicted_um = reading_um(context, recorded);
+    point.measured_um = measured_deviation_um(row, R);
+    point.residual_um = point.measured_um - point.predicted_um;
+    out.points.push_back(point);
+  }
+  return out;
+}
+
+double robust_noise_sigma(const std::vector<ResidualPoint>& points,
+                          const std::vector<double>& residual_um, int* count) {
+  // Profile scans: (gear, tooth, side, j) → residual by i.
+  std::map<std::tuple<int, int, int, int>, std::map<int, double>> scans;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const ResidualPoint& p = points[k];
+    scans[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = residual_um[k];
+  }
+  std::vector<double> d;
+  for (const auto& [key, scan] : scans) {
+    auto a = scan.begin();
+    if (scan.size() < 3) continue;
+    auto b = std::next(a), c = std::next(b);
+    for (; c != scan.end(); ++a, ++b, ++c) {
+      if (b->first == a->first + 1 && c->first == b->first + 1) {
+        d.push_back(a->second - 2.0 * b->second + c->second);
+      }
+    }
+  }
+  if (count) *count = static_cast<int>(d.size());
+  if (d.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return mad_sigma(std::move(d)) / std::sqrt(6.0);
+}
+
+NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals) {
+  NoiseFloor floor;
+  const EffectChain& chain = *model.effects;
+  const EffectValues nominal = chain.nominal();
+  double variance = 0.0;
+  for (std::size_t e = 0; e < chain.size(); ++e) {
+    const auto& parameters = chain.effect(e).parameters();
+    for (std::size_t i = 0; i < parameters.size(); ++i) {
+      if (parameters[i].name == "sigma_um" || parameters[i].name == "repeatability_um") {
+        variance += nominal[e][i] * nominal[e][i];
+      }
+    }
+  }
+  floor.model_um = std::sqrt(variance);
+  std::vector<double> r;
+  r.reserve(residuals.points.size());
+  for (const ResidualPoint& p : residuals.points) r.push_back(p.residual_um);
+  floor.robust_um = robust_noise_sigma(residuals.points, r, &floor.differences);
+  if (floor.model_um > 0.0) {
+    floor.sigma_um = floor.model_um;
+    floor.source = "model";
+  } else if (floor.robust_um > 0.0) {
+    floor.sigma_um = floor.robust_um;
+    floor.source = "residual_second_differences";
+  } else {  // no profile scans of 3 points: the MAD of the residuals themselves (an upper bound)
+    floor.sigma_um = mad_sigma(r);
+    floor.source = "residual_mad";
+  }
+  return floor;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,460 @@
+// Tests of the diagnosis core (engine/diagnose, issue 6): the numerical tools against closed
+// forms and textbook values, the candidates' columns against the effects' closed-form
+// signatures, the prediction against simulate_readings, and the whole diagnosis on readings in
+// which one effect is hidden: readings simulated with simulate_readings from a truth scenario =
+// the built-in reference (P1's gear and 10 × 5 grid on every flank, nominal master) + ONE effect
+// + probing noise σ 0.3 µm, diagnosed against the baseline model (the reference with noise
+// 0.3 µm only). The truth reaches the diagnosis only through the readings. Reference values are
+// the truth's own parameters (issue 6's battery sizes at 1×); every test uses fixed seeds, so
+// each assertion is deterministic (seed 1 of the simulation, seed 1 of the null simulation).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "engine/diagnose/diagnosis.h"
+#include "engine/diagnose/diagnosis_json.h"
+#include "engine/diagnose/linear_model.h"
+#include "engine/effects/effect_config.h"
+#include "engine/mc/simulate.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kNoiseUm = 0.3;  // issue 6: probing noise σ 0.3 µm
+
+Scenario with_effects(const std::string& effects_yaml) {
+  Scenario s = reference_scenario();
+  s.effects = std::make_shared<const EffectChain>(
+      parse_effects(parse_yaml_document(effects_yaml, "effects.yaml")));
+  return s;
+}
+
+// Readings of the nominal master (P1's gear, 2 400 points) with the truth's effects.
+Readings master_readings(const Scenario& truth, std::uint64_t seed = 1) {
+  SimulateOptions o;
+  o.master = true;
+  o.seed = seed;
+  return simulate_readings(truth, o).readings;
+}
+
+// Truth = the reference + `effect_yaml` + noise 0.3 µm.
+Readings hidden(const std::string& effect_yaml, std::uint64_t seed = 1) {
+  return master_readings(with_effects(effect_yaml + "noise: {sigma_um: 0.3}\n"), seed);
+}
+
+Scenario baseline() { return with_effects("noise: {sigma_um: 0.3}\n"); }
+
+const FittedValue& value(const FittedEffect& e, const std::string& name) {
+  for (const FittedValue& v : e.parameters) {
+    if (v.name == name) return v;
+  }
+  for (const FittedValue& v : e.coefficients) {
+    if (v.name == name) return v;
+  }
+  ADD_FAILURE() << "no parameter " << name << " in " << e.name;
+  static const FittedValue none;
+  return none;
+}
+
+bool contains(const std::vector<std::string>& list, const std::string& name) {
+  return std::find(list.begin(), list.end(), name) != list.end();
+}
+
+// --- Numerical tools --------------------------------------------------------------------------
+
+TEST(DiagnoseTools, FDistributionTailMatchesClosedFormsAndTables) {
+  // d1 = 2: P(F > f) = (1 + 2f/d2)^(−d2/2); d1 = d2 = 1: 1 − (2/π) atan √f (both follow from
+  // the F density, Johnson, Kotz & Balakrishnan vol. 2, ch. 27).
+  for (double f : {0.1, 1.0, 3.0, 10.0}) {
+    for (double d2 : {5.0, 40.0, 2400.0}) {
+      EXPECT_NEAR(f_distribution_upper_tail(f, 2, d2), std::pow(1.0 + 2.0 * f / d2, -d2 / 2),
+                  1e-12);
+    }
+    EXPECT_NEAR(f_distribution_upper_tail(f, 1, 1), 1.0 - 2.0 / kPi * std::atan(std::sqrt(f)),
+                1e-12);
+  }
+  // Table values (Abramowitz & Stegun table 26.9): F_0.05(1, 10) = 4.96, F_0.05(5, 10) = 3.33,
+  // F_0.01(3, 120) = 3.95; more digits from the quantile function: 4.964603, 3.325835, 3.949163.
+  EXPECT_NEAR(f_distribution_upper_tail(4.964603, 1, 10), 0.05, 1e-6);
+  EXPECT_NEAR(f_distribution_upper_tail(3.325835, 5, 10), 0.05, 1e-6);
+  EXPECT_NEAR(f_distribution_upper_tail(3.949163, 3, 120), 0.01, 1e-6);
+}
+
+TEST(DiagnoseTools, HolmAdjustmentOfATextbookExample) {
+  // p = {0.01, 0.04, 0.03, 0.005}, m = 4: sorted 0.005·4 = 0.02, 0.01·3 = 0.03, 0.03·2 = 0.06,
+  // 0.04·1 = 0.04 → monotone 0.06 (Holm 1979's step-down rule, by hand).
+  const std::vector<double> adjusted = holm_adjust({0.01, 0.04, 0.03, 0.005});
+  EXPECT_NEAR(adjusted[0], 0.03, 1e-15);
+  EXPECT_NEAR(adjusted[1], 0.06, 1e-15);
+  EXPECT_NEAR(adjusted[2], 0.06, 1e-15);
+  EXPECT_NEAR(adjusted[3], 0.02, 1e-15);
+}
+
+TEST(DiagnoseTools, CanonicalCorrelationsAndConditionNumberOfKnownAngles) {
+  // span{e1, e2} and span{e1, cos t e2 + sin t e3}: principal angles 0 and t.
+  const double t = 0.3;
+  Eigen::MatrixXd a(3, 2), b(3, 2);
+  a << 1, 0, 0, 1, 0, 0;
+  b << 1, 0, 0, std::cos(t), 0, std::sin(t);
+  const std::vector<double> cc = canonical_correlations(a, b);
+  ASSERT_EQ(cc.size(), 2u);
+  EXPECT_NEAR(cc[0], 1.0, 1e-14);
+  EXPECT_NEAR(cc[1], std::cos(t), 1e-14);
+  // Two columns at cosine c (any lengths): singular values √(1 ± c) once scaled.
+  Eigen::MatrixXd x(2, 2);
+  x << 5.0, 0.2 * std::cos(t), 0.0, 0.2 * std::sin(t);
+  const double c = std::cos(t);
+  EXPECT_NEAR(scaled_condition_number(x), std::sqrt((1 + c) / (1 - c)), 1e-12);
+}
+
+TEST(DiagnoseTools, KolmogorovTailAtItsFivePercentPoint) {
+  // Q_KS(1.358) = 0.05 (Kolmogorov's limiting law, the usual 5 % critical value 1.358).
+  const int n = 2400;
+  const double sn = std::sqrt(static_cast<double>(n));
+  EXPECT_NEAR(ks_p_value(1.358 / (sn + 0.12 + 0.11 / sn), n), 0.05, 2e-4);
+  // The distance of a sample equal to the normal quantiles (i − 1/2)/n is 1/(2n).
+  // Φ⁻¹(0.1, 0.3, 0.5, 0.7, 0.9) (standard normal quantiles), scaled by σ = 0.3.
+  std::vector<double> v;
+  for (double q :
+       {-1.2815515655446004, -0.5244005127080407, 0.0, 0.5244005127080407, 1.2815515655446004}) {
+    v.push_back(0.3 * q);
+  }
+  EXPECT_NEAR(ks_distance_normal(v, 0.3), 0.1, 1e-12);
+}
+
+TEST(DiagnoseTools, LeastSquaresLeavesDependentColumnsOut) {
+  Eigen::MatrixXd x(6, 3);
+  Eigen::VectorXd y(6);
+  for (int r = 0; r < 6; ++r) {
+    x(r, 0) = 1.0;
+    x(r, 1) = 2.0;  // = 2 × column 0
+    x(r, 2) = r;
+    y[r] = 0.5 + 0.25 * r;
+  }
+  const LeastSquaresFit fit = least_squares(x, y);
+  EXPECT_EQ(fit.rank, 2);
+  EXPECT_TRUE(fit.estimable[0]);
+  EXPECT_FALSE(fit.estimable[1]);
+  EXPECT_NEAR(fit.beta[0], 0.5, 1e-12);
+  EXPECT_NEAR(fit.beta[2], 0.25, 1e-12);
+  EXPECT_NEAR(fit.rss, 0.0, 1e-20);
+  // (XᵀX)⁻¹ of [1, r], r = 0..5 by hand: det = 6·55 − 15² = 105 → [55, −15; −15, 6] / 105.
+  EXPECT_NEAR(fit.cov_unscaled(0, 0), 55.0 / 105.0, 1e-12);
+  EXPECT_NEAR(fit.cov_unscaled(2, 2), 6.0 / 105.0, 1e-12);
+  EXPECT_NEAR(fit.cov_unscaled(0, 2), -15.0 / 105.0, 1e-12);
+}
+
+TEST(DiagnoseTools, HarmonicSpectrumRecoversAmplitudesOnUnevenAzimuths) {
+  std::vector<double> phi;
+  Eigen::VectorXd r(300);
+  for (int k = 0; k < 300; ++k) {
+    const double a = 2.0 * kPi * std::pow((k + 0.5) / 300.0, 1.3);  // uneven sampling
+    phi.push_back(a);
+    r[k] = 0.2 + 0.5 * std::cos(3.0 * a - 1.0) + 0.3 * std::sin(7.0 * a);
+  }
+  const std::vector<double> amp = HarmonicSpectrum(phi, 12).amplitudes(r);
+  ASSERT_EQ(amp.size(), 13u);
+  for (int k = 0; k <= 12; ++k) {
+    const double expected = k == 0 ? 0.2 : k == 3 ? 0.5 : k == 7 ? 0.3 : 0.0;
+    EXPECT_NEAR(amp[k], expected, 1e-9) << "order " << k;
+  }
+}
+
+// --- Prediction, noise floor and candidates --------------------------------------------------
+
+TEST(DiagnosePrediction, AModelWithTheTruthsEffectsLeavesNoResidual) {
+  // The truth's deterministic effects (lobing, drift) without noise; the model has the same
+  // effects plus noise and repeatability, which the prediction must switch off.
+  const Scenario truth = with_effects(R"(
+probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}
+drift: {x_um: 1}
+)");
+  const Scenario model = with_effects(R"(
+probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}], repeatability_um: 0.4}
+drift: {x_um: 1}
+noise: {sigma_um: 0.3}
+)");
+  const Residuals r = compute_residuals(model, master_readings(truth));
+  ASSERT_EQ(r.points.size(), 2400u);
+  EXPECT_EQ(r.nominal_fallback, 0);
+  double largest = 0.0;
+  for (const ResidualPoint& p : r.points) largest = std::max(largest, std::abs(p.residual_um));
+  EXPECT_LT(largest, 1e-6);  // the contact solver's tolerance (tests/engine/simulate_test.cpp)
+  // Noise floor from the model: √(0.3² + 0.4²) = 0.5 µm.
+  const NoiseFloor floor = estimate_noise_floor(model, r);
+  EXPECT_EQ(floor.source, "model");
+  EXPECT_NEAR(floor.sigma_um, 0.5, 1e-12);
+}
+
+TEST(DiagnosePrediction, ModelGearsPredictEachPerturbedGear) {
+  // Two perturbed gears (not masters), no noise: with kModelGears the model's contact on the same
+  // gears (same scenario and seed) predicts the readings exactly; each gear's sequence restarts.
+  const Scenario truth = with_effects("drift: {x_um: 2}\n");
+  SimulateOptions o;
+  o.gears = 2;
+  const Readings readings = simulate_readings(truth, o).readings;
+  PredictionOptions p;
+  p.artefact = ArtefactModel::kModelGears;
+  const Residuals r = compute_residuals(truth, readings, p);
+  ASSERT_EQ(r.points.size(), 4800u);
+  double largest = 0.0;
+  for (const ResidualPoint& q : r.points) largest = std::max(largest, std::abs(q.residual_um));
+  EXPECT_LT(largest, 1e-6);
+  EXPECT_EQ(r.points[2400].gear, 1);
+  EXPECT_EQ(r.points[2400].context.order, 0);
+  EXPECT_EQ(r.points[4799].context.order, 2399);
+  EXPECT_EQ(r.points[4799].context.sequence_length, 2400);
+}
+
+TEST(DiagnosePrediction, RobustNoiseFloorFromSecondDifferences) {
+  // Noise-only readings against a model without a random part: the floor is estimated from the
+  // residuals' second differences along the profile scans (240 scans × 8 = 1 920 differences).
+  // Tolerance 10 %: MAD has 37 % efficiency and neighbouring differences overlap, so the
+  // estimate's relative standard error here is ≈ 3 %; 10 % is about 3 standard errors.
+  const Residuals r = compute_residuals(reference_scenario(), hidden(""));
+  const NoiseFloor floor = estimate_noise_floor(reference_scenario(), r);
+  EXPECT_EQ(floor.source, "residual_second_differences");
+  EXPECT_EQ(floor.differences, 1920);
+  EXPECT_NEAR(floor.sigma_um, kNoiseUm, 0.1 * kNoiseUm);
+}
+
+TEST(DiagnoseCandidates, ColumnsAreTheLibrarysSignatures) {
+  const Residuals r = compute_residuals(baseline(), hidden(""));
+  std::vector<PointContext> points;
+  for (const ResidualPoint& p : r.points) points.push_back(p.context);
+  const std::vector<CandidateDesign> c = candidate_designs(points);
+  ASSERT_EQ(c.size(), candidate_effect_names().size());
+  auto column = [&](const std::string& effect, const std::string& coefficient) {
+    for (const CandidateDesign& d : c) {
+      if (d.name != effect) continue;
+      for (std::size_t k = 0; k < d.coefficients.size(); ++k) {
+        if (d.coefficients[k] == coefficient) return std::make_pair(&d, static_cast<int>(k));
+      }
+    }
+    ADD_FAILURE() << effect << "." << coefficient;
+    return std::make_pair(&c.front(), 0);
+  };
+  // Closed forms (effects.h, probe_lobing.h): reading change per unit parameter along n.
+  for (std::size_t k = 0; k < points.size(); k += 37) {
+    const PointContext& q = points[k];
+    const int row = static_cast<int>(k);
+    const Eigen::Vector3d centre = q.p + q.stylus_radius_mm * q.n;
+    const double f = static_cast<double>(q.order) / (q.sequence_length - 1);
+    const double phi = q.azimuth_rad;
+    const std::vector<std::tuple<std::string, std::string, double>> expected = {
+        {"probe_lobing", "pretravel_um", -1.0},
+        {"probe_lobing", "cos_6_um", -std::cos(6 * phi)},
+        {"probe_lobing", "sin_6_um", -std::sin(6 * phi)},
+        {"probe_lobing", "cos_3_um", -std::cos(3 * phi)},
+        {"stylus_radius", "error_um", -1.0},
+        {"scale", "x_ppm", 1e-3 * centre.x() * q.n.x()},
+        {"thermal_expansion", "workpiece_delta_t_k", 11.5e-3 * centre.dot(q.n)},
+        {"drift", "y_um", f * q.n.y()},
+        {"squareness", "xz_urad", 1e-3 * q.n.x() * centre.z()},
+        {"eccentricity", "x_um", q.n.x()},
+        {"step_quantization", "step_um", -0.5},
+    };
+    for (const auto& [effect, coefficient, value] : expected) {
+      const auto [design, col] = column(effect, coefficient);
+      // 1e-7: probe_lobing's and thermal expansion's signatures are numerical (central
+      // differences of stylus-centre coordinates in mm, round-off ≈ 1e-8 µm per unit).
+      EXPECT_NEAR(design->x(row, col), value, 1e-7) << effect << "." << coefficient;
+    }
+  }
+  // On a spur gear n_z = 0: scale z and drift z carry no information.
+  EXPECT_FALSE(column("scale", "z_ppm").first->observable[column("scale", "z_ppm").second]);
+  EXPECT_FALSE(column("drift", "z_um").first->observable[column("drift", "z_um").second]);
+  EXPECT_TRUE(column("squareness", "yz_urad").first->observable[2]);
+}
+
+TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
+  const Residuals r = compute_residuals(baseline(), hidden(""));
+  std::vector<PointContext> points;
+  for (const ResidualPoint& p : r.points) points.push_back(p.context);
+  const std::vector<CandidateDesign> c = candidate_designs(points);
+  const NullSelectionDistribution a = simulate_null_selection(c, {}, kNoiseUm, 200, 7);
+  const NullSelectionDistribution b = simulate_null_selection(c, {}, kNoiseUm, 200, 7);
+  ASSERT_EQ(a.max_f.size(), 200u);
+  EXPECT_EQ(a.max_f, b.max_f);
+  EXPECT_EQ(a.min_p, b.min_p);
+  // Under the null each candidate's p is uniform, so P(min p ≤ 0.05/8) ≤ 0.05 (Bonferroni);
+  // allow 3 binomial standard errors for 200 replicates.
+  const double bound = 0.05 + 3.0 * std::sqrt(0.05 * 0.95 / 200.0);
+  const double hits = static_cast<double>(
+      std::count_if(a.min_p.begin(), a.min_p.end(), [](double p) { return p <= 0.05 / 8; }));
+  EXPECT_LE(hits / 200.0, bound);
+  for (double f : a.max_f) EXPECT_TRUE(f > 0.0 && std::isfinite(f));
+}
+
+// --- The diagnosis on readings with one hidden effect -----------------------------------------
+
+struct HiddenEffect {
+  const char* yaml;
+  const char* name;
+  std::vector<std::pair<const char*, double>> truth;  // parameter or coefficient → true value
+};
+
+// gtest prints parameters in test names (ctest): the effect's name, not the struct's bytes.
+void PrintTo(const HiddenEffect& h, std::ostream* os) { *os << h.name; }
+
+class DiagnoseHiddenEffect : public ::testing::TestWithParam<HiddenEffect> {};
+
+TEST_P(DiagnoseHiddenEffect, NamesFitsAndClosesTheGap) {
+  const HiddenEffect& h = GetParam();
+  const Diagnosis d = diagnose(baseline(), hidden(h.yaml));
+  EXPECT_TRUE(d.gap_detected);
+  EXPECT_EQ(d.named_effect, h.name);
+  ASSERT_FALSE(d.effects.empty());
+  EXPECT_EQ(d.effects.size(), 1u);
+  const FittedEffect& e = d.effects.front();
+  for (const auto& [parameter, truth] : h.truth) {
+    const FittedValue& v = value(e, parameter);
+    EXPECT_TRUE(v.estimable) << parameter;
+    EXPECT_LE(std::abs(v.value - truth), 3.0 * v.std_error)
+        << parameter << " = " << v.value << " ± " << v.std_error << ", truth " << truth;
+  }
+  EXPECT_EQ(d.noise.source, "model");
+  EXPECT_DOUBLE_EQ(d.noise.sigma_um, kNoiseUm);
+  EXPECT_LE(d.gap_after.rms_um, 1.1 * kNoiseUm);
+  EXPECT_LE(d.held_out_rms_um, 1.1 * kNoiseUm);
+  EXPECT_GT(d.gap_before.rms_um, 1.3 * kNoiseUm);
+  EXPECT_GE(d.explained_fraction, 0.95);
+  EXPECT_FALSE(d.unexplained_structure);
+}
+
+// Truth values from the effects' definitions: lobing p(φ) = 0.75 cos(6(φ − 90°)), so its
+// coefficients (candidates.h) are cos_6 = 0.75 cos 540° = −0.75, sin_6 = 0, phase 90° ≡ 30°
+// modulo the 60° period; the others are the parameters themselves (scale z and drift z are not
+// observable on a spur gear).
+INSTANTIATE_TEST_SUITE_P(
+    Battery, DiagnoseHiddenEffect,
+    ::testing::Values(
+        HiddenEffect{"probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}\n",
+                     "probe_lobing",
+                     {{"amplitude_6_um", 0.75},
+                      {"phase_6_deg", 30.0},
+                      {"cos_6_um", -0.75},
+                      {"sin_6_um", 0.0},
+                      {"cos_3_um", 0.0},
+                      {"sin_3_um", 0.0},
+                      {"pretravel_um", 0.0}}},
+        HiddenEffect{"scale: {x_ppm: 10}\n", "scale", {{"x_ppm", 10.0}, {"y_ppm", 0.0}}},
+        HiddenEffect{"drift: {x_um: 1}\n", "drift", {{"x_um", 1.0}, {"y_um", 0.0}}},
+        HiddenEffect{
+            "eccentricity: {x_um: 3, y_um: 4}\n", "eccentricity", {{"x_um", 3.0}, {"y_um", 4.0}}},
+        HiddenEffect{"stylus_radius: {error_um: 0.5}\n", "stylus_radius", {{"error_um", 0.5}}}),
+    [](const ::testing::TestParamInfo<HiddenEffect>& p) { return std::string(p.param.name); });
+
+TEST(Diagnose, NullDatasetsNameNothing) {
+  for (std::uint64_t seed : {1, 2}) {
+    const Diagnosis d = diagnose(baseline(), hidden("", seed));
+    EXPECT_FALSE(d.gap_detected) << "seed " << seed;
+    EXPECT_EQ(d.named_effect, "none") << "seed " << seed;
+    EXPECT_TRUE(d.effects.empty());
+    EXPECT_FALSE(d.unexplained_structure);
+    EXPECT_LE(d.gap_before.rms_um, 1.1 * kNoiseUm);
+  }
+}
+
+TEST(Diagnose, AnEffectOutsideTheLibraryIsNotNamedWithConfidence) {
+  // A waviness across the face, the same on every flank: 0.8 sin(2π z / 20 mm) µm (normal_um).
+  // No library signature varies with z alone, so "unexplained structure remains" is the answer.
+  Scenario truth = with_effects("noise: {sigma_um: 0.3}\n");
+  truth.normal_expression_um = "0.8*sin(2*_pi*z/20)";
+  const Diagnosis d = diagnose(baseline(), master_readings(truth));
+  EXPECT_TRUE(d.gap_detected);
+  EXPECT_EQ(d.named_effect, "unexplained");
+  EXPECT_TRUE(d.unexplained_structure);
+  EXPECT_LT(d.explained_fraction, 0.5);
+  EXPECT_GT(d.gap_after.rms_um, 1.5 * kNoiseUm);
+}
+
+TEST(Diagnose, ConstantPretravelAndStylusRadiusAreAmbiguous) {
+  // A pure constant pre-travel p0 = 0.5 µm reads exactly like a stylus radius 0.5 µm too large.
+  const Diagnosis d = diagnose(baseline(), hidden("probe_lobing: {pretravel_um: 0.5}\n"));
+  ASSERT_TRUE(d.named_effect == "stylus_radius" || d.named_effect == "probe_lobing")
+      << d.named_effect;
+  const std::string other = d.named_effect == "stylus_radius" ? "probe_lobing" : "stylus_radius";
+  EXPECT_TRUE(contains(d.ambiguous_with, other));
+  const FittedEffect& e = d.effects.front();
+  const auto it = std::find_if(e.ambiguous.begin(), e.ambiguous.end(),
+                               [&](const Ambiguity& a) { return a.with == other; });
+  ASSERT_NE(it, e.ambiguous.end());
+  EXPECT_NEAR(it->signal_correlation, 1.0, 1e-9);
+  EXPECT_NE(it->separate_by.find("sphere"), std::string::npos);
+  // The fitted constant is the pre-travel (or radius error) itself.
+  const FittedValue& v = value(e, d.named_effect == "stylus_radius" ? "error_um" : "pretravel_um");
+  EXPECT_LE(std::abs(v.value - 0.5), 3.0 * v.std_error);
+}
+
+TEST(Diagnose, ThermalExpansionIsAmbiguousWithScaleAndSaysMeasureTheTemperature) {
+  // ΔT_w = 1 K on steel (11.5 ppm/K) is an isotropic scale on a spur gear (n_z = 0).
+  const Diagnosis d = diagnose(baseline(), hidden("thermal_expansion: {workpiece_delta_t_k: 1}\n"));
+  EXPECT_EQ(d.named_effect, "thermal_expansion");
+  EXPECT_TRUE(contains(d.ambiguous_with, "scale"));
+  const FittedEffect& e = d.effects.front();
+  const FittedValue& v = value(e, "workpiece_delta_t_k");
+  EXPECT_LE(std::abs(v.value - 1.0), 3.0 * v.std_error);
+  for (const Ambiguity& a : e.ambiguous) {
+    if (a.with == "scale") {
+      EXPECT_NE(a.separate_by.find("temperature"), std::string::npos);
+    }
+  }
+}
+
+TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
+  const Readings readings =
+      hidden("probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}\n");
+  const std::string first = diagnosis_json(diagnose(baseline(), readings));
+  const std::string second = diagnosis_json(diagnose(baseline(), readings));
+  EXPECT_EQ(first, second);
+
+  const auto dir = std::filesystem::path(::testing::TempDir()) / "gearmc_diagnose_test";
+  std::filesystem::create_directories(dir);
+  write_diagnosis_json((dir / "diagnosis.json").string(), diagnose(baseline(), readings));
+  std::ifstream in(dir / "diagnosis.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), first);
+  const nlohmann::json j = nlohmann::json::parse(first);
+  // interface.md: the keys diagnosis.json has at least.
+  EXPECT_TRUE(j.at("gap_detected").get<bool>());
+  EXPECT_EQ(j.at("named_effect"), "probe_lobing");
+  EXPECT_TRUE(j.at("ambiguous_with").is_array());
+  const nlohmann::json& e = j.at("effects").at(0);
+  EXPECT_EQ(e.at("name"), "probe_lobing");
+  EXPECT_NEAR(e.at("parameters").at("amplitude_6_um").get<double>(), 0.75, 0.03);
+  EXPECT_GT(e.at("std_errors").at("amplitude_6_um").get<double>(), 0.0);
+  EXPECT_TRUE(e.at("evidence").is_object());
+  for (const char* gap : {"gap_before", "gap_after"}) {
+    EXPECT_TRUE(j.at(gap).at("rms_um").is_number());
+    EXPECT_TRUE(j.at(gap).at("ks").is_number());
+  }
+  EXPECT_DOUBLE_EQ(j.at("noise_floor_um").get<double>(), kNoiseUm);
+  EXPECT_EQ(j.at("spectrum").at("before_um").size(), 13u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Diagnose, TheLobingOrderStandsOutOfTheNullBandOfTheSpectrum) {
+  const Diagnosis d = diagnose(
+      baseline(),
+      hidden("probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}\n"));
+  ASSERT_EQ(d.spectrum_before_um.size(), 13u);
+  // Before: order 6 carries the 0.75 µm lobing, far above its null band; after: within the band
+  // at every order but a few (5 % of orders exceed a 95 % band by chance).
+  EXPECT_NEAR(d.spectrum_before_um[6], 0.75, 0.05);
+  EXPECT_GT(d.spectrum_before_um[6], 5.0 * d.spectrum_null95_before_um[6]);
+  int above = 0;
+  for (int k = 0; k <= 12; ++k) above += d.spectrum_after_um[k] > d.spectrum_null95_after_um[k];
+  EXPECT_LE(above, 2);
+}
+
+}  // namespace
+}  // namespace gearmc
