@@ -5,8 +5,10 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
+#include "engine/cli/diagnose_command.h"
 #include "engine/cli/export_mesh_command.h"
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
@@ -82,6 +84,27 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   simulate->add_flag("--reference-deviations", simulate_options.reference_deviations,
                      "Add ref_dev_um: the surface's true normal deviation at each point");
 
+  DiagnoseCommandOptions diagnose_options;
+  CLI::App* diagnose = app.add_subcommand(
+      "diagnose",
+      "Find where model and measurement disagree, name the missing effect, fit it, write the "
+      "extended scenario and a report");
+  diagnose->add_option("--model", diagnose_options.model_path, "Model scenario file")->required();
+  diagnose->add_option("--measured", diagnose_options.measured_path, "Readings CSV (measured)")
+      ->required();
+  diagnose
+      ->add_option("--out", diagnose_options.out_dir,
+                   "Output folder for diagnosis.json, fitted.yaml, report.html")
+      ->required();
+  diagnose->add_option("--seed", diagnose_options.seed, "Seed of the null simulations (default 1)");
+  diagnose
+      ->add_option("--null-replicates", diagnose_options.null_replicates,
+                   "Null simulations K (default 200, at least 2/alpha - 1; 0: tables instead)")
+      ->check(CLI::Range(0, 1000000));
+  diagnose->add_flag("--model-gears", diagnose_options.model_gears,
+                     "Predict on the model's perturbed gears (same seed) instead of its nominal "
+                     "master (only for readings simulated from the same gear model)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -107,9 +130,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (run->parsed()) return run_command(run_options, out, err);
     if (export_mesh->parsed()) return export_mesh_command(mesh_options, out);
     if (simulate->parsed()) return simulate_command(simulate_options, out);
+    if (diagnose->parsed()) return diagnose_command(diagnose_options, out);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;
+  } catch (const std::exception& e) {  // a bug or an I/O failure, not bad input
+    err << "gearmc: internal error: " << e.what() << "\n";
+    return 1;
   }
   return 0;
 }

@@ -1,0 +1,30 @@
+// `gearmc diagnose --model SCENARIO --measured READINGS.csv --out DIR [--seed S]
+// [--null-replicates K] [--model-gears]` (interface.md, issue 6): compares the model scenario's
+// prediction with measured readings, names the missing effect (engine/diagnose), and writes
+// diagnosis.json, fitted.yaml (the model plus the fitted effect) and report.html into DIR — all
+// three under temporary names, renamed when all are complete. Bad input (scenario, readings CSV,
+// output folder) throws InputError before anything is written (exit 2); whatever the diagnosis
+// finds, the exit code is 0.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace gearmc {
+
+struct DiagnoseCommandOptions {
+  std::string model_path;              // --model SCENARIO (required)
+  std::string measured_path;           // --measured READINGS.csv (required)
+  std::string out_dir;                 // --out DIR (required; created if missing)
+  std::optional<std::uint64_t> seed;   // seed of the null simulations (default 1)
+  std::optional<int> null_replicates;  // K (default 200; 0: no null simulation)
+  bool model_gears = false;  // predict on the model's perturbed gears, not its nominal master
+};
+
+// Runs the command and prints a 3–5 line summary and the report's path to `out`; returns the
+// exit code. Throws InputError for bad input.
+int diagnose_command(const DiagnoseCommandOptions& options, std::ostream& out);
+
+}  // namespace gearmc

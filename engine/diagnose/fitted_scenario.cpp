@@ -1,0 +1,308 @@
+// fitted.yaml: the model scenario plus the named effect(s) with their fitted parameters (see
+// fitted_scenario.h).
+#include "engine/diagnose/fitted_scenario.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <stdexcept>
+
+#include "engine/effects/measurement_effect.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kSteelCtePpmPerK =
+    11.5;  // the thermal_expansion candidate's column (candidates.h)
+
+// The model's text emitted again: maps and sequences in their own (flow or block) style, scalars
+// verbatim, quoted scalars quoted (a quoted "7" must stay text), null as ~.
+void emit(YAML::Emitter& out, const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Map:
+      if (node.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
+      out << YAML::BeginMap;
+      for (auto it = node.begin(); it != node.end(); ++it) {
+        out << YAML::Key;
+        emit(out, it->first);
+        out << YAML::Value;
+        emit(out, it->second);
+      }
+      out << YAML::EndMap;
+      break;
+    case YAML::NodeType::Sequence:
+      if (node.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
+      out << YAML::BeginSeq;
+      for (const YAML::Node& item : node) emit(out, item);
+      out << YAML::EndSeq;
+      break;
+    case YAML::NodeType::Scalar:
+      if (node.Tag() == "!" || node.Tag() == "tag:yaml.org,2002:str") out << YAML::DoubleQuoted;
+      out << node.Scalar();
+      break;
+    default:
+      out << YAML::Null;
+  }
+}
+
+YAML::Node number_node(double value) { return YAML::Node(format_fitted_number(value)); }
+
+YAML::Node flow_map() {
+  YAML::Node n(YAML::NodeType::Map);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  return n;
+}
+
+// The model's parameter `name` of `effect`, or null.
+const EffectParameter* model_parameter(const MeasurementEffect* effect, const std::string& name) {
+  if (!effect) return nullptr;
+  for (const EffectParameter& p : effect->parameters()) {
+    if (p.name == name) return &p;
+  }
+  return nullptr;
+}
+
+// The parameter `model` (absent: 0) moved by `increment`, as a YAML value (law kept).
+YAML::Node shifted(const EffectParameter* model, double increment) {
+  if (!model || model->law == EffectParameter::Law::kFixed) {
+    return number_node((model ? model->value : 0.0) + increment);
+  }
+  YAML::Node law = flow_map();
+  YAML::Node pair(YAML::NodeType::Sequence);
+  pair.SetStyle(YAML::EmitterStyle::Flow);
+  if (model->law == EffectParameter::Law::kUniform) {
+    pair.push_back(number_node(model->lo + increment));
+    pair.push_back(number_node(model->hi + increment));
+    law["uniform"] = pair;
+  } else {
+    pair.push_back(number_node(model->value + increment));
+    pair.push_back(number_node(model->spread));
+    law["normal"] = pair;
+  }
+  return law;
+}
+
+const FittedValue* fitted(const std::vector<FittedValue>& values, const std::string& name) {
+  for (const FittedValue& v : values) {
+    if (v.name == name && v.estimable && std::isfinite(v.value)) return &v;
+  }
+  return nullptr;
+}
+
+// probe_lobing: p0 and the harmonics (see the header).
+void update_lobing(YAML::Node entry, const MeasurementEffect* model, const FittedEffect& e,
+                   std::vector<std::string>* notes) {
+  const bool from_model = entry["from_probe_model"].IsDefined();
+  if (from_model) {
+    entry.remove("from_probe_model");
+    notes->push_back(
+        "probe_lobing: the model's from_probe_model is replaced by its p0 and harmonics (the "
+        "probe model's values) plus the fitted increments");
+  }
+  const EffectParameter* p0 = model_parameter(model, "pretravel_um");
+  if (const FittedValue* v = fitted(e.coefficients, "pretravel_um")) {
+    entry["pretravel_um"] = shifted(p0, v->value);
+  } else if (from_model && p0) {
+    entry["pretravel_um"] = shifted(p0, 0.0);
+  }
+  // The orders the model has (in its order) and the fitted ones.
+  std::vector<int> orders;
+  if (model) {
+    for (const EffectParameter& p : model->parameters()) {
+      int k = 0;
+      if (std::sscanf(p.name.c_str(), "amplitude_%d_um", &k) == 1) orders.push_back(k);
+    }
+  }
+  std::vector<int> fitted_orders;
+  for (const FittedValue& v : e.coefficients) {
+    int k = 0;
+    if (std::sscanf(v.name.c_str(), "cos_%d_um", &k) != 1) continue;
+    const std::string order = std::to_string(k);
+    if (fitted(e.coefficients, "cos_" + order + "_um") &&
+        fitted(e.coefficients, "sin_" + order + "_um")) {
+      fitted_orders.push_back(k);
+      if (std::find(orders.begin(), orders.end(), k) == orders.end()) orders.push_back(k);
+    }
+  }
+  if (fitted_orders.empty() && !from_model) return;
+  // The model's YAML items by order (kept verbatim when the fit does not touch them).
+  std::vector<std::pair<int, YAML::Node>> items;
+  if (entry["harmonics"].IsSequence()) {
+    for (const YAML::Node& item : entry["harmonics"]) {
+      items.emplace_back(item["order"].as<int>(), item);
+    }
+  }
+  YAML::Node harmonics(YAML::NodeType::Sequence);
+  for (int k : orders) {
+    const std::string order = std::to_string(k);
+    const bool refit =
+        std::find(fitted_orders.begin(), fitted_orders.end(), k) != fitted_orders.end();
+    const auto old =
+        std::find_if(items.begin(), items.end(), [k](const auto& item) { return item.first == k; });
+    if (!refit && old != items.end()) {
+      harmonics.push_back(old->second);
+      continue;
+    }
+    const EffectParameter* a = model_parameter(model, "amplitude_" + order + "_um");
+    const EffectParameter* phase = model_parameter(model, "phase_" + order + "_deg");
+    const double a0 = a ? a->nominal() : 0.0;
+    const double phi0 = (phase ? phase->nominal() : 0.0) * kPi / 180.0;
+    double c = a0 * std::cos(k * phi0), s = a0 * std::sin(k * phi0);
+    if (refit) {
+      c += fitted(e.coefficients, "cos_" + order + "_um")->value;
+      s += fitted(e.coefficients, "sin_" + order + "_um")->value;
+      if ((a && a->law != EffectParameter::Law::kFixed) ||
+          (phase && phase->law != EffectParameter::Law::kFixed)) {
+        notes->push_back("probe_lobing: order " + order +
+                         " was drawn from a law in the model; it is written as a fixed value "
+                         "(the law's central value plus the fitted increment)");
+      }
+    }
+    const double period = 360.0 / k;
+    double deg = std::atan2(s, c) * 180.0 / kPi / k;
+    deg = std::fmod(deg, period);
+    if (deg < 0.0) deg += period;
+    YAML::Node item = flow_map();
+    item["order"] = k;
+    item["amplitude_um"] = number_node(std::hypot(c, s));
+    item["phase_deg"] = number_node(deg);
+    harmonics.push_back(item);
+  }
+  entry["harmonics"] = harmonics;
+  const YAML::Node calibration = entry["calibration"];
+  if (calibration.IsDefined() && calibration.IsScalar() && calibration.Scalar() != "none") {
+    notes->push_back(
+        "probe_lobing: the model qualifies the probe (calibration: " + calibration.Scalar() +
+        "); the fitted increments are raw pre-travel, and the qualification also compensates part "
+        "of them, so this model may not reproduce the fit exactly (see the README's limits)");
+  }
+}
+
+}  // namespace
+
+std::string format_fitted_number(double value) {
+  if (!std::isfinite(value)) return "0";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6f", value);
+  std::string text = buffer;
+  while (!text.empty() && text.back() == '0') text.pop_back();
+  if (!text.empty() && text.back() == '.') text.pop_back();
+  if (text == "-0" || text.empty()) text = "0";
+  return text;
+}
+
+FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
+                               const std::string& model_path, const std::string& readings_path) {
+  FittedScenario result;
+  YAML::Node root;
+  try {
+    root = YAML::Load(model.source_text);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error("fitted.yaml: cannot re-read the model scenario: " +
+                             std::string(e.what()));
+  }
+  if (!root.IsMap()) throw std::runtime_error("fitted.yaml: the model scenario is not a map");
+
+  // Relative mesh paths were taken from the model's folder: make them absolute.
+  if (root["surfaces"].IsSequence()) {
+    std::size_t k = 0;
+    for (YAML::Node item : root["surfaces"]) {
+      if (k < model.surfaces.size() && item.IsMap()) {
+        item["mesh"] = std::filesystem::absolute(model.surfaces[k].mesh_path).string();
+      }
+      ++k;
+    }
+  }
+
+  const bool named = d.named_effect != "none" && d.named_effect != "unexplained";
+  if (named) {
+    YAML::Node effects = root["effects"];
+    if (!effects.IsMap()) {
+      root["effects"] = YAML::Node(YAML::NodeType::Map);
+      effects = root["effects"];
+    }
+    effects.SetStyle(YAML::EmitterStyle::Block);
+    for (const FittedEffect& e : d.effects) {
+      const int index = model.effects->find(e.name);
+      const MeasurementEffect* own = index >= 0 ? &model.effects->effect(index) : nullptr;
+      YAML::Node entry = effects[e.name];
+      // Absent, empty, or switched off (its values had no effect): a fresh map.
+      if (!own || !entry.IsMap()) {
+        effects[e.name] = YAML::Node(YAML::NodeType::Map);
+        entry = effects[e.name];
+        own = nullptr;
+      }
+      entry.SetStyle(YAML::EmitterStyle::Block);
+      if (e.name == "probe_lobing") {
+        update_lobing(entry, own, e, &result.notes);
+      } else {
+        for (const FittedValue& v : e.parameters) {
+          if (!v.estimable || !std::isfinite(v.value)) continue;
+          double increment = v.value;
+          if (e.name == "thermal_expansion" && v.name == "workpiece_delta_t_k") {
+            const EffectParameter* cte = model_parameter(own, "workpiece_cte_ppm_per_k");
+            if (cte && cte->nominal() > 0.0) {
+              increment *= kSteelCtePpmPerK / cte->nominal();
+            } else if (cte) {  // CTE 0: the model's ΔT did nothing; start from steel
+              entry["workpiece_cte_ppm_per_k"] = number_node(kSteelCtePpmPerK);
+              entry[v.name] = number_node(increment);
+              continue;
+            }
+          }
+          const EffectParameter* mine = model_parameter(own, v.name);
+          YAML::Node value = shifted(mine, increment);
+          if (e.name == "step_quantization" && v.name == "step_um" && value.IsScalar() &&
+              std::stod(value.Scalar()) < 0.0) {
+            result.notes.push_back("step_quantization: the fitted step_um " +
+                                   format_fitted_number(std::stod(value.Scalar())) +
+                                   " µm is negative; written as 0");
+            value = number_node(0.0);
+          }
+          entry[v.name] = value;
+        }
+      }
+      result.updated.push_back(e.name);
+    }
+    for (const std::string& other : d.ambiguous_with) {
+      result.notes.push_back(d.named_effect + " cannot be told apart from " + other +
+                             " on this probing plan; the fit is written as " + d.named_effect);
+    }
+  } else if (d.named_effect == "unexplained") {
+    result.notes.push_back(
+        "the gap is not explained by the effect library; no effect was added (the model is "
+        "unchanged)");
+  } else {
+    result.notes.push_back("no gap: no effect was added (the model is unchanged)");
+  }
+
+  // The model's name stays the scenario's name (without `name:` it would become "fitted").
+  YAML::Node named_root(YAML::NodeType::Map);
+  const bool add_name = !root["name"].IsDefined();
+  if (add_name) {
+    named_root["name"] = model.name;
+    for (auto it = root.begin(); it != root.end(); ++it) named_root[it->first] = it->second;
+  }
+
+  YAML::Emitter out;
+  emit(out, add_name ? named_root : root);
+  std::string text = "# Written by gearmc diagnose: the model " + model_path +
+                     " fitted to the readings " + readings_path + ".\n";
+  if (!result.updated.empty()) {
+    text += "# Effects added or updated with their fitted parameters:";
+    for (const std::string& name : result.updated) text += " " + name;
+    text += ".\n";
+  }
+  for (const std::string& note : result.notes) text += "# Note: " + note + ".\n";
+  text += "# (The model's comments are not carried over.)\n";
+  text += out.c_str();
+  text += "\n";
+  result.yaml = std::move(text);
+  return result;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,319 @@
+// Tests of `gearmc diagnose` as a user runs it (interface.md, issue 6): readings simulated with
+// `gearmc simulate --master` from a truth scenario = scenarios/p1_reference.yaml + probe_lobing
+// 6-fold ±0.75 µm (P2's probe) + noise 0.3 µm, diagnosed with the model = p1_reference + noise
+// 0.3 µm. The truth reaches `diagnose` only through the readings file. Checked: exit code 0,
+// diagnosis.json names probe_lobing with the truth's amplitude within 3 standard errors,
+// fitted.yaml loads as a scenario and a second diagnosis with it as the model finds no gap,
+// report.html has the verdict, the same seed gives identical bytes; bad readings CSV files
+// (missing column, non-numeric, wrong unit header, NaN) and a missing scenario give exit 2 with
+// file:line in the message and leave no output folder. Plus fitted.yaml's composition rules
+// (fitted_scenario.h) on the repository's scenarios: laws keep their shape, the thermal
+// increment follows the model's CTE, a model without effects round-trips.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/diagnose/fitted_scenario.h"
+#include "engine/effects/measurement_effect.h"
+#include "engine/scenario/scenario.h"
+#include "tests/support/run_gearmc.h"
+
+namespace gearmc {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::run_gearmc;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+std::string scenario_text(const std::string& name) {
+  return read_text(fs::path(GEARMC_SOURCE_DIR) / "scenarios" / (name + ".yaml"));
+}
+
+class DiagnoseCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::path(::testing::TempDir()) /
+                        ("gearmc_diagnose_cli_" + std::to_string(::getpid())));
+    fs::remove_all(*dir_);
+    fs::create_directories(*dir_);
+    const std::string reference = scenario_text("p1_reference");
+    // Truth: P2's probe lobing, 6 lobes ±0.75 µm (issue 6's battery, 1×), and noise 0.3 µm.
+    write_text(*dir_ / "truth.yaml",
+               reference +
+                   "\neffects:\n"
+                   "  probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}\n"
+                   "  noise: {sigma_um: 0.3}\n");
+    write_text(*dir_ / "model.yaml", reference + "\neffects:\n  noise: {sigma_um: 0.3}\n");
+    const auto sim =
+        run_gearmc("simulate " + path("truth.yaml") + " --master --out " + path("lobing.csv"));
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  static std::string path(const std::string& name) { return (*dir_ / name).string(); }
+  static nlohmann::json json_of(const std::string& out_dir) {
+    return nlohmann::json::parse(read_text(*dir_ / out_dir / "diagnosis.json"));
+  }
+  static fs::path* dir_;
+};
+fs::path* DiagnoseCli::dir_ = nullptr;
+
+TEST_F(DiagnoseCli, NamesTheHiddenLobingFitsItAndTheFittedModelClosesTheGap) {
+  const auto r = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                            path("lobing.csv") + " --out " + path("first"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("probe_lobing"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("report: " + path("first") + "/report.html"), std::string::npos) << r.out;
+  // 3 summary lines and the report line.
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;
+
+  const nlohmann::json j = json_of("first");
+  EXPECT_TRUE(j.at("gap_detected").get<bool>());
+  EXPECT_EQ(j.at("named_effect"), "probe_lobing");
+  const nlohmann::json& e = j.at("effects").at(0);
+  const double amplitude = e.at("parameters").at("amplitude_6_um").get<double>();
+  const double se = e.at("std_errors").at("amplitude_6_um").get<double>();
+  EXPECT_LE(std::abs(amplitude - 0.75), 3.0 * se) << amplitude << " ± " << se;
+  EXPECT_LE(j.at("gap_after").at("rms_um").get<double>(), 1.1 * 0.3);
+  EXPECT_GT(j.at("gap_before").at("rms_um").get<double>(), 1.3 * 0.3);
+
+  // fitted.yaml: a scenario with the lobing added, which loads on its own.
+  const fs::path fitted = *dir_ / "first" / "fitted.yaml";
+  const std::string fitted_text = read_text(fitted);
+  EXPECT_EQ(fitted_text.rfind("# Written by gearmc diagnose", 0), 0u) << fitted_text;
+  const Scenario s = load_scenario_file(fitted.string());
+  EXPECT_EQ(s.name, "p1_reference");
+  const int lobing = s.effects->find("probe_lobing");
+  ASSERT_GE(lobing, 0);
+  double written_amplitude = std::nan("");
+  for (const EffectParameter& p : s.effects->effect(lobing).parameters()) {
+    if (p.name == "amplitude_6_um") written_amplitude = p.value;
+  }
+  EXPECT_NEAR(written_amplitude, amplitude, 1e-6);
+  EXPECT_GE(s.effects->find("noise"), 0);
+
+  // Diagnosing again with the fitted model: no further gap.
+  const auto again = run_gearmc("diagnose --model " + fitted.string() + " --measured " +
+                                path("lobing.csv") + " --out " + path("second"));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const nlohmann::json k = json_of("second");
+  EXPECT_TRUE(!k.at("gap_detected").get<bool>() || k.at("named_effect") == "none")
+      << k.at("named_effect");
+  EXPECT_LE(k.at("gap_before").at("rms_um").get<double>(), 1.1 * 0.3);
+
+  // report.html: the verdict first, the plots, the selection table, the fitted model.
+  const std::string html = read_text(*dir_ / "first" / "report.html");
+  const auto verdict = html.find("Gap found, explained by probe_lobing");
+  ASSERT_NE(verdict, std::string::npos);
+  EXPECT_LT(verdict, html.find("<svg"));
+  EXPECT_NE(html.find("amplitude_6_um = 0.75"), std::string::npos);
+  EXPECT_NE(html.find("on held-out teeth"), std::string::npos);
+  for (const char* part :
+       {"approach azimuth", "Residual vs measurement order", "Residual vs tooth", "null band",
+        "Step 1: probe_lobing accepted", "Residuals after the fit", "fitted.yaml"}) {
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  }
+  const std::string html2 = read_text(*dir_ / "second" / "report.html");
+  EXPECT_NE(html2.find("No gap"), std::string::npos);
+  // The three outputs and nothing temporary.
+  std::vector<std::string> files;
+  for (const auto& f : fs::directory_iterator(*dir_ / "first")) {
+    files.push_back(f.path().filename().string());
+  }
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"diagnosis.json", "fitted.yaml", "report.html"}));
+}
+
+TEST_F(DiagnoseCli, SameSeedGivesIdenticalDiagnosisJson) {
+  for (const char* out : {"seed_a", "seed_b"}) {
+    const auto r = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                              path("lobing.csv") + " --out " + path(out) + " --seed 5");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(read_text(*dir_ / "seed_a" / "diagnosis.json"),
+            read_text(*dir_ / "seed_b" / "diagnosis.json"));
+  EXPECT_EQ(read_text(*dir_ / "seed_a" / "report.html"),
+            read_text(*dir_ / "seed_b" / "report.html"));
+  EXPECT_EQ(json_of("seed_a").at("seed"), 5);
+}
+
+// A copy of the readings with one change; the message must name the file and the CSV line.
+struct BadCsv {
+  const char* name;
+  int line;  // 1-based line to change
+  std::string (*change)(const std::string& line);
+  const char* expect;  // text in the message
+};
+
+std::string replace_field(const std::string& line, int field, const std::string& value) {
+  std::vector<std::string> f;
+  std::stringstream s(line);
+  for (std::string x; std::getline(s, x, ',');) f.push_back(x);
+  f.at(field) = value;
+  std::string out;
+  for (std::size_t k = 0; k < f.size(); ++k) out += (k ? "," : "") + f[k];
+  return out;
+}
+
+TEST_F(DiagnoseCli, BadReadingsGiveExitTwoWithTheCsvLineAndWriteNothing) {
+  const std::string good = read_text(path("lobing.csv"));
+  std::vector<std::string> lines;
+  std::stringstream s(good);
+  for (std::string l; std::getline(s, l);) lines.push_back(l);
+  ASSERT_GT(lines.size(), 30u);
+  const std::vector<BadCsv> cases = {
+      {"missing_column", 3, [](const std::string& l) { return l.substr(0, l.rfind(",cz")); }, "cz"},
+      {"non_numeric", 11, [](const std::string& l) { return replace_field(l, 12, "abc"); }, "abc"},
+      {"wrong_unit", 2, [](const std::string&) { return std::string("# stylus_radius_in=0.5"); },
+       "stylus_radius"},
+      {"nan", 21, [](const std::string& l) { return replace_field(l, 13, "nan"); }, "nan"},
+  };
+  for (const BadCsv& c : cases) {
+    std::vector<std::string> changed = lines;
+    changed[c.line - 1] = c.change(changed[c.line - 1]);
+    std::string text;
+    for (const std::string& l : changed) text += l + "\n";
+    const std::string file = path(std::string(c.name) + ".csv");
+    write_text(file, text);
+    const std::string out = path(std::string("out_") + c.name);
+    const auto r = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + file +
+                              " --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << c.name;
+    EXPECT_NE(r.err.find(file + ":" + std::to_string(c.line) + ":"), std::string::npos)
+        << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;  // one message
+    EXPECT_FALSE(fs::exists(out)) << c.name;
+  }
+}
+
+TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {
+  const auto no_model = run_gearmc("diagnose --model " + path("nope.yaml") + " --measured " +
+                                   path("lobing.csv") + " --out " + path("out_nope"));
+  EXPECT_EQ(no_model.exit_code, 2);
+  EXPECT_NE(no_model.err.find(path("nope.yaml")), std::string::npos) << no_model.err;
+  const auto no_readings = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                                      path("nope.csv") + " --out " + path("out_nope"));
+  EXPECT_EQ(no_readings.exit_code, 2);
+  EXPECT_NE(no_readings.err.find(path("nope.csv")), std::string::npos) << no_readings.err;
+  const auto no_out =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv"));
+  EXPECT_EQ(no_out.exit_code, 2);
+  EXPECT_FALSE(fs::exists(path("out_nope")));
+}
+
+// --- fitted.yaml's composition (fitted_scenario.h), without running a diagnosis ---
+
+// A diagnosis that names `effect` with the given increments (value ± 0.1, estimable).
+Diagnosis named(const std::string& effect, const std::vector<std::pair<std::string, double>>& v) {
+  Diagnosis d;
+  d.gap_detected = true;
+  d.named_effect = effect;
+  FittedEffect e;
+  e.name = effect;
+  for (const auto& [name, value] : v) {
+    FittedValue f{name, ""};
+    f.value = value;
+    f.std_error = 0.1;
+    f.estimable = true;
+    e.coefficients.push_back(f);
+    if (name.rfind("cos_", 0) != 0 && name.rfind("sin_", 0) != 0) e.parameters.push_back(f);
+  }
+  d.effects.push_back(e);
+  return d;
+}
+
+double nominal_of(const Scenario& s, const std::string& effect, const std::string& parameter) {
+  const int index = s.effects->find(effect);
+  if (index < 0) return std::nan("");
+  for (const EffectParameter& p : s.effects->effect(index).parameters()) {
+    if (p.name == parameter) return p.nominal();
+  }
+  return std::nan("");
+}
+
+TEST(FittedScenario, EveryRepositoryScenarioRoundTripsUnchangedWhenNothingIsNamed) {
+  for (const auto& f : fs::directory_iterator(fs::path(GEARMC_SOURCE_DIR) / "scenarios")) {
+    if (f.path().extension() != ".yaml") continue;
+    const Scenario model = load_scenario_file(f.path().string());
+    Diagnosis none;
+    const FittedScenario fitted = fitted_scenario(model, none, f.path().string(), "r.csv");
+    const Scenario again = parse_scenario(fitted.yaml, "fitted.yaml");
+    EXPECT_EQ(again.name, model.name) << f.path();
+    EXPECT_EQ(again.seed, model.seed);
+    EXPECT_EQ(again.gear.teeth, model.gear.teeth);
+    EXPECT_EQ(again.tolerances.grade, model.tolerances.grade);
+    EXPECT_EQ(again.effects->size(), model.effects->size()) << f.path();
+    EXPECT_TRUE(fitted.updated.empty());
+  }
+}
+
+TEST(FittedScenario, IncrementsMoveLawsAndFollowTheModelsCte) {
+  // cmm_iso10360_typical: scale x_ppm {uniform: [-2, 2]}, thermal ΔT_w {uniform: [-1, 1]}, CTE
+  // 11.5.
+  const Scenario model = load_scenario_file(
+      (fs::path(GEARMC_SOURCE_DIR) / "scenarios" / "cmm_iso10360_typical.yaml").string());
+  const FittedScenario scale =
+      fitted_scenario(model, named("scale", {{"x_ppm", 2.5}}), "m.yaml", "r.csv");
+  EXPECT_NE(scale.yaml.find("x_ppm: {uniform: [0.5, 4.5]}"), std::string::npos) << scale.yaml;
+  EXPECT_NE(scale.yaml.find("y_ppm: {uniform: [-2, 2]}"), std::string::npos) << scale.yaml;
+  EXPECT_NEAR(nominal_of(parse_scenario(scale.yaml, "f.yaml"), "scale", "x_ppm"), 2.5, 1e-12);
+
+  // A model CTE of 23 ppm/K: the candidate's ΔT (steel, 11.5) is halved.
+  Scenario hot = parse_scenario(scenario_text("p1_reference") +
+                                    "\neffects:\n  thermal_expansion: {workpiece_delta_t_k: 0.5, "
+                                    "workpiece_cte_ppm_per_k: 23}\n",
+                                "hot.yaml");
+  const FittedScenario thermal = fitted_scenario(
+      hot, named("thermal_expansion", {{"workpiece_delta_t_k", 1.0}}), "hot.yaml", "r.csv");
+  EXPECT_NEAR(nominal_of(parse_scenario(thermal.yaml, "f.yaml"), "thermal_expansion",
+                         "workpiece_delta_t_k"),
+              0.5 + 1.0 * 11.5 / 23.0, 1e-9);
+
+  // Lobing on a model with lobing: the 6-fold vectors add, p0 adds; phases in [0, 60°).
+  Scenario lobed = parse_scenario(scenario_text("p1_reference") +
+                                      "\neffects:\n  probe_lobing: {pretravel_um: 1, harmonics: "
+                                      "[{order: 6, amplitude_um: 0.5, phase_deg: 0}]}\n",
+                                  "lobed.yaml");
+  // Increment: cos_6 = 0, sin_6 = 0.5 (a 0.5 µm harmonic at phase 90°/6 = 15°): the sum is
+  // 0.5 (cos 0 + i sin 0) + 0.5 i → amplitude 0.5 √2, phase atan2(0.5, 0.5)/6 = 7.5°.
+  const FittedScenario lobing = fitted_scenario(
+      lobed, named("probe_lobing", {{"pretravel_um", 0.25}, {"cos_6_um", 0.0}, {"sin_6_um", 0.5}}),
+      "lobed.yaml", "r.csv");
+  const Scenario l = parse_scenario(lobing.yaml, "f.yaml");
+  EXPECT_NEAR(nominal_of(l, "probe_lobing", "pretravel_um"), 1.25, 1e-9);
+  EXPECT_NEAR(nominal_of(l, "probe_lobing", "amplitude_6_um"), 0.5 * std::sqrt(2.0), 1e-6);
+  EXPECT_NEAR(nominal_of(l, "probe_lobing", "phase_6_deg"), 7.5, 1e-6);
+  EXPECT_EQ(lobing.updated, std::vector<std::string>{"probe_lobing"});
+}
+
+TEST(FittedScenario, NumbersAreShortFixedDecimals) {
+  EXPECT_EQ(format_fitted_number(0.7512174), "0.751217");
+  EXPECT_EQ(format_fitted_number(30.0), "30");
+  EXPECT_EQ(format_fitted_number(-2.5), "-2.5");
+  EXPECT_EQ(format_fitted_number(-1e-9), "0");
+}
+
+}  // namespace
+}  // namespace gearmc
