@@ -11,44 +11,13 @@
 #include "engine/diagnose/diagnosis_report.h"
 #include "engine/diagnose/fitted_scenario.h"
 #include "engine/readings/readings_csv.h"
+#include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {
-namespace {
 
 namespace fs = std::filesystem;
-
-// Files written as "<name>.partial" and renamed together once all are written; on failure the
-// partial files are removed (interface.md: nothing is half-written). As in run_command.cpp.
-class OutputFiles {
- public:
-  explicit OutputFiles(fs::path dir) : dir_(std::move(dir)) {}
-  ~OutputFiles() {
-    std::error_code ignored;
-    for (const auto& name : pending_) fs::remove(partial(name), ignored);
-  }
-  OutputFiles(const OutputFiles&) = delete;
-  OutputFiles& operator=(const OutputFiles&) = delete;
-  void write(const std::string& name, const std::string& content) {
-    pending_.push_back(name);
-    std::ofstream f(partial(name), std::ios::binary);
-    f << content;
-    f.close();
-    if (!f) throw InputError({dir_.string(), 0, 0}, dir_.string() + ": cannot write " + name);
-  }
-  void commit() {
-    for (const auto& name : pending_) fs::rename(partial(name), dir_ / name);
-    pending_.clear();
-  }
-
- private:
-  fs::path partial(const std::string& name) const { return dir_ / (name + ".partial"); }
-  fs::path dir_;
-  std::vector<std::string> pending_;
-};
-
-}  // namespace
 
 int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out) {
   // Inputs first: nothing is created or written unless both are good.

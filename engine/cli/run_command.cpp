@@ -16,6 +16,7 @@
 
 #include "engine/mc/monte_carlo.h"
 #include "engine/report/html_report.h"
+#include "engine/report/output_files.h"
 #include "engine/report/svg_plot.h"
 #include "engine/scenario/input_error.h"
 #include "engine/stats/distribution_fit.h"
@@ -26,37 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kModeDisplayWidthUm = 0.1;
-
-// Files written under "<name>.partial" and renamed together at the end; on failure the
-// partial files are removed (interface.md: nothing is half-written).
-class OutputFiles {
- public:
-  explicit OutputFiles(fs::path dir) : dir_(std::move(dir)) {}
-  ~OutputFiles() {
-    std::error_code ignored;
-    for (const auto& name : pending_) fs::remove(partial(name), ignored);
-  }
-  std::ofstream open(const std::string& name) {
-    pending_.push_back(name);
-    std::ofstream f(partial(name), std::ios::binary);
-    if (!f) throw InputError({dir_.string(), 0, 0}, dir_.string() + ": cannot write " + name);
-    return f;
-  }
-  void write(const std::string& name, const std::string& content) {
-    std::ofstream f = open(name);
-    f << content;
-  }
-  void commit() {
-    for (const auto& name : pending_) fs::rename(partial(name), dir_ / name);
-    pending_.clear();
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-
- private:
-  fs::path partial(const std::string& name) const { return dir_ / (name + ".partial"); }
-  fs::path dir_;
-  std::vector<std::string> pending_;
-};
 
 nlohmann::ordered_json side_pair(const ErrorStatistics stats[2]) {
   nlohmann::ordered_json j;
