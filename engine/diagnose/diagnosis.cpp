@@ -97,19 +97,82 @@ std::vector<FittedValue> lobing_parameters(const CandidateDesign& c,
   return out;
 }
 
-// Gap statistics of residual vector r (dof = points − fitted parameters) with noise floor σ.
-GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, double sigma) {
+// Gap statistics of residual vector r (dof = points − fitted parameters) against the centred
+// residual law `law` (χ² with its variance, KS against its distribution function).
+GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, const ResidualLaw& law) {
   GapStatistics g;
   const double n = static_cast<double>(r.size());
   const double ss = r.squaredNorm();
+  const double variance = law.variance_um2();
   g.rms_um = std::sqrt(ss / n);
   g.dof = dof;
-  if (dof > 0 && sigma > 0.0) {
-    g.chi2_dof = ss / (dof * sigma * sigma);
-    g.excess_rms_um = std::sqrt(std::max(0.0, ss / dof - sigma * sigma));
-    g.ks = ks_distance_normal(to_vector(r), sigma);
+  if (dof > 0 && variance > 0.0) {
+    g.chi2_dof = ss / (dof * variance);
+    g.excess_rms_um = std::sqrt(std::max(0.0, ss / dof - variance));
+    g.ks = ks_distance(to_vector(r), law);
   }
   return g;
+}
+
+// The centred law of a residual under the noise floor: the model's per-point law, or a Gaussian
+// of the floor's σ when the floor carries none (given, or estimated from the residuals).
+ResidualLaw floor_law(const NoiseFloor& noise) {
+  if (noise.law.variance_um2() > 0.0) return residual_law(noise.law);
+  ResidualLaw law;
+  law.sigma_um = noise.sigma_um;
+  return law;
+}
+
+// The point-law stage's options from the diagnosis's.
+PointLawOptions point_law_options(const DiagnoseOptions& options, int replicates) {
+  PointLawOptions po;
+  po.alpha = options.selection.alpha;
+  po.null_replicates = replicates;
+  po.seed = options.selection.seed;
+  po.min_delta_bic = options.selection.min_delta_bic;
+  po.ambiguity_delta_bic = options.ambiguity_delta_bic;
+  po.min_effect_rms_fraction = options.selection.min_effect_rms_fraction;
+  po.white_fraction = options.point_law_white_fraction;
+  return po;
+}
+
+// The fitted effect of an accepted point law (noise σ or step q, their own values).
+FittedEffect point_law_effect(const PointLawStage& stage, const std::vector<std::string>& names,
+                              double model_variance) {
+  const PointLawHypothesis& h = stage.best();
+  FittedEffect e;
+  e.name = h.name;
+  e.absolute = true;
+  FittedValue v{h.name == "noise" ? "sigma_um" : "step_um", "µm"};
+  v.value = h.estimate;
+  v.std_error = h.std_error;
+  v.estimable = true;
+  e.coefficients = {v};
+  e.parameters = {v};
+  CandidateTest& t = e.evidence;
+  t.name = h.name;
+  const auto found = std::find(names.begin(), names.end(), h.name);
+  t.candidate = found == names.end() ? -1 : static_cast<int>(found - names.begin());
+  t.added_rank = 1;
+  t.dof_residual = static_cast<int>(h.residual.size()) - h.parameters;
+  t.p_null = stage.white_p;
+  t.delta_bic = h.delta_bic;
+  t.effect_rms_um = std::sqrt(std::max(0.0, h.law.variance_um2() - model_variance));
+  t.significant = t.bic_support = t.practical = t.accepted = true;
+  t.note = std::string("point-law stage: the spread of single readings") +
+           (h.tied ? " and the constant shift tied to it" : "") +
+           "; p_null is the white-variance test's";
+  e.fitted_rms_um = std::abs(h.law.mean_um());
+  for (int k : stage.ambiguous) {
+    const PointLawHypothesis& other = stage.hypotheses[static_cast<std::size_t>(k)];
+    Ambiguity a;
+    a.with = other.name;
+    a.reason = "delta_bic";
+    a.delta_bic_gap = other.bic - h.bic;
+    a.separate_by = separating_measurement(h.name, other.name);
+    e.ambiguous.push_back(std::move(a));
+  }
+  return e;
 }
 
 }  // namespace
@@ -121,6 +184,7 @@ Diagnosis diagnose(const Scenario& model, const Readings& readings,
   if (options.noise_floor_um) {
     noise.sigma_um = *options.noise_floor_um;
     noise.source = "given";
+    noise.law = PointLaw{noise.sigma_um * noise.sigma_um, {}};
   }
   return diagnose_residuals(residuals, noise, options);
 }
@@ -236,12 +300,79 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
     }
   }
 
+  // 4b. The point-law stage: a fitted noise or step quantisation (point_law_stage.h).
+  out.point_law = point_law_stage(r, x_selected, residuals.points, noise,
+                                  point_law_options(options, out.null_replicates));
+  const PointLawStage& stage = out.point_law;
+  const ResidualLaw law_before = floor_law(noise);
+  ResidualLaw law_after = law_before;
+  Eigen::MatrixXd x_after = x_selected;
+  int p_after = p;
+  double mean_after = 0.0;  // the fitted law's mean (the shift a tied step explains)
+  Eigen::VectorXd r_after_c = r_after;
+  if (stage.chosen > 0) {
+    const PointLawHypothesis& h = stage.best();
+    x_after.resize(rows, static_cast<int>(h.columns.size()) + (h.constant_added ? 1 : 0));
+    for (std::size_t k = 0; k < h.columns.size(); ++k) {
+      x_after.col(static_cast<int>(k)) = x_selected.col(h.columns[k]);
+    }
+    if (h.constant_added) x_after.col(x_after.cols() - 1).setOnes();
+    p_after = h.parameters;
+    mean_after = h.law.mean_um();
+    r_after_c = h.residual - Eigen::VectorXd::Constant(rows, mean_after);
+    law_after = h.law;
+    law_after.offset_um -= mean_after;
+    // A tied step replaces the selected effects whose columns it dropped (their constant shift
+    // is its mean); the other effects keep the linear fit's values.
+    std::vector<FittedEffect> kept;
+    int insert_at = -1;
+    for (std::size_t s = 0; s < selected.size(); ++s) {
+      const int q = static_cast<int>(candidates[selected[s]].observable_indices().size());
+      bool any = false;
+      for (int c = offsets[s]; c < offsets[s] + q; ++c) {
+        any = any || std::find(h.columns.begin(), h.columns.end(), c) != h.columns.end();
+      }
+      if (any) {
+        kept.push_back(std::move(out.effects[s]));
+      } else if (insert_at < 0) {
+        insert_at = static_cast<int>(kept.size());
+      }
+    }
+    FittedEffect e = point_law_effect(stage, out.candidate_names, law_before.variance_um2());
+    kept.insert(insert_at < 0 ? kept.end() : kept.begin() + insert_at, std::move(e));
+    out.effects = std::move(kept);
+    for (std::size_t k = 0; k < out.effects.size(); ++k) out.effects[k].step = static_cast<int>(k);
+  } else if (stage.ran) {
+    // The data reject a step quantisation whose mean would be the fitted constant shift: then a
+    // constant-shift effect is not ambiguous with it.
+    const PointLawHypothesis* tied = nullptr;
+    for (const PointLawHypothesis& h : stage.hypotheses) {
+      if (h.name == "step_quantization" && h.tied) tied = &h;
+    }
+    if (tied && tied->delta_bic >= options.ambiguity_delta_bic) {
+      for (FittedEffect& e : out.effects) {
+        const auto before = e.ambiguous.size();
+        std::erase_if(e.ambiguous,
+                      [](const Ambiguity& a) { return a.with == "step_quantization"; });
+        if (e.ambiguous.size() != before) {
+          std::ostringstream text;
+          text << e.name << " is not ambiguous with step_quantization: a step whose mean latch "
+               << "delay made the fitted shift would have widened the spread of single readings, "
+               << "which the residuals do not show (ΔBIC +" << std::lround(tied->delta_bic)
+               << " against the model's law)";
+          out.notes.push_back(text.str());
+        }
+      }
+    }
+  }
+  out.noise_floor_after_um = std::sqrt(law_after.variance_um2());
+
   // 5. Gap before / after and held-out check.
   out.residual_before_um = to_vector(r);
-  out.residual_after_um = to_vector(r_after);
-  out.gap_before = gap_statistics(r, rows, sigma);
-  out.gap_after = gap_statistics(r_after, rows - p, sigma);
-  if (selected.empty()) {
+  out.residual_after_um = to_vector(r_after_c);
+  out.gap_before = gap_statistics(r, rows, law_before);
+  out.gap_after = gap_statistics(r_after_c, rows - p_after, law_after);
+  if (out.effects.empty()) {
     out.held_out_rms_um = out.gap_before.rms_um;
   } else {
     double ss = 0.0;
@@ -251,15 +382,15 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
       for (int k = 0; k < rows; ++k) {
         (residuals.points[k].tooth % 2 == (half == 0 ? 1 : 0) ? train : test).push_back(k);
       }
-      Eigen::MatrixXd xt(static_cast<int>(train.size()), x_selected.cols());
+      Eigen::MatrixXd xt(static_cast<int>(train.size()), x_after.cols());
       Eigen::VectorXd yt(static_cast<int>(train.size()));
       for (std::size_t k = 0; k < train.size(); ++k) {
-        xt.row(static_cast<int>(k)) = x_selected.row(train[k]);
-        yt[static_cast<int>(k)] = r[train[k]];
+        xt.row(static_cast<int>(k)) = x_after.row(train[k]);
+        yt[static_cast<int>(k)] = r[train[k]] - mean_after;
       }
       const LeastSquaresFit half_fit = least_squares(xt, yt);
       for (int k : test) {
-        const double e = r[k] - x_selected.row(k).dot(half_fit.beta);
+        const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
         ss += e * e;
       }
     }
@@ -269,34 +400,47 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   // 5–6. Null simulation of the gap statistics and the spectrum.
   const HarmonicSpectrum spectrum(azimuths, options.spectrum_max_order);
   out.spectrum_before_um = spectrum.amplitudes(r);
-  out.spectrum_after_um = spectrum.amplitudes(r_after);
-  const Eigen::MatrixXd q_selected = orthonormal_basis(x_selected).q;
+  out.spectrum_after_um = spectrum.amplitudes(r_after_c);
+  const Eigen::MatrixXd q_after = orthonormal_basis(x_after).q;
   const bool reestimate =
       noise.source == "residual_second_differences" || noise.source == "residual_mad";
   std::vector<double> chi2_before, chi2_after, ks_before, ks_after;
   const int orders = options.spectrum_max_order + 1;
   std::vector<std::vector<double>> amp_before(orders), amp_after(orders);
-  Eigen::VectorXd eps(rows);
-  const double sim_sigma = sigma > 0.0 ? sigma : 1.0;
+  Eigen::VectorXd eps(rows), eps_law_after(rows);
+  // With no spread at all (σ = 0) the null is simulated at unit σ and the bands scaled to 0.
+  const bool unit = !(law_before.variance_um2() > 0.0);
+  ResidualLaw sim_before = law_before, sim_after = law_after;
+  if (unit) sim_before = sim_after = ResidualLaw{1.0, 0.0, 0.0};
+  const double band_scale = unit ? 0.0 : 1.0;
   for (int k = 0; k < out.null_replicates; ++k) {
     RandomStream rng(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream, kGapNullSubIndex);
-    for (int i = 0; i < rows; ++i) eps[i] = sim_sigma * rng.normal();
-    double s_k = sim_sigma;
+    for (int i = 0; i < rows; ++i) eps[i] = sim_before.draw(rng);
+    ResidualLaw l_before = sim_before, l_after = sim_after;
     if (reestimate) {
       const std::vector<double> e = to_vector(eps);
-      s_k = noise.source == "residual_mad" ? mad_sigma(e) : robust_noise_sigma(residuals.points, e);
+      l_before.sigma_um = l_after.sigma_um =
+          noise.source == "residual_mad" ? mad_sigma(e) : robust_noise_sigma(residuals.points, e);
     }
-    const Eigen::VectorXd eps_after = eps - q_selected * (q_selected.transpose() * eps);
-    const GapStatistics gb = gap_statistics(eps, rows, s_k);
-    const GapStatistics ga = gap_statistics(eps_after, rows - p, s_k);
+    if (stage.chosen > 0) {  // the fitted law: its own draws
+      RandomStream rng_after(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
+                             kGapNullSubIndex + 1);
+      for (int i = 0; i < rows; ++i) eps_law_after[i] = sim_after.draw(rng_after);
+    } else {
+      eps_law_after = eps;
+    }
+    const Eigen::VectorXd eps_after =
+        eps_law_after - q_after * (q_after.transpose() * eps_law_after);
+    const GapStatistics gb = gap_statistics(eps, rows, l_before);
+    const GapStatistics ga = gap_statistics(eps_after, rows - p_after, l_after);
     chi2_before.push_back(gb.chi2_dof);
     chi2_after.push_back(ga.chi2_dof);
     ks_before.push_back(gb.ks);
     ks_after.push_back(ga.ks);
     const std::vector<double> sb = spectrum.amplitudes(eps), sa = spectrum.amplitudes(eps_after);
     for (int o = 0; o < orders; ++o) {
-      amp_before[o].push_back(sb[o] * sigma / sim_sigma);
-      amp_after[o].push_back(sa[o] * sigma / sim_sigma);
+      amp_before[o].push_back(sb[o] * band_scale);
+      amp_after[o].push_back(sa[o] * band_scale);
     }
   }
   if (out.null_replicates > 0) {
@@ -320,12 +464,16 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   auto gap_rejects = [&](const GapStatistics& g) {
     return (g.chi2_p < so.alpha && g.excess_rms_um >= practical) || g.ks_p < so.alpha;
   };
-  out.gap_detected = !selected.empty() || gap_rejects(out.gap_before);
+  out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
   out.unexplained_structure = gap_rejects(out.gap_after);
-  const double excess = r.squaredNorm() - rows * sigma * sigma;
+  const double v0 = law_before.variance_um2();
+  const double excess = r.squaredNorm() - rows * v0;
+  const double explained = stage.chosen > 0 ? r.squaredNorm() - r_after_c.squaredNorm() +
+                                                  rows * (law_after.variance_um2() - v0)
+                                            : r.squaredNorm() - fit.rss;
   if (excess > 0.0) {
-    out.explained_fraction = std::clamp((r.squaredNorm() - fit.rss) / excess, 0.0, 1.0);
-  } else if (!selected.empty()) {
+    out.explained_fraction = std::clamp(explained / excess, 0.0, 1.0);
+  } else if (!out.effects.empty()) {
     out.explained_fraction = 1.0;
   }
   if (out.nominal_fallback > 0) {
@@ -333,7 +481,7 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
                         " points are not in the model's probing plan (or had no valid model "
                         "contact) and were predicted with the nominal contact p + R n");
   }
-  if (noise.source == "model" && noise.robust_um > 0.0 &&
+  if (stage.chosen == 0 && noise.source == "model" && noise.robust_um > 0.0 &&
       std::abs(noise.robust_um / noise.model_um - 1.0) > 0.2) {
     std::ostringstream text;
     text << "the residuals' own noise (robust estimate " << noise.robust_um
@@ -341,9 +489,12 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
          << " µm";
     out.notes.push_back(text.str());
   }
+  if (!stage.ran && !stage.skipped_because.empty()) {
+    out.notes.push_back("the spread of single readings was not tested: " + stage.skipped_because);
+  }
   if (!out.gap_detected) {
     out.named_effect = "none";
-  } else if (!selected.empty() && out.explained_fraction >= options.min_explained_fraction) {
+  } else if (!out.effects.empty() && out.explained_fraction >= options.min_explained_fraction) {
     out.named_effect = out.effects.front().name;
     for (const Ambiguity& a : out.effects.front().ambiguous) out.ambiguous_with.push_back(a.with);
   } else {

@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "engine/diagnose/candidates.h"
+#include "engine/diagnose/point_law_stage.h"
 #include "engine/diagnose/prediction.h"
 #include "engine/diagnose/selection.h"
 
@@ -63,6 +64,9 @@ struct DiagnoseOptions {
   double ambiguity_correlation = 0.9;
   double ambiguity_condition_number = 100.0;
   double ambiguity_delta_bic = 6.0;
+  // Point-law stage (point_law_stage.h): the share of an alternative law's extra variance that
+  // must show in the second differences.
+  double point_law_white_fraction = 0.5;
 };
 
 inline constexpr double kNotAvailable = std::numeric_limits<double>::quiet_NaN();
@@ -94,6 +98,9 @@ struct FittedEffect {
   std::vector<FittedValue> parameters;
   CandidateTest evidence;            // the test that selected it
   double fitted_rms_um = 0.0;        // RMS of X_A β_A over the points
+  // From the point-law stage (noise, step_quantization): `parameters` are the effect's own
+  // values (noise: σ of the readings' whole Gaussian part; step: q), not increments.
+  bool absolute = false;
   std::vector<Ambiguity> ambiguous;  // empty: identified on this plan
 };
 
@@ -117,6 +124,10 @@ struct Diagnosis {
   GapStatistics gap_before, gap_after;
   double held_out_rms_um = kNotAvailable;
   NoiseFloor noise;
+  // The standard deviation of one reading under the fitted model: the model's noise floor, or the
+  // accepted point law's (a fitted noise or step quantisation adds to the irreducible spread).
+  double noise_floor_after_um = kNotAvailable;
+  PointLawStage point_law;
   Selection selection;
   std::vector<std::string> candidate_names;  // index → name for `selection`
   // Harmonic spectrum against approach azimuth, orders 0..spectrum_max_order (µm).

@@ -68,6 +68,8 @@ std::string diagnosis_json(const Diagnosis& d) {
     Json je;
     je["name"] = e.name;
     je["parameters"] = values_json(e.parameters, false);
+    // Point-law effects give their own values, the linear ones increments to the model's.
+    je["parameters_are"] = e.absolute ? "values" : "increments";
     je["std_errors"] = values_json(e.parameters, true);
     Json units = Json::object();
     for (const FittedValue& v : e.parameters) units[v.name] = v.unit;
@@ -106,10 +108,35 @@ std::string diagnosis_json(const Diagnosis& d) {
   after["held_out_rms_um"] = number(d.held_out_rms_um);
   j["gap_after"] = after;
   j["noise_floor_um"] = number(d.noise.sigma_um);
+  j["noise_floor_after_um"] = number(d.noise_floor_after_um);
   j["noise_floor"] = {{"source", d.noise.source},
                       {"model_um", number(d.noise.model_um)},
                       {"robust_um", number(d.noise.robust_um)},
                       {"second_differences", d.noise.differences}};
+  {
+    const PointLawStage& st = d.point_law;
+    Json hypotheses = Json::array();
+    for (const PointLawHypothesis& h : st.hypotheses) {
+      hypotheses.push_back({{"name", h.name},
+                            {"tied", h.tied},
+                            {"parameters", h.parameters},
+                            {"log_likelihood", number(h.log_likelihood)},
+                            {"delta_bic", number(h.delta_bic)},
+                            {"estimate_um", number(h.estimate)},
+                            {"std_error_um", number(h.std_error)},
+                            {"sd_um", number(std::sqrt(h.law.variance_um2()))},
+                            {"accepted", h.accepted},
+                            {"note", h.note}});
+    }
+    j["point_law"] = {{"ran", st.ran},
+                      {"skipped_because", st.skipped_because},
+                      {"model_sd_um", number(std::sqrt(st.model_variance_um2))},
+                      {"white_sd_um", number(std::sqrt(st.white_variance_um2))},
+                      {"white_p", number(st.white_p)},
+                      {"second_differences", st.differences},
+                      {"chosen", st.chosen > 0 ? Json(st.best().name) : Json(nullptr)},
+                      {"hypotheses", hypotheses}};
+  }
   j["unexplained_structure"] = d.unexplained_structure;
   j["explained_fraction"] = number(d.explained_fraction);
   j["notes"] = d.notes;

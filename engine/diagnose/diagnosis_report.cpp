@@ -298,6 +298,21 @@ std::string effect_where(const FittedEffect& e, const Diagnosis& d, const Report
     }
     return "against the approach azimuth";
   }
+  if ((name == "step_quantization" || name == "noise") && e.absolute) {
+    const PointLawStage& st = d.point_law;
+    std::string s =
+        "in the spread of single readings: the second differences along the scans "
+        "give " +
+        fixed(std::sqrt(st.white_variance_um2)) +
+        " µm per reading where the model "
+        "says " +
+        fixed(std::sqrt(st.model_variance_um2)) + " µm";
+    if (name == "step_quantization") {
+      s += ", with a flat-topped shape and a constant shift (mean residual " +
+           fixed(r.mean_before) + " µm) tied to it";
+    }
+    return s;
+  }
   if (name == "stylus_radius" || name == "step_quantization") {
     return "a constant shift of every reading (mean residual " + fixed(r.mean_before) + " µm)";
   }
@@ -353,6 +368,16 @@ std::string gap_phrase(const GapStatistics& g, double sigma, int replicates) {
   return "residual RMS " + fixed(g.rms_um) + " µm against a noise floor of " + fixed(sigma) +
          " µm (χ²/dof " + fixed(g.chi2_dof, 2) + ", " + p_text(g.chi2_p, replicates) +
          "; KS distance " + fixed(g.ks, 3) + ", " + p_text(g.ks_p, replicates) + ")";
+}
+
+// ", X µm with the fitted <effect>" when a point-law effect widened the noise floor.
+std::string floor_after_phrase(const Diagnosis& d) {
+  for (const FittedEffect& e : d.effects) {
+    if (e.absolute) {
+      return ", " + fixed(d.noise_floor_after_um) + " µm with the fitted " + e.name + "'s spread";
+    }
+  }
+  return "";
 }
 
 std::string points_phrase(const DiagnosisReportInput& in) {
@@ -437,8 +462,8 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
   }
   s << "Gap: RMS " << fixed(d.gap_before.rms_um) << " µm → " << fixed(d.gap_after.rms_um)
     << " µm with it, " << fixed(d.held_out_rms_um) << " µm on held-out teeth, noise floor "
-    << fixed(r.sigma) << " µm (it explains " << fixed(100.0 * d.explained_fraction, 0)
-    << " % of the excess variance). ";
+    << fixed(r.sigma) << " µm" << floor_after_phrase(d) << " (it explains "
+    << fixed(100.0 * d.explained_fraction, 0) << " % of the excess variance). ";
   if (d.unexplained_structure) {
     s << "Unexplained structure remains after it (χ²/dof " << fixed(d.gap_after.chi2_dof, 2) << ", "
       << p_text(d.gap_after.chi2_p, k) << "; KS " << p_text(d.gap_after.ks_p, k) << "). ";
@@ -470,7 +495,8 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
   lines.push_back(verdict);
   lines.push_back("residual RMS " + fixed(d.gap_before.rms_um) + " µm before, " +
                   fixed(d.gap_after.rms_um) + " µm after (held-out " + fixed(d.held_out_rms_um) +
-                  " µm, noise floor " + fixed(d.noise.sigma_um) + " µm)");
+                  " µm, noise floor " + fixed(d.noise.sigma_um) + " µm" + floor_after_phrase(d) +
+                  ")");
   return lines;
 }
 
@@ -663,7 +689,8 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
     t.header = {"", "before", "after"};
     t.rows.push_back({{"residual RMS, µm", fixed(d.gap_before.rms_um), fixed(d.gap_after.rms_um)}});
     t.rows.push_back({{"held-out RMS (odd ↔ even teeth), µm", "", fixed(d.held_out_rms_um)}});
-    t.rows.push_back({{"noise floor σ, µm", fixed(d.noise.sigma_um), fixed(d.noise.sigma_um)}});
+    t.rows.push_back(
+        {{"noise floor σ, µm", fixed(d.noise.sigma_um), fixed(d.noise_floor_after_um)}});
     t.rows.push_back({{"excess RMS √(RMS² − σ²), µm", fixed(d.gap_before.excess_rms_um),
                        fixed(d.gap_after.excess_rms_um)}});
     t.rows.push_back(
@@ -673,7 +700,7 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
     t.rows.push_back(
         {{"χ² p-value", p_text(d.gap_before.chi2_p, k), p_text(d.gap_after.chi2_p, k)}});
     t.rows.push_back(
-        {{"KS distance of r/σ vs N(0, 1)", fixed(d.gap_before.ks, 4), fixed(d.gap_after.ks, 4)}});
+        {{"KS distance to the point law", fixed(d.gap_before.ks, 4), fixed(d.gap_after.ks, 4)}});
     t.rows.push_back({{"KS p-value", p_text(d.gap_before.ks_p, k), p_text(d.gap_after.ks_p, k)}});
     report.table(t);
     std::ostringstream floor;
@@ -682,6 +709,47 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
           << " µm; robust estimate from the residuals' second differences along the scans "
           << fixed(d.noise.robust_um) << " µm from " << d.noise.differences << " differences).";
     report.paragraph(floor.str());
+  }
+
+  // --- Spread of single readings (point-law stage) ---
+  report.heading("Spread of single readings");
+  {
+    const PointLawStage& st = d.point_law;
+    if (!st.ran) {
+      report.paragraph("Not tested: " + st.skipped_because + ".");
+    } else {
+      std::ostringstream text;
+      text << "Effects that change the law of each reading rather than its mean: a probing noise "
+              "larger than the model's, or the servo step quantisation (a latch delay uniform on "
+              "[0, q), whose mean −q/2 is the constant shift of a stylus radius error and whose "
+              "spread q²/12 is what tells them apart). The second differences along the scans "
+              "(structure linear along a scan cancels) give "
+           << fixed(std::sqrt(st.white_variance_um2)) << " µm per reading against the model's "
+           << fixed(std::sqrt(st.model_variance_um2)) << " µm (" << p_text(st.white_p, k)
+           << ", from " << st.differences << " differences).";
+      report.paragraph(text.str());
+      HtmlTable t;
+      t.caption =
+          "Laws of a single reading compared by BIC (with the selected effects' columns; a tied "
+          "step drops their constant shift and explains it by its mean −q/2). Accepted: white "
+          "excess variance, mostly white, ΔBIC ≤ −10.";
+      t.header = {"law", "fitted, µm", "σ of a reading, µm", "parameters", "ΔBIC", "accepted"};
+      for (std::size_t h = 0; h < st.hypotheses.size(); ++h) {
+        const PointLawHypothesis& x = st.hypotheses[h];
+        std::string label = x.name == "model"   ? "the model's"
+                            : x.name == "noise" ? "noise σ fitted"
+                            : x.tied            ? "step q fitted, tied to the shift"
+                                                : "step q fitted, with a free shift";
+        std::string fitted = "–";
+        if (h > 0)
+          fitted = (x.name == "noise" ? "σ = " : "q = ") + with_error(x.estimate, x.std_error);
+        t.rows.push_back({{label, fitted, fixed(std::sqrt(x.law.variance_um2())),
+                           std::to_string(x.parameters), h > 0 ? fixed(x.delta_bic, 1) : "0",
+                           h == 0 ? "" : (x.accepted ? "yes" : "no: " + x.note)},
+                          static_cast<int>(h) == st.chosen && st.chosen > 0});
+      }
+      report.table(t);
+    }
   }
 
   // --- Fitted effects ---
@@ -696,9 +764,13 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
     t.header = {"effect", "parameter", "value ± standard error", "unit", "note"};
     for (const FittedEffect& e : d.effects) {
       for (const FittedValue& v : e.parameters) {
-        t.rows.push_back({{e.name, v.name, v.estimable ? with_error(v.value, v.std_error) : "–",
-                           v.unit, v.estimable ? "" : "not observable on this plan"},
-                          e.name == d.named_effect});
+        t.rows.push_back(
+            {{e.name, v.name, v.estimable ? with_error(v.value, v.std_error) : "–", v.unit,
+              !v.estimable ? "not observable on this plan"
+              : e.absolute ? "the effect's own value (point-law stage, standard "
+                             "error from the profile likelihood)"
+                           : ""},
+             e.name == d.named_effect});
       }
     }
     report.table(t);

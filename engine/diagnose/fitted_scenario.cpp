@@ -238,7 +238,25 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
         own = nullptr;
       }
       entry.SetStyle(YAML::EmitterStyle::Block);
-      if (e.name == "probe_lobing") {
+      if (e.absolute) {
+        // Point-law effects: their own values (diagnosis.h). Noise: σ of the readings' whole
+        // Gaussian part, less what the model's other Gaussian parts (probe repeatability) give.
+        for (const FittedValue& v : e.parameters) {
+          if (!v.estimable || !std::isfinite(v.value)) continue;
+          double value = std::max(0.0, v.value);
+          if (e.name == "noise") {
+            const EffectValues nominal = model.effects->nominal();
+            double others = model.effects->point_law(nominal).gaussian_variance_um2;
+            if (index >= 0) {
+              others -= model.effects->effect(index)
+                            .point_law(nominal[static_cast<std::size_t>(index)])
+                            .gaussian_variance_um2;
+            }
+            value = std::sqrt(std::max(0.0, value * value - others));
+          }
+          entry[v.name] = number_node(value);
+        }
+      } else if (e.name == "probe_lobing") {
         update_lobing(entry, own, e, &result.notes);
       } else {
         for (const FittedValue& v : e.parameters) {

@@ -26,19 +26,6 @@ constexpr double kSamePointMm = 1e-4;
 
 }  // namespace
 
-EffectValues deterministic_effect_values(const EffectChain& chain) {
-  EffectValues values = chain.nominal();
-  for (std::size_t e = 0; e < chain.size(); ++e) {
-    const auto& parameters = chain.effect(e).parameters();
-    for (std::size_t i = 0; i < parameters.size(); ++i) {
-      if (parameters[i].name == "sigma_um" || parameters[i].name == "repeatability_um") {
-        values[e][i] = 0.0;
-      }
-    }
-  }
-  return values;
-}
-
 Residuals compute_residuals(const Scenario& model, const Readings& readings,
                             const PredictionOptions& options) {
   if (readings.rows.empty()) {
@@ -80,7 +67,7 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
   };
 
   const EffectChain& effects = *scenario.effects;
-  const EffectValues values = deterministic_effect_values(effects);
+  const EffectValues values = effects.nominal();
   out.points.reserve(readings.rows.size());
   for (const ReadingRow& row : readings.rows) {
     ResidualPoint point;
@@ -114,8 +101,7 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
       point.model_contact = false;
       ++out.nominal_fallback;
     }
-    RandomStream rng = point_effect_stream(scenario.seed, row.gear, context.order);
-    const Eigen::Vector3d recorded = effects.apply(context, values, centre, rng);
+    const Eigen::Vector3d recorded = effects.apply_mean(context, values, centre);
     point.predicted_um = reading_um(context, recorded);
     point.measured_um = measured_deviation_um(row, R);
     point.residual_um = point.measured_um - point.predicted_um;
@@ -124,24 +110,31 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
   return out;
 }
 
-double robust_noise_sigma(const std::vector<ResidualPoint>& points,
-                          const std::vector<double>& residual_um, int* count) {
-  // Profile scans: (gear, tooth, side, j) → residual by i.
-  std::map<std::tuple<int, int, int, int>, std::map<int, double>> scans;
+std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& points) {
+  std::map<std::tuple<int, int, int, int>, std::map<int, int>> scans;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const ResidualPoint& p = points[k];
-    scans[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = residual_um[k];
+    scans[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = static_cast<int>(k);
   }
-  std::vector<double> d;
+  std::vector<std::array<int, 3>> out;
   for (const auto& [key, scan] : scans) {
-    auto a = scan.begin();
     if (scan.size() < 3) continue;
+    auto a = scan.begin();
     auto b = std::next(a), c = std::next(b);
     for (; c != scan.end(); ++a, ++b, ++c) {
       if (b->first == a->first + 1 && c->first == b->first + 1) {
-        d.push_back(a->second - 2.0 * b->second + c->second);
+        out.push_back({a->second, b->second, c->second});
       }
     }
+  }
+  return out;
+}
+
+double robust_noise_sigma(const std::vector<ResidualPoint>& points,
+                          const std::vector<double>& residual_um, int* count) {
+  std::vector<double> d;
+  for (const auto& t : scan_triplets(points)) {
+    d.push_back(residual_um[t[0]] - 2.0 * residual_um[t[1]] + residual_um[t[2]]);
   }
   if (count) *count = static_cast<int>(d.size());
   if (d.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -150,17 +143,8 @@ double robust_noise_sigma(const std::vector<ResidualPoint>& points,
 
 NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals) {
   NoiseFloor floor;
-  const EffectChain& chain = *model.effects;
-  const EffectValues nominal = chain.nominal();
-  double variance = 0.0;
-  for (std::size_t e = 0; e < chain.size(); ++e) {
-    const auto& parameters = chain.effect(e).parameters();
-    for (std::size_t i = 0; i < parameters.size(); ++i) {
-      if (parameters[i].name == "sigma_um" || parameters[i].name == "repeatability_um") {
-        variance += nominal[e][i] * nominal[e][i];
-      }
-    }
-  }
+  const PointLaw model_law = model.effects->point_law(model.effects->nominal());
+  const double variance = model_law.variance_um2();
   floor.model_um = std::sqrt(variance);
   std::vector<double> r;
   r.reserve(residuals.points.size());
@@ -169,6 +153,7 @@ NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residual
   if (floor.model_um > 0.0) {
     floor.sigma_um = floor.model_um;
     floor.source = "model";
+    floor.law = model_law;
   } else if (floor.robust_um > 0.0) {
     floor.sigma_um = floor.robust_um;
     floor.source = "residual_second_differences";
@@ -176,6 +161,7 @@ NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residual
     floor.sigma_um = mad_sigma(r);
     floor.source = "residual_mad";
   }
+  if (floor.source != "model") floor.law = PointLaw{floor.sigma_um * floor.sigma_um, {}};
   return floor;
 }
 

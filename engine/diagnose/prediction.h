@@ -4,12 +4,11 @@
 //
 // Prediction of a reading row (gear, tooth, flank, i, j): the model scenario's stylus-centre
 // contact at that planned point (MonteCarloRun::measure_gear) moved by the model's measurement
-// effects at their nominal parameter values with their random parts switched off, read along n
-// exactly as the CMM reading is (reading_um). "Random parts off" is done on the values, not on
-// the effects: every parameter named `sigma_um` (noise) or `repeatability_um` (probe lobing) is
-// set to 0, so each effect's apply() runs its deterministic part only (the random numbers it
-// still draws are multiplied by 0). Parameters drawn per gear from a law enter at their central
-// value (EffectParameter::nominal); their spread is not part of the prediction.
+// effects at their nominal parameter values, each averaged over its per-point random numbers
+// (MeasurementEffect::apply_mean: noise and probe repeatability add nothing, step quantisation
+// its mean latch delay q/2), read along n exactly as the CMM reading is (reading_um). Parameters
+// drawn per gear from a law enter at their central value (EffectParameter::nominal); their
+// spread is not part of the prediction.
 //
 // Which surface the model predicts on (ArtefactModel):
 //  * kNominalMaster (default, the one to use for real CMM data): the model's nominal gear
@@ -31,6 +30,7 @@
 // no planned point was skipped; drift runs over one gear's sequence, as in `gearmc simulate`).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -70,25 +70,27 @@ struct Residuals {
 Residuals compute_residuals(const Scenario& model, const Readings& readings,
                             const PredictionOptions& options = {});
 
-// The model's values of its effects' parameters for the prediction: nominal values with every
-// `sigma_um` and `repeatability_um` set to 0 (see the file comment).
-EffectValues deterministic_effect_values(const EffectChain& chain);
-
 // The noise floor σ (µm, the standard deviation of one reading along n that the model accepts
-// as pure noise).
+// as pure noise) and, when it is the model's, the model's per-point law (Gaussian and uniform
+// parts, engine/effects PointLaw) that the diagnosis tests the residuals against.
 struct NoiseFloor {
   double sigma_um = 0.0;  // the value used
-  // "model": √(Σ sigma_um² + Σ repeatability_um²) of the model's noise and probe_lobing
-  // effects (nominal values; isotropic noise N(0, σ²) on each axis gives σ along any unit n);
-  // "residual_second_differences": robust_noise_sigma below, when the model has no random part;
-  // "residual_mad": 1.4826 MAD of the residuals themselves when there are no scans of three
-  // consecutive points (an upper bound: structure counts as noise); "given": set by the caller.
+  // "model": √variance of the model's per-point law (EffectChain::point_law at nominal values:
+  // noise σ², probe repeatability², step quantisation q²/12); "residual_second_differences":
+  // robust_noise_sigma below, when the model has no random part; "residual_mad": 1.4826 MAD of
+  // the residuals themselves when there are no scans of three consecutive points (an upper
+  // bound: structure counts as noise); "given": set by the caller.
   std::string source;
+  PointLaw law;            // the law used: the model's, or Gaussian with σ² = sigma_um²
   double model_um = 0.0;   // the model's value (0 when it has no random part)
   double robust_um = 0.0;  // robust_noise_sigma of the residuals (always computed)
   int differences = 0;     // second differences the robust value used
 };
 NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals);
+
+// Index triplets (i−1, i, i+1) of consecutive points along each profile scan (same gear, tooth,
+// flank and section j, consecutive i), scan after scan (the support of the second differences).
+std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& points);
 
 // Robust estimate of the noise σ from the residuals alone: second differences
 // d = r_{i−1} − 2 r_i + r_{i+1} of consecutive points along each profile scan (same gear, tooth,

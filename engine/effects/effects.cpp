@@ -124,17 +124,28 @@ void DriftEffect::signature(const PointContext& point, std::span<const double>,
 StepQuantizationEffect::StepQuantizationEffect(EffectParameter step_um, double approach_mm)
     : MeasurementEffect({named(std::move(step_um), "step_um", "µm")}), approach_mm_(approach_mm) {}
 void StepQuantizationEffect::apply(const PointContext& point, std::span<const double> v,
-                                   Eigen::Vector3d& c, RandomStream&) const {
-  const double q = 1e-3 * v[0];  // mm
+                                   Eigen::Vector3d& c, RandomStream& rng) const {
+  const double q = 1e-3 * v[0];        // mm
+  const double phase = rng.uniform();  // always drawn: fixed stream use
   if (q <= 0.0) return;
   const Eigen::Vector3d start = point.p + (point.stylus_radius_mm + approach_mm_) * point.n;
   const double s = (start - c).dot(point.n);  // travel along −n to the trigger, mm
-  const double u = std::ceil(s / q) * q - s;
-  c -= point.n * u;
+  // The first grid position φq + kq at or beyond s.
+  const double latched = (std::ceil(s / q - phase) + phase) * q;
+  c -= point.n * (latched - s);
 }
 void StepQuantizationEffect::signature(const PointContext&, std::span<const double>,
                                        std::span<double> out) const {
   out[0] = -0.5;
+}
+void StepQuantizationEffect::apply_mean(const PointContext& point, std::span<const double> v,
+                                        Eigen::Vector3d& c) const {
+  if (v[0] > 0.0) c -= point.n * (0.5e-3 * v[0]);  // E u = q/2
+}
+PointLaw StepQuantizationEffect::point_law(std::span<const double> v) const {
+  PointLaw law;
+  if (v[0] > 0.0) law.uniform_widths_um.push_back(v[0]);
+  return law;
 }
 
 NoiseEffect::NoiseEffect(EffectParameter sigma_um)
@@ -142,6 +153,9 @@ NoiseEffect::NoiseEffect(EffectParameter sigma_um)
 void NoiseEffect::apply(const PointContext&, std::span<const double> v, Eigen::Vector3d& c,
                         RandomStream& rng) const {
   for (int i = 0; i < 3; ++i) c[i] += 1e-3 * v[0] * rng.normal();
+}
+PointLaw NoiseEffect::point_law(std::span<const double> v) const {
+  return PointLaw{v[0] * v[0], {}};
 }
 void NoiseEffect::signature(const PointContext&, std::span<const double>,
                             std::span<double> out) const {

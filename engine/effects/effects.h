@@ -110,12 +110,18 @@ class DriftEffect : public MeasurementEffect {
                  std::span<double> out) const override;
 };
 
-// `step_quantization`: the controller latches the trigger at the next multiple of the servo
-// interpolation step q along the approach. The approach starts approach_mm above the nominal
-// touch (stylus centre at p + (R + approach) n); the travel s to the trigger is rounded up to
-// a multiple of q, so the centre is recorded u = ceil(s/q) q − s ∈ [0, q) further along −n.
-// Parameter step_um; approach_mm is a setting. First-order signature: −1/2 per µm of q (the
-// mean of u).
+// `step_quantization`: the controller latches the trigger at the next tick of the servo
+// interpolation grid along the approach (P1 names "the discretisation step of the probe approach
+// caused by the interpolation step of the servo drives" as future work, without a model). The
+// grid's positions along the travel are φ q + k q (k = 0, 1, …) with q the step; the travel s
+// to the trigger is rounded up to the next grid position, so the centre is recorded
+// u ∈ [0, q) further along −n. The phase φ of the grid at the start of the approach is drawn
+// uniform on [0, 1) at every point: it would be fixed only if the servo cycle were synchronised
+// with the surface to a fraction of a step, while the start position's servo error, the probe's
+// trigger jitter and the flank's own deviations each move the trigger by that much. So u is
+// U(0, q) at every point, independent of s (the approach start p + (R + approach_mm) n only
+// fixes s). Parameter step_um; approach_mm is a setting. Mean −q/2 along n (the first-order
+// signature, −1/2 per µm of q); per-point law −U(0, q) about the travel (point_law).
 class StepQuantizationEffect : public MeasurementEffect {
  public:
   StepQuantizationEffect(EffectParameter step_um, double approach_mm);
@@ -125,6 +131,9 @@ class StepQuantizationEffect : public MeasurementEffect {
              RandomStream& rng) const override;
   void signature(const PointContext& point, std::span<const double> values,
                  std::span<double> out) const override;
+  void apply_mean(const PointContext& point, std::span<const double> values,
+                  Eigen::Vector3d& centre_mm) const override;
+  PointLaw point_law(std::span<const double> values) const override;
 
  private:
   double approach_mm_;
@@ -140,6 +149,9 @@ class NoiseEffect : public MeasurementEffect {
              RandomStream& rng) const override;
   void signature(const PointContext& point, std::span<const double> values,
                  std::span<double> out) const override;
+  void apply_mean(const PointContext&, std::span<const double>, Eigen::Vector3d&) const override {}
+  // Isotropic N(0, σ²) on each axis is N(0, σ²) along any unit n.
+  PointLaw point_law(std::span<const double> values) const override;
 };
 
 }  // namespace gearmc

@@ -44,6 +44,33 @@ void MeasurementEffect::signature(const PointContext& point, std::span<const dou
   }
 }
 
+double PointLaw::mean_um() const {
+  double m = 0.0;
+  for (double w : uniform_widths_um) m -= 0.5 * w;
+  return m;
+}
+
+double PointLaw::variance_um2() const {
+  double v = gaussian_variance_um2;
+  for (double w : uniform_widths_um) v += w * w / 12.0;
+  return v;
+}
+
+PointLaw& PointLaw::operator+=(const PointLaw& other) {
+  gaussian_variance_um2 += other.gaussian_variance_um2;
+  uniform_widths_um.insert(uniform_widths_um.end(), other.uniform_widths_um.begin(),
+                           other.uniform_widths_um.end());
+  return *this;
+}
+
+void MeasurementEffect::apply_mean(const PointContext& point, std::span<const double> values,
+                                   Eigen::Vector3d& centre_mm) const {
+  RandomStream unused(0, 0, StreamPurpose::kEffectNoise, 0);
+  apply(point, values, centre_mm, unused);
+}
+
+PointLaw MeasurementEffect::point_law(std::span<const double>) const { return {}; }
+
 void EffectChain::add(std::unique_ptr<MeasurementEffect> effect) {
   effects_.push_back(std::move(effect));
   std::stable_sort(effects_.begin(), effects_.end(), [](const auto& a, const auto& b) {
@@ -90,6 +117,19 @@ Eigen::Vector3d EffectChain::apply(const PointContext& point, const EffectValues
     if (!contributions.empty()) contributions[e] = 1000.0 * (c - before).dot(point.n);
   }
   return c;
+}
+
+Eigen::Vector3d EffectChain::apply_mean(const PointContext& point, const EffectValues& values,
+                                        const Eigen::Vector3d& contact_centre) const {
+  Eigen::Vector3d c = contact_centre;
+  for (std::size_t e = 0; e < effects_.size(); ++e) effects_[e]->apply_mean(point, values[e], c);
+  return c;
+}
+
+PointLaw EffectChain::point_law(const EffectValues& values) const {
+  PointLaw law;
+  for (std::size_t e = 0; e < effects_.size(); ++e) law += effects_[e]->point_law(values[e]);
+  return law;
 }
 
 }  // namespace gearmc

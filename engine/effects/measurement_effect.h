@@ -64,6 +64,17 @@ struct EffectParameter {
   double nominal() const;
 };
 
+// The law of the random part an effect adds to one reading along n (µm), drawn afresh at every
+// point: N(0, gaussian_variance) plus, for each uniform width w, −U(0, w) (a latch delay that
+// only ever lengthens the travel). Laws of independent parts add (+=).
+struct PointLaw {
+  double gaussian_variance_um2 = 0.0;
+  std::vector<double> uniform_widths_um;
+  double mean_um() const;       // −Σ w/2
+  double variance_um2() const;  // gaussian variance + Σ w²/12
+  PointLaw& operator+=(const PointLaw& other);
+};
+
 class MeasurementEffect {
  public:
   explicit MeasurementEffect(std::vector<EffectParameter> parameters)
@@ -90,6 +101,16 @@ class MeasurementEffect {
   // the closed form where it is simple (tests check the two agree).
   virtual void signature(const PointContext& point, std::span<const double> values,
                          std::span<double> out) const;
+
+  // The recorded centre averaged over this effect's per-point random numbers (the per-gear
+  // parameters `values` given): what the model predicts for a point (engine/diagnose). The
+  // default runs apply() once, which is exact for effects that draw no per-point random
+  // numbers; effects that do (noise, probe repeatability, step quantisation) override it.
+  virtual void apply_mean(const PointContext& point, std::span<const double> values,
+                          Eigen::Vector3d& centre_mm) const;
+  // The law of the per-point random part of the reading along n at parameter values `values`
+  // (default: none). apply() = apply_mean() + a draw from this law, along n.
+  virtual PointLaw point_law(std::span<const double> values) const;
 
  private:
   std::vector<EffectParameter> parameters_;
@@ -125,6 +146,11 @@ class EffectChain {
   Eigen::Vector3d apply(const PointContext& point, const EffectValues& values,
                         const Eigen::Vector3d& contact_centre, RandomStream& rng,
                         std::span<double> contributions = {}) const;
+  // The same, every effect averaged over its per-point random numbers (apply_mean).
+  Eigen::Vector3d apply_mean(const PointContext& point, const EffectValues& values,
+                             const Eigen::Vector3d& contact_centre) const;
+  // The law of the per-point random part of a reading: the effects' laws added.
+  PointLaw point_law(const EffectValues& values) const;
 
  private:
   std::vector<std::unique_ptr<MeasurementEffect>> effects_;

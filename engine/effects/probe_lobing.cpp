@@ -120,4 +120,14 @@ void ProbeLobingEffect::apply(const PointContext& point, std::span<const double>
   centre_mm -= point.n * (1e-3 * (residual_um(values, point.azimuth_rad) + noise));
 }
 
+void ProbeLobingEffect::apply_mean(const PointContext& point, std::span<const double> values,
+                                   Eigen::Vector3d& centre_mm) const {
+  centre_mm -= point.n * (1e-3 * residual_um(values, point.azimuth_rad));
+}
+
+PointLaw ProbeLobingEffect::point_law(std::span<const double> values) const {
+  const double repeatability = values.back();
+  return PointLaw{repeatability * repeatability, {}};
+}
+
 }  // namespace gearmc

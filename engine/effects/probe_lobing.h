@@ -75,6 +75,10 @@ class ProbeLobingEffect : public MeasurementEffect {
   EffectStage stage() const override { return EffectStage::kProbe; }
   void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
              RandomStream& rng) const override;
+  // Without the repeatability draw; its law is N(0, repeatability²) along n.
+  void apply_mean(const PointContext& point, std::span<const double> values,
+                  Eigen::Vector3d& centre_mm) const override;
+  PointLaw point_law(std::span<const double> values) const override;
   const ProbeQualificationSpec& qualification() const { return qualification_; }
   // The lobing model for parameter values `values`.
   LobingModel model(std::span<const double> values) const;

@@ -178,34 +178,79 @@ TEST(Effects, OppositeDirectionDifferencesMatchP2WithItsRepeatability) {
   EXPECT_NEAR(q, 3.0 * std::sqrt(2.0) * sigma, 0.05 * 3.0 * std::sqrt(2.0) * sigma);
 }
 
-TEST(Effects, StepQuantizationErrorIsUniformOnZeroToQ) {
-  // u = ceil(s/q) q − s; the travel s varies by micrometres between points (contact centres
-  // spread by the flank deviations), more than q = 1 µm, so u/q is uniform on [0, 1).
-  // Kolmogorov–Smirnov against U(0, 1) at α = 1e-3 (critical D = 1.95/√n) on 4800 points whose
-  // contact centres are offset by up to ±5 µm.
+TEST(Effects, StepQuantizationErrorIsUniformOnZeroToQEvenOnAPerfectFlank) {
+  // The grid's phase is drawn at every point (effects.h), so the latch delay u is U(0, q) also
+  // when every travel s is the same (a perfect master flank: offsets 0) and when the travels
+  // spread by ±5 µm. Kolmogorov–Smirnov against U(0, 1) at α = 1e-3 (critical D = 1.95/√n,
+  // Kolmogorov's asymptotic law) on P1's 4800 points, both cases. apply_mean moves by the mean
+  // q/2 and point_law says −U(0, q): the sample mean of the reading is −q/2 within 4 standard
+  // errors q/√(12 n).
   const double q_um = 1.0;
   StepQuantizationEffect step(fixed(q_um), 2.0);
-  std::vector<double> u;
-  RandomStream offsets(11, 0, StreamPurpose::kEffectNoise, 999);
+  for (const double spread_um : {0.0, 5.0}) {
+    std::vector<double> u;
+    RandomStream offsets(11, 0, StreamPurpose::kEffectNoise, 999);
+    double mean_reading = 0.0;
+    for (const PointContext& point : p1_points()) {
+      const Eigen::Vector3d start =
+          point.p +
+          point.n * (point.stylus_radius_mm + 1e-3 * offsets.uniform(-spread_um, spread_um));
+      Eigen::Vector3d c = start;
+      RandomStream rng = point_effect_stream(1, 0, point.order);
+      step.apply(point, std::vector<double>{q_um}, c, rng);
+      const double moved_um = -1000.0 * (c - start).dot(point.n);
+      EXPECT_GE(moved_um, -1e-9);
+      EXPECT_LT(moved_um, q_um + 1e-9);
+      u.push_back(moved_um / q_um);
+      mean_reading -= moved_um;
+    }
+    const double n = static_cast<double>(u.size());
+    mean_reading /= n;
+    EXPECT_NEAR(mean_reading, -0.5 * q_um, 4.0 * q_um / std::sqrt(12.0 * n));
+    std::sort(u.begin(), u.end());
+    double D = 0.0;
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      const double rank = static_cast<double>(i);
+      D = std::max({D, std::abs(u[i] - rank / n), std::abs((rank + 1.0) / n - u[i])});
+    }
+    EXPECT_LT(D, 1.95 / std::sqrt(n)) << "spread " << spread_um << " µm";
+  }
+  const PointContext point = p1_points().front();
+  Eigen::Vector3d c = point.p + point.stylus_radius_mm * point.n;
+  const Eigen::Vector3d start = c;
+  step.apply_mean(point, std::vector<double>{q_um}, c);
+  EXPECT_NEAR(1000.0 * (c - start).dot(point.n), -0.5 * q_um, 1e-9);  // mm coordinates ~70
+  const PointLaw law = step.point_law(std::vector<double>{q_um});
+  ASSERT_EQ(law.uniform_widths_um.size(), 1u);
+  EXPECT_DOUBLE_EQ(law.uniform_widths_um[0], q_um);
+  EXPECT_DOUBLE_EQ(law.variance_um2(), q_um * q_um / 12.0);  // variance of U(0, q)
+}
+
+TEST(Effects, PointLawsOfTheChainAddAndTheMeanOmitsTheRandomParts) {
+  // noise σ 0.3 (isotropic: σ² along n), probe repeatability 0.2, step 1 µm: variance
+  // 0.09 + 0.04 + 1/12 (independent parts add). apply_mean of the chain equals the lobing
+  // residual − q/2 (noise and repeatability average to 0).
+  EffectChain chain;
+  chain.add(std::make_unique<NoiseEffect>(fixed(0.3)));
+  chain.add(std::make_unique<StepQuantizationEffect>(fixed(1.0), 2.0));
+  auto lobing = std::make_unique<ProbeLobingEffect>(
+      fixed(0.0), std::vector<int>{3}, std::vector<EffectParameter>{fixed(1.5), fixed(0.0)},
+      fixed(0.2), ProbeQualificationSpec{});
+  const ProbeLobingEffect& lobing_ref = *lobing;
+  chain.add(std::move(lobing));
+  const EffectValues values = chain.nominal();
+  const PointLaw law = chain.point_law(values);
+  EXPECT_NEAR(law.variance_um2(), 0.09 + 0.04 + 1.0 / 12.0, 1e-12);
+  EXPECT_NEAR(law.mean_um(), -0.5, 1e-12);
   for (const PointContext& point : p1_points()) {
-    const Eigen::Vector3d start =
-        point.p + point.n * (point.stylus_radius_mm + 1e-3 * offsets.uniform(-5.0, 5.0));
-    Eigen::Vector3d c = start;
-    RandomStream rng = point_effect_stream(1, 0, point.order);
-    step.apply(point, std::vector<double>{q_um}, c, rng);
-    const double moved_um = -1000.0 * (c - start).dot(point.n);
-    EXPECT_GE(moved_um, -1e-9);
-    EXPECT_LT(moved_um, q_um + 1e-9);
-    u.push_back(moved_um / q_um);
+    if (point.order % 500 != 0) continue;
+    const Eigen::Vector3d c0 = point.p + point.stylus_radius_mm * point.n;
+    const Eigen::Vector3d c = chain.apply_mean(point, values, c0);
+    const int e = chain.find("probe_lobing");
+    const double expected =
+        -lobing_ref.residual_um(values[static_cast<std::size_t>(e)], point.azimuth_rad) - 0.5;
+    EXPECT_NEAR(reading_um(point, c), expected, 1e-9);
   }
-  std::sort(u.begin(), u.end());
-  double D = 0.0;
-  const double n = static_cast<double>(u.size());
-  for (std::size_t i = 0; i < u.size(); ++i) {
-    const double rank = static_cast<double>(i);
-    D = std::max({D, std::abs(u[i] - rank / n), std::abs((rank + 1.0) / n - u[i])});
-  }
-  EXPECT_LT(D, 1.95 / std::sqrt(n));
 }
 
 TEST(Effects, DriftGrowsLinearlyOverTheSequence) {
