@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
+#include "engine/diagnose/cluster_tests.h"
 #include "engine/diagnose/linear_model.h"
 #include "engine/stats/distribution_fit.h"
 
@@ -16,6 +19,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 // Stream sub-index of the gap's null simulation (the selection steps use 0, 1, 2, …).
 constexpr std::uint32_t kGapNullSubIndex = 1000;
+// Stream sub-indices of the cluster-aware evidence (the point-law stage uses 2000).
+constexpr std::uint32_t kClusterSubIndex = 3000;
+constexpr int kBootstrapReplicates = 999;  // (R + 1) · 0.025 an integer (cluster_tests.h)
 
 std::vector<double> to_vector(const Eigen::VectorXd& v) {
   return std::vector<double>(v.data(), v.data() + v.size());
@@ -456,6 +462,41 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
     for (GapStatistics* g : {&out.gap_before, &out.gap_after}) {
       g->chi2_p = regularized_gamma_q(0.5 * g->dof, 0.5 * g->dof * g->chi2_dof);
       g->ks_p = ks_p_value(g->ks, rows);
+    }
+  }
+
+  // 5b. Cluster-aware evidence: flanks for the paired energy test, teeth for the bootstrap.
+  if (out.null_replicates > 0 && !unit) {
+    std::map<std::tuple<int, int, int>, int> flank_ids;
+    std::map<std::pair<int, int>, int> tooth_ids;
+    std::vector<int> flank(rows), tooth(rows);
+    for (int k = 0; k < rows; ++k) {
+      const ResidualPoint& pt = residuals.points[k];
+      const int side = pt.side == FlankSide::kRight ? 1 : 0;
+      flank[k] =
+          flank_ids.try_emplace({pt.gear, pt.tooth, side}, static_cast<int>(flank_ids.size()))
+              .first->second;
+      tooth[k] = tooth_ids.try_emplace({pt.gear, pt.tooth}, static_cast<int>(tooth_ids.size()))
+                     .first->second;
+    }
+    RandomStream rng(so.seed, 0, kDiagnoseNullStream, kClusterSubIndex);
+    Eigen::VectorXd y_before(rows), y_after(rows);
+    for (int i = 0; i < rows; ++i) y_before[i] = sim_before.draw(rng);
+    for (int i = 0; i < rows; ++i) y_after[i] = sim_after.draw(rng);
+    y_after -= q_after * (q_after.transpose() * y_after);
+    const std::vector<double> before = to_vector(r), after = to_vector(r_after_c);
+    const std::vector<double> yb = to_vector(y_before), ya = to_vector(y_after);
+    int sub = kClusterSubIndex + 1;
+    for (auto [g, x, y] :
+         {std::tuple{&out.gap_before, &before, &yb}, std::tuple{&out.gap_after, &after, &ya}}) {
+      const PermutationTest test =
+          cluster_swap_energy_test(*x, *y, flank, out.null_replicates, so.seed, sub++);
+      g->energy_um = test.statistic;
+      g->energy_p = test.p_value;
+      const BootstrapInterval ci =
+          cluster_bootstrap_rms(*x, tooth, kBootstrapReplicates, so.seed, sub++);
+      g->rms_lo_um = ci.lo;
+      g->rms_hi_um = ci.hi;
     }
   }
 

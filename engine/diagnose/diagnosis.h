@@ -18,6 +18,8 @@
 //     replicate when σ itself was estimated from the residuals; with null_replicates = 0 the χ²
 //     law of Σr²/σ² and Kolmogorov's asymptotic law instead); the held-out RMS: the selected
 //     effects fitted on odd teeth and evaluated on even ones, and the other way round;
+//     the cluster-aware evidence of GapStatistics (energy test by flank swaps, RMS interval by a
+//     bootstrap over teeth), reported beside the gap tests;
 //  6. the harmonic spectrum of the residuals (orders 0–12, linear_model.h) before and after, with
 //     the 95 % quantile of each order's amplitude under the null;
 //  7. ambiguity: an effect B is reported `ambiguous_with` a selected effect A when B's columns can
@@ -96,8 +98,8 @@ struct FittedEffect {
   // and phase per lobing order: amplitude_<k>_um, phase_<k>_deg). They are increments to the
   // model's own values of that effect (the columns are first-order signatures about them).
   std::vector<FittedValue> parameters;
-  CandidateTest evidence;            // the test that selected it
-  double fitted_rms_um = 0.0;        // RMS of X_A β_A over the points
+  CandidateTest evidence;      // the test that selected it
+  double fitted_rms_um = 0.0;  // RMS of X_A β_A over the points
   // From the point-law stage (noise, step_quantization): `parameters` are the effect's own
   // values (noise: σ of the readings' whole Gaussian part; step: q), not increments.
   bool absolute = false;
@@ -112,6 +114,13 @@ struct GapStatistics {
   double ks = kNotAvailable;             // KS distance of r/σ against N(0, 1)
   double ks_p = kNotAvailable;           // from the null simulation
   double excess_rms_um = kNotAvailable;  // √max(0, Σr²/dof − σ²)
+  // Cluster-aware evidence (cluster_tests.h), reported, not part of the verdict: the energy
+  // distance between the residuals and one simulation of the (fitted) model's law at the same
+  // points — projected like the residuals — with its paired permutation p-value swapping whole
+  // flanks; and the 95 % percentile bootstrap interval of the RMS resampling whole teeth.
+  double energy_um = kNotAvailable;
+  double energy_p = kNotAvailable;
+  double rms_lo_um = kNotAvailable, rms_hi_um = kNotAvailable;
 };
 
 struct Diagnosis {

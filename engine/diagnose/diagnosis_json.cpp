@@ -28,6 +28,9 @@ Json gap_json(const GapStatistics& g) {
   j["chi2_p"] = number(g.chi2_p);
   j["dof"] = g.dof;
   j["excess_rms_um"] = number(g.excess_rms_um);
+  j["energy_um"] = number(g.energy_um);
+  j["energy_p"] = number(g.energy_p);
+  j["rms_ci95_um"] = {number(g.rms_lo_um), number(g.rms_hi_um)};
   return j;
 }
 

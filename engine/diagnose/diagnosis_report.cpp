@@ -702,6 +702,15 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
     t.rows.push_back(
         {{"KS distance to the point law", fixed(d.gap_before.ks, 4), fixed(d.gap_after.ks, 4)}});
     t.rows.push_back({{"KS p-value", p_text(d.gap_before.ks_p, k), p_text(d.gap_after.ks_p, k)}});
+    auto interval = [](const GapStatistics& g) {
+      return std::isfinite(g.rms_lo_um) ? fixed(g.rms_lo_um) + " – " + fixed(g.rms_hi_um) : "–";
+    };
+    t.rows.push_back({{"RMS 95 % interval (bootstrap over teeth), µm", interval(d.gap_before),
+                       interval(d.gap_after)}});
+    t.rows.push_back({{"energy distance to a model simulation, µm",
+                       fixed(d.gap_before.energy_um, 4), fixed(d.gap_after.energy_um, 4)}});
+    t.rows.push_back({{"energy p-value (whole flanks swapped)", p_text(d.gap_before.energy_p, k),
+                       p_text(d.gap_after.energy_p, k)}});
     report.table(t);
     std::ostringstream floor;
     floor << "Noise floor " << fixed(d.noise.sigma_um) << " µm from " << d.noise.source

@@ -328,6 +328,13 @@ TEST_P(DiagnoseHiddenEffect, NamesFitsAndClosesTheGap) {
   EXPECT_GT(d.gap_before.rms_um, 1.3 * kNoiseUm);
   EXPECT_GE(d.explained_fraction, 0.95);
   EXPECT_FALSE(d.unexplained_structure);
+  // Cluster-aware evidence: the residuals differ from a model simulation before the fit (flank
+  // swaps), not after it; the teeth bootstrap interval brackets the RMS after the fit.
+  EXPECT_LT(d.gap_before.energy_p, 0.01);
+  EXPECT_GT(d.gap_after.energy_p, 0.01);
+  EXPECT_LE(d.gap_after.rms_lo_um, d.gap_after.rms_um);
+  EXPECT_GE(d.gap_after.rms_hi_um, d.gap_after.rms_um);
+  EXPECT_LE(d.gap_after.rms_lo_um, 1.1 * kNoiseUm);
 }
 
 // Truth values from the effects' definitions: lobing p(φ) = 0.75 cos(6(φ − 90°)), so its
@@ -361,6 +368,9 @@ TEST(Diagnose, NullDatasetsNameNothing) {
     EXPECT_TRUE(d.effects.empty());
     EXPECT_FALSE(d.unexplained_structure);
     EXPECT_LE(d.gap_before.rms_um, 1.1 * kNoiseUm);
+    EXPECT_GT(d.gap_before.energy_p, 0.01) << "seed " << seed;
+    EXPECT_LE(d.gap_before.rms_lo_um, kNoiseUm * 1.02);
+    EXPECT_GE(d.gap_before.rms_hi_um, kNoiseUm * 0.98);
   }
 }
 
@@ -460,6 +470,7 @@ TEST(DiagnosePointLaw, StepQuantizationIsNamedByTheSpreadOfSingleReadings) {
   EXPECT_LE(d.held_out_rms_um, 1.1 * d.noise_floor_after_um);
   EXPECT_FALSE(d.unexplained_structure);
   EXPECT_GE(d.explained_fraction, 0.9);
+  EXPECT_GT(d.gap_after.energy_p, 0.01);  // the fitted law matches a simulation of itself
 
   std::ostringstream fitted;
   fitted << "step_quantization: {step_um: " << q.value << "}\nnoise: {sigma_um: 0.3}\n";
