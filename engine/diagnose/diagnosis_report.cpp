@@ -310,6 +310,12 @@ std::string effect_where(const FittedEffect& e, const Diagnosis& d, const Report
     if (name == "step_quantization") {
       s += ", with a flat-topped shape and a constant shift (mean residual " +
            fixed(r.mean_before) + " µm) tied to it";
+      const PointLawHypothesis* noise = st.find("noise");
+      if (noise && st.chosen > 0 && st.best().tied) {
+        s += " (a stylus radius error plus a larger noise gives the same shift and spread with "
+             "one parameter more, ΔBIC " +
+             fixed(noise->bic - st.best().bic, 0) + " worse)";
+      }
     }
     return s;
   }
@@ -877,11 +883,21 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
                 " the fit (n = " + std::to_string(r.n) + ")";
       o.x_label = "residual, µm";
       o.bars_label = which == 0 ? "before" : "after";
-      if (sigma > 0.0) {
-        o.overlay_pdf = [sigma](double x) {
-          return std::exp(-0.5 * x * x / (sigma * sigma)) / (sigma * std::sqrt(2.0 * kPi));
-        };
-        o.overlay_label = "N(0, σ²), σ = noise floor " + fixed(sigma) + " µm";
+      // The law a residual follows if the model (before) or the fitted model (after) is right:
+      // the model's per-point law (Gaussian, or with a step's flat top), centred.
+      ResidualLaw law;
+      law.sigma_um = sigma;
+      if (d.noise.law.variance_um2() > 0.0) law = residual_law(d.noise.law);
+      if (which == 1 && d.point_law.chosen > 0) {
+        law = d.point_law.best().law;
+        law.offset_um -= law.mean_um();
+      }
+      if (law.variance_um2() > 0.0) {
+        o.overlay_pdf = [law](double x) { return std::exp(law.log_density(x)); };
+        o.overlay_label = law.width_um > 0.0
+                              ? "the law of a reading: N(0, " + fixed(law.sigma_um) +
+                                    "²) with a step of " + fixed(law.width_um) + " µm, centred"
+                              : "N(0, σ²), σ = " + fixed(law.sigma_um) + " µm";
       }
       o.x_min = start;
       o.x_max = start + width * static_cast<double>(bins);

@@ -9,6 +9,7 @@
 // each assertion is deterministic (seed 1 of the simulation, seed 1 of the null simulation).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -544,7 +545,8 @@ TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
   const std::string second = diagnosis_json(diagnose(baseline(), readings));
   EXPECT_EQ(first, second);
 
-  const auto dir = std::filesystem::path(::testing::TempDir()) / "gearmc_diagnose_test";
+  const auto dir = std::filesystem::path(::testing::TempDir()) /
+                   ("gearmc_diagnose_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   write_diagnosis_json((dir / "diagnosis.json").string(), diagnose(baseline(), readings));
   std::ifstream in(dir / "diagnosis.json");
@@ -567,6 +569,17 @@ TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
   }
   EXPECT_DOUBLE_EQ(j.at("noise_floor_um").get<double>(), kNoiseUm);
   EXPECT_EQ(j.at("spectrum").at("before_um").size(), 13u);
+  // Beyond interface.md: the fitted floor, how parameters are meant, the point-law stage and the
+  // cluster-aware evidence.
+  EXPECT_DOUBLE_EQ(j.at("noise_floor_after_um").get<double>(), kNoiseUm);
+  EXPECT_EQ(e.at("parameters_are"), "increments");
+  EXPECT_TRUE(j.at("point_law").at("ran").get<bool>());
+  EXPECT_TRUE(j.at("point_law").at("chosen").is_null());
+  EXPECT_EQ(j.at("point_law").at("hypotheses").size(), 4u);
+  for (const char* gap : {"gap_before", "gap_after"}) {
+    EXPECT_TRUE(j.at(gap).at("energy_p").is_number());
+    EXPECT_EQ(j.at(gap).at("rms_ci95_um").size(), 2u);
+  }
   std::filesystem::remove_all(dir);
 }
 
