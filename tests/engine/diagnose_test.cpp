@@ -329,9 +329,11 @@ TEST_P(DiagnoseHiddenEffect, NamesFitsAndClosesTheGap) {
   EXPECT_GT(d.gap_before.rms_um, 1.3 * kNoiseUm);
   EXPECT_GE(d.explained_fraction, 0.95);
   EXPECT_FALSE(d.unexplained_structure);
-  // Cluster-aware evidence: the residuals differ from a model simulation before the fit (flank
-  // swaps), not after it; the teeth bootstrap interval brackets the RMS after the fit.
-  EXPECT_LT(d.gap_before.energy_p, 0.01);
+  // Cluster-aware evidence: after the fit the residuals do not differ from a simulation of the
+  // model (flank swaps); the teeth bootstrap interval brackets the RMS after the fit. (Before the
+  // fit the energy test compares marginal laws only: it is strong for a shift — the stylus radius
+  // case below and DiagnosePointLaw — but weak for zero-mean patterns such as drift along x,
+  // whose marginal is a slight widening: p 0.015 there, so it is not asserted for every effect.)
   EXPECT_GT(d.gap_after.energy_p, 0.01);
   EXPECT_LE(d.gap_after.rms_lo_um, d.gap_after.rms_um);
   EXPECT_GE(d.gap_after.rms_hi_um, d.gap_after.rms_um);
@@ -497,6 +499,7 @@ TEST(DiagnosePointLaw, ALargerProbingNoiseIsNamedNoise) {
 TEST(DiagnosePointLaw, AStylusRadiusErrorIsNotAmbiguousWithStepQuantization) {
   // +0.5 µm radius error: the mean −0.5 µm a 1 µm step would also give, without its spread.
   const Diagnosis d = diagnose(baseline(), hidden("stylus_radius: {error_um: 0.5}\n"));
+  EXPECT_LT(d.gap_before.energy_p, 0.01);  // a shift of 1.7 σ: the marginal laws differ
   EXPECT_EQ(d.named_effect, "stylus_radius");
   EXPECT_FALSE(contains(d.ambiguous_with, "step_quantization"));
   EXPECT_EQ(d.point_law.chosen, 0);
