@@ -52,6 +52,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   run->add_option("--only-gear", run_options.only_gear,
                   "Re-run gear K (0-based) alone, exactly as in the full run");
   run->add_flag("--quiet", run_options.quiet, "No progress bar");
+  run->add_flag("--force", run_options.force,
+                "With --points: write points.csv even when it would exceed 4 GB");
 
   ExportMeshOptions mesh_options;
   CLI::App* export_mesh = app.add_subcommand(

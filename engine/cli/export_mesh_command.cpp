@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "engine/cli/geometry_command.h"
+#include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 #include "gears/normal_expression.h"
@@ -19,6 +20,7 @@ int export_mesh_command(const ExportMeshOptions& o, std::ostream& out) {
   } catch (const MeshIoError& e) {
     throw InputError({}, "--out", o.out, "a file ending in .stl, .ply, .obj or .off");
   }
+  check_output_file(o.out, "--out");
   if (o.gear < 0) {
     throw InputError({}, "--gear", std::to_string(o.gear), "a gear index >= 0");
   }

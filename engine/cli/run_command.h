@@ -22,6 +22,7 @@ struct RunCommandOptions {
   bool points = false;
   std::optional<int> only_gear;
   bool quiet = false;
+  bool force = false;  // write points.csv even above the size limit
 };
 
 // Runs the command; throws InputError for bad input. `out` gets the terminal summary, `err`

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "engine/mc/simulate.h"
+#include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
 
 namespace gearmc {
@@ -11,10 +12,7 @@ namespace gearmc {
 int simulate_command(const SimulateCommandOptions& o, std::ostream& out) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
-  const std::filesystem::path target(o.out);
-  if (target.has_parent_path() && !std::filesystem::is_directory(target.parent_path())) {
-    throw InputError({}, "--out", o.out, "a file in an existing folder");
-  }
+  check_output_file(o.out, "--out");
   SimulateOptions options;
   options.gears = o.gears;
   options.seed = o.seed;

@@ -24,14 +24,18 @@ std::size_t flank_index(int tooth, FlankSide side) {
 
 }  // namespace
 
-ErrorStatistics::ErrorStatistics() : histogram(0.0, 0.001, 50000) {}
 void ErrorStatistics::add(double value_um) {
+  if (!std::isfinite(value_um)) {
+    ++non_finite;
+    return;
+  }
   moments.add(value_um);
   histogram.add(value_um);
 }
 void ErrorStatistics::merge(const ErrorStatistics& other) {
   moments.merge(other.moments);
   histogram.merge(other.histogram);
+  non_finite += other.non_finite;
 }
 
 void EffectTotals::merge(const EffectTotals& other) {
@@ -219,9 +223,15 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
   for (int first = 0; first < total; first += kChunk) {
     const int count = std::min(kChunk, total - first);
     std::vector<GearOutcome> outcomes(count);
+    const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
     tbb::parallel_for(0, count, [&](int c) {
+      if (cancelled()) return;
       outcomes[c] = measure_gear(indices[first + c], options.record_points);
     });
+    if (cancelled()) {
+      results.cancelled = true;
+      break;
+    }
     for (const GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
       for (int s = 0; s < 2; ++s) {
         for (double v : o.point_delta[s]) results.point[s].add(v);

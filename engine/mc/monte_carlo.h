@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -18,18 +19,20 @@
 #include "engine/probing/mesh_probe.h"
 #include "engine/probing/probing_grid.h"
 #include "engine/scenario/scenario.h"
-#include "engine/stats/histogram.h"
+#include "engine/stats/relative_histogram.h"
 #include "engine/stats/running_stats.h"
 
 namespace gearmc {
 
-// Moments and a fine histogram (1 nm bins over 0–50 µm) of one error quantity.
+// Moments and a histogram of relative resolution 2^-12 (any scale, relative_histogram.h) of one
+// error quantity. A value that is not finite is counted in `non_finite` and nowhere else (it
+// would poison the moments); the run reports such counts as a warning.
 struct ErrorStatistics {
-  ErrorStatistics();
   void add(double value_um);
   void merge(const ErrorStatistics& other);
   RunningStats moments;
-  Histogram histogram;
+  RelativeHistogram histogram;
+  std::uint64_t non_finite = 0;
 };
 
 // One probed point (interface.md points.csv): the plan, the contact and its errors.
@@ -75,6 +78,10 @@ struct RunOptions {
   std::function<void(int, int)> progress;
   // Called with each gear's outcome in gear order (e.g. to write points.csv), calling thread.
   std::function<void(const GearOutcome&)> on_gear;
+  // When set and it becomes true (e.g. from a signal handler), the run stops within about one
+  // gear's time: gears not yet started are skipped and run() returns with `cancelled` set and
+  // statistics of an unspecified part of the gears (to be discarded).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct RunResults {
@@ -84,6 +91,7 @@ struct RunResults {
   std::uint64_t contacts = 0, failed_contacts = 0, edge_contacts = 0, collisions = 0;
   int gears = 0;
   double wall_s = 0.0;
+  bool cancelled = false;
 };
 
 class MonteCarloRun {

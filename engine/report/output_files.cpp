@@ -1,11 +1,69 @@
 // All-or-nothing output files (see output_files.h).
 #include "engine/report/output_files.h"
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
 #include "engine/scenario/input_error.h"
 
 namespace gearmc {
 
 namespace fs = std::filesystem;
+
+void prepare_output_folder(const fs::path& dir, bool* created) {
+  *created = false;
+  std::error_code ec;
+  const fs::file_status status = fs::status(dir, ec);
+  if (fs::exists(status) && !fs::is_directory(status)) {
+    throw InputError({dir.string(), 0, 0}, dir.string() + ": is not a folder (output folder)");
+  }
+  if (!fs::exists(status)) {
+    *created = fs::create_directories(dir, ec);
+    if (ec) {
+      throw InputError({dir.string(), 0, 0},
+                       dir.string() + ": cannot create the output folder: " + ec.message());
+    }
+  }
+  const fs::path probe = dir / (".gearmc-write-test-" + std::to_string(::getpid()));
+  std::ofstream f(probe, std::ios::binary);
+  const int error = errno;
+  if (!f) {
+    if (*created) remove_if_empty(dir);
+    throw InputError({dir.string(), 0, 0},
+                     dir.string() + ": cannot write in the output folder: " + std::strerror(error));
+  }
+  f.close();
+  fs::remove(probe, ec);
+}
+
+void check_output_file(const fs::path& file, const std::string& option) {
+  std::error_code ec;
+  if (fs::is_directory(file, ec)) {
+    throw InputError({}, option, file.string(), "a file name, not a folder");
+  }
+  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec)) {
+    throw InputError({}, option, file.string(),
+                     "a file in an existing folder (" + parent.string() + " is not a folder)");
+  }
+  if (::access(parent.c_str(), W_OK) != 0) {
+    throw InputError(
+        {}, option, file.string(),
+        "a file in a writable folder (" + parent.string() + ": " + std::strerror(errno) + ")");
+  }
+  if (fs::exists(file, ec) && ::access(file.c_str(), W_OK) != 0) {
+    throw InputError({}, option, file.string(),
+                     "a writable file (" + std::string(std::strerror(errno)) + ")");
+  }
+}
+
+void remove_if_empty(const fs::path& dir) {
+  std::error_code ignored;
+  if (fs::is_directory(dir, ignored) && fs::is_empty(dir, ignored)) fs::remove(dir, ignored);
+}
 
 OutputFiles::OutputFiles(fs::path dir) : dir_(std::move(dir)) {}
 

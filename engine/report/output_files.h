@@ -11,6 +11,20 @@
 
 namespace gearmc {
 
+// Checks, before any work, that `dir` can hold a command's outputs: creates it (and its parents)
+// when missing — `*created` says whether this call made it, so the caller can remove it again
+// if the command fails — and proves it writable by creating and removing a probe file. Throws
+// InputError naming the folder and the system's reason (e.g. "Permission denied").
+void prepare_output_folder(const std::filesystem::path& dir, bool* created);
+
+// Checks, before any work, that `file` can be written: its folder exists and is writable, and
+// `file` is not a folder. `option` names the command-line option (e.g. "--out") in the message.
+void check_output_file(const std::filesystem::path& file, const std::string& option);
+
+// Removes `dir` if it is empty (a folder a failed or interrupted command created); errors are
+// ignored.
+void remove_if_empty(const std::filesystem::path& dir);
+
 class OutputFiles {
  public:
   // `dir` must exist.

@@ -40,9 +40,15 @@ Histogram::Histogram(double lo_um, double width_um, std::size_t bins)
   }
 }
 
-void Histogram::add(double x) {
+void Histogram::set_extremes(double min, double max) {
+  min_ = min;
+  max_ = max;
+}
+
+void Histogram::add(double x, std::uint64_t count) {
+  if (count == 0) return;
   if (std::isnan(x)) {
-    ++invalid_;
+    invalid_ += count;
     return;
   }
   if (total_ == 0) {
@@ -51,18 +57,18 @@ void Histogram::add(double x) {
     min_ = std::min(min_, x);
     max_ = std::max(max_, x);
   }
-  ++total_;
+  total_ += count;
   if (x < lo_) {
     underflow_min_ = underflow_ == 0 ? x : std::min(underflow_min_, x);
     underflow_max_ = underflow_ == 0 ? x : std::max(underflow_max_, x);
-    ++underflow_;
+    underflow_ += count;
     return;
   }
   const std::size_t bins = counts_.size();
   if (x >= edge(bins)) {
     overflow_min_ = overflow_ == 0 ? x : std::min(overflow_min_, x);
     overflow_max_ = overflow_ == 0 ? x : std::max(overflow_max_, x);
-    ++overflow_;
+    overflow_ += count;
     return;
   }
   // The division is within a few ulp of the true ratio, so the index is off by at most one;
@@ -73,7 +79,7 @@ void Histogram::add(double x) {
   } else if (i + 1 < bins && x >= edge(i + 1)) {
     ++i;
   }
-  ++counts_[i];
+  counts_[i] += count;
 }
 
 void Histogram::merge(const Histogram& other) {

@@ -30,7 +30,12 @@ class Histogram {
 
   // Adds one value (µm). +inf goes to overflow, -inf to underflow; a NaN is counted only in
   // invalid() and nowhere else.
-  void add(double x);
+  void add(double x) { add(x, 1); }
+  // Adds `count` copies of x (e.g. when re-binning a RelativeHistogram).
+  void add(double x, std::uint64_t count);
+  // Sets the overall extremes (e.g. the exact ones of the values a re-binned histogram came
+  // from); the under/overflow extremes stay as added.
+  void set_extremes(double min, double max);
 
   // Adds the counts of `other`, which must have the same lo, width and bin count (bitwise);
   // throws std::invalid_argument otherwise. Exact: the result does not depend on merge order.

@@ -8,8 +8,10 @@
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -80,7 +82,32 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
     std::ifstream f(dir / svg);
     const std::string text((std::istreambuf_iterator<char>(f)), {});
     EXPECT_NE(text.find("<svg"), std::string::npos) << svg;
-    EXPECT_NE(text.find("p99.73"), std::string::npos) << svg;
+    // 4 800 points support a p99.73 marker; 48 per-flank maxima (2 gears) do not (need 371).
+    EXPECT_EQ(text.find("p99.73") != std::string::npos, std::string(svg).rfind("point", 0) == 0)
+        << svg;
+  }
+  const auto& flank_max_left = summary["delta_rcomp_um"]["flank_max"]["left"];
+  EXPECT_TRUE(flank_max_left["p99_73"].is_null());
+  EXPECT_EQ(flank_max_left["p99_73_note"], "not enough values: n = 48, p99.73 needs at least 371");
+  EXPECT_TRUE(summary["delta_rcomp_um"]["point"]["left"]["p99_73"].is_number());
+  EXPECT_NE(r.out.find("n<371"), std::string::npos);
+  // histograms.csv: long format; the counts of each quantity and side add up to its n.
+  {
+    std::ifstream csv(dir / "histograms.csv");
+    std::string row;
+    std::getline(csv, row);
+    EXPECT_EQ(row, "quantity,side,bin_lo_um,bin_hi_um,count");
+    std::map<std::string, std::uint64_t> sums;
+    while (std::getline(csv, row)) {
+      std::vector<std::string> cells;
+      std::stringstream ss(row);
+      for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+      ASSERT_EQ(cells.size(), 5u) << row;
+      sums[cells[0] + cells[1]] += std::stoull(cells[4]);
+    }
+    EXPECT_EQ(sums["pointL"], 2u * 24 * 50);
+    EXPECT_EQ(sums["flank_maxR"], 2u * 24);
+    EXPECT_EQ(sums["flank_meanL"], 2u * 24);
   }
   std::ifstream report_file(dir / "report.html");
   const std::string report((std::istreambuf_iterator<char>(report_file)), {});
@@ -118,6 +145,106 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
     ++rows;
   }
   EXPECT_EQ(rows, 2 * 24 * 2 * 50);
+}
+
+// A scenario file in the test's temp folder.
+std::string write_scenario(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// P1's reference scenario text with `extra` appended (top-level keys) and, optionally, one
+// piece of text replaced.
+std::string reference_with(const std::string& extra, const std::string& from = "",
+                           const std::string& to = "") {
+  std::ifstream f(std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference.yaml");
+  std::stringstream text;
+  text << f.rdbuf() << "\n" << extra << "\n";
+  std::string yaml = text.str();
+  if (!from.empty()) {
+    const std::size_t at = yaml.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) yaml.replace(at, from.size(), to);
+  }
+  return yaml;
+}
+
+TEST(RunCommand, AllContactsFailingIsAnErrorWithNothingWritten) {
+  // A normal_um expression that is NaN everywhere: no contact can give a value. Before, the run
+  // printed a table of dashes and exited 0.
+  namespace fs = std::filesystem;
+  const std::string scenario =
+      write_scenario("gearmc_nan_expression.yaml",
+                     reference_with("", "deviations:\n", "deviations:\n  normal_um: \"0/0\"\n"));
+  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_nan_run";
+  fs::remove_all(dir);
+  const Result r = run_cli("run " + scenario + " --gears 1 --quiet --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("none of the 2400 contacts gave a value"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));  // the folder this run created is removed again
+}
+
+TEST(RunCommand, UnwritableOutputFolderFailsBeforeTheRun) {
+  // /proc refuses new entries even for root; the message names the folder and the reason.
+  const Result r = run_cli("run --gears 2 --quiet --out /proc/gearmc_cannot_be_here");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/proc/gearmc_cannot_be_here: cannot create the output folder"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out.find("contacts"), std::string::npos);  // the run did not start
+  const std::string file = write_scenario("gearmc_not_a_folder.txt", "x");
+  const Result f = run_cli("run --gears 2 --quiet --out " + file);
+  EXPECT_EQ(f.exit_code, 2);
+  EXPECT_NE(f.err.find("is not a folder"), std::string::npos) << f.err;
+}
+
+TEST(RunCommand, PointsAboveTheSizeLimitNeedForce) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_points_limit";
+  fs::remove_all(dir);
+  // 100 000 gears x 2 400 points x 330 B = 79 GB > 4 GB: refused up front, nothing created.
+  const Result r = run_cli("run --gears 100000 --points --quiet --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("add --force"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(RunCommand, InterruptStopsCleanlyWithExit130) {
+  // SIGINT one second into a run of 100 000 gears (about two minutes of work): exit 130, one
+  // line on stderr, no partial file and no folder left behind.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_interrupted";
+  fs::remove_all(dir);
+  const std::string err_file = testing::TempDir() + "gearmc_interrupted_err.txt";
+  const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(GEARMC_BINARY) +
+                          " run --gears 100000 --points --force --quiet --out " + dir.string() +
+                          " >/dev/null 2>" + err_file;
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  std::ifstream e(err_file);
+  const std::string err((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(err.find("interrupted after"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(RunCommand, ManyCollisionsGiveAWarning) {
+  // A 3 mm stylus in P1's tooth spaces (module 5.6) collides on part of the grid: the run still
+  // reports the other points but says how many gave no value, on stderr and in summary.json.
+  namespace fs = std::filesystem;
+  const std::string scenario = write_scenario(
+      "gearmc_big_stylus.yaml", reference_with("", "radius_mm: 0.5", "radius_mm: 3.0"));
+  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_big_stylus";
+  fs::remove_all(dir);
+  const Result r = run_cli("run " + scenario + " --gears 1 --quiet --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  const std::uint64_t bad = summary["failed_contacts"].get<std::uint64_t>() +
+                            summary["edge_contacts"].get<std::uint64_t>() +
+                            summary["collisions"].get<std::uint64_t>();
+  ASSERT_GT(100 * bad, summary["contacts"].get<std::uint64_t>()) << "needs > 1 % without value";
+  ASSERT_EQ(summary["warnings"].size(), 1u);
+  EXPECT_NE(r.err.find("gearmc: warning:"), std::string::npos) << r.err;
 }
 
 TEST(RunCommand, BadOptionsExitWithTwo) {

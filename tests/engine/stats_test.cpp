@@ -23,6 +23,8 @@
 
 #include "engine/stats/distribution_fit.h"
 #include "engine/stats/histogram.h"
+#include "engine/stats/histogram_bins.h"
+#include "engine/stats/relative_histogram.h"
 #include "engine/stats/running_stats.h"
 #include "engine/stats/stats_json.h"
 
@@ -270,32 +272,56 @@ TEST(Histogram, Csv) {
 TEST(StatsJson, KeysValuesAndOrder) {
   // Hand-computable data: 1.0, 1.5, 2.0, 2.5, 3.0: mean 2, sample std sqrt(0.625).
   RunningStats moments;
-  Histogram h(0.0, 0.001, 20000);
+  RelativeHistogram h;
   for (double x : {1.0, 1.5, 2.0, 2.5, 3.0}) {
     moments.add(x);
     h.add(x);
   }
-  const nlohmann::ordered_json j = stats_json(moments, h);
+  const HistogramBins bins{0.0, 0.1, 40};  // [0, 4) in 0.1 µm bins
+  const nlohmann::ordered_json j = stats_json(moments, h, bins);
   std::vector<std::string> keys;
   for (const auto& item : j.items()) keys.push_back(item.key());
-  EXPECT_EQ(keys,
-            (std::vector<std::string>{"n", "mean", "std", "min", "max", "mode", "p95", "p99_73"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"n", "mean", "std", "min", "max", "mode", "mode_bin_um",
+                                            "p95", "p95_note", "p99_73", "p99_73_note"}));
   EXPECT_EQ(j["n"].get<std::uint64_t>(), 5u);
   EXPECT_DOUBLE_EQ(j["mean"].get<double>(), 2.0);
   EXPECT_DOUBLE_EQ(j["std"].get<double>(), std::sqrt(0.625));
   EXPECT_EQ(j["min"].get<double>(), 1.0);
   EXPECT_EQ(j["max"].get<double>(), 3.0);
   EXPECT_NEAR(j["mode"].get<double>(), 1.05, 1e-12);  // five singletons: the lowest, [1.0, 1.1)
-  EXPECT_EQ(j["p95"].get<double>(), 3.0);             // k = ceil(4.75) = 5: the max, exact
-  EXPECT_EQ(j["p99_73"].get<double>(), 3.0);          // k = 5
+  EXPECT_EQ(j["mode_bin_um"].get<double>(), 0.1);
+  // 5 values cannot support p95 (needs n (1 - p) >= 1: 20 values) nor p99.73 (371): null with
+  // a note, not the maximum in disguise.
+  EXPECT_TRUE(j["p95"].is_null());
+  EXPECT_EQ(j["p95_note"].get<std::string>(), "not enough values: n = 5, p95 needs at least 20");
+  EXPECT_TRUE(j["p99_73"].is_null());
+  EXPECT_EQ(j["p99_73_note"].get<std::string>(),
+            "not enough values: n = 5, p99.73 needs at least 371");
 
-  const nlohmann::ordered_json empty = stats_json(RunningStats{}, Histogram(0.0, 0.001, 20000));
-  EXPECT_EQ(empty.dump(),
-            R"({"n":0,"mean":null,"std":null,"min":null,"max":null,"mode":null,"p95":null,)"
-            R"("p99_73":null})");
+  const nlohmann::ordered_json empty = stats_json(RunningStats{}, RelativeHistogram{}, bins);
+  EXPECT_EQ(empty.dump(), R"({"n":0,"mean":null,"std":null,"min":null,"max":null,"mode":null,)"
+                          R"("mode_bin_um":0.1,"p95":null,"p99_73":null})");
   RunningStats one;
   one.add(1.0);
-  EXPECT_THROW(stats_json(one, Histogram(0.0, 0.001, 20000)), std::invalid_argument);
+  EXPECT_THROW(stats_json(one, RelativeHistogram{}, bins), std::invalid_argument);
+}
+
+TEST(StatsJson, QuantilesOnceThereAreEnoughValues) {
+  // 371 values 1, 2, ..., 371: p99.73 is x_(k), k = ceil(0.9973 * 371) = ceil(369.998) = 370
+  // (Hyndman & Fan definition 1) — supported since 371 (1 - 0.9973) = 1.0017 >= 1; p95:
+  // k = ceil(352.45) = 353. An integer below 512 is a bucket edge (bucket width 2^(8 - 12) = 1/16
+  // in [256, 512)), so the returned upper edge of x's bucket is x + 1/16: 353.0625 and 370.0625.
+  RunningStats moments;
+  RelativeHistogram h;
+  for (int i = 1; i <= 371; ++i) {
+    moments.add(i);
+    h.add(i);
+  }
+  const nlohmann::ordered_json j = stats_json(moments, h, HistogramBins{0.0, 10.0, 38});
+  EXPECT_DOUBLE_EQ(j["p95"].get<double>(), 353.0625);
+  EXPECT_DOUBLE_EQ(j["p99_73"].get<double>(), 370.0625);
+  EXPECT_FALSE(j.contains("p95_note"));
+  EXPECT_FALSE(j.contains("p99_73_note"));
 }
 
 // ---------------------------------------------------------------------------------------------
