@@ -388,9 +388,9 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
   if (is_p1_setup(scenario)) {
     // P1 Table 2: per-flank value, 50 gears; E = most probable value.
     table.rows.push_back(
-        {{"P1 Table 2, left", "1200", "", "0.6", "0.7", "1.6", "", "", "3.4"}, true});
+        {{"P1 Table 2, left", "1200", "1.6", "0.6", "0.7", "", "", "", "3.4"}, true});
     table.rows.push_back(
-        {{"P1 Table 2, right", "1200", "", "0.6", "0.7", "1.6", "", "", "3.2"}, true});
+        {{"P1 Table 2, right", "1200", "1.6", "0.6", "0.7", "", "", "", "3.2"}, true});
   }
   report.table(table);
   if (!scenario.effects->empty()) {

@@ -31,6 +31,14 @@ double nice_width_at_least(double x) {
   return 10.0 * decade;
 }
 
+double nice_width_nearest(double x) {
+  const double up = nice_width_at_least(x);
+  // The next smaller nice width: 5 -> 2, 2 -> 1, 1 -> 0.5 of the decade.
+  const double mantissa = up / std::pow(10.0, std::floor(std::log10(up) + 1e-12));
+  const double down = up * (mantissa > 4.0 ? 0.4 : 0.5);
+  return x / down < up / x ? down : up;
+}
+
 HistogramBins freedman_diaconis_bins(const std::vector<const RelativeHistogram*>& data,
                                      std::size_t max_bins) {
   RelativeHistogram all;
@@ -58,8 +66,10 @@ HistogramBins freedman_diaconis_bins(const std::vector<const RelativeHistogram*>
     const double magnitude = std::max(std::abs(lo), std::abs(hi));
     width = magnitude > 0.0 ? magnitude / 256.0 : 1e-3;
   }
-  width = std::max({width, floor_width(lo, hi), (hi - lo) / static_cast<double>(max_bins)});
-  width = nice_width_at_least(width);
+  width = nice_width_nearest(width);
+  // The floors are hard: never finer than four buckets, never more than max_bins bins.
+  const double least = std::max(floor_width(lo, hi), (hi - lo) / static_cast<double>(max_bins));
+  if (width < least) width = nice_width_at_least(least);
   bins.width = width;
   bins.lo = std::floor(lo / width) * width;
   // Cover hi itself (bins are half-open).

@@ -1,7 +1,7 @@
 // Bins chosen from the data, for the pictures, the CSV counts, the mode and the law fits of a
 // run: the Freedman–Diaconis width 2·IQR·n^(-1/3) (Freedman & Diaconis, "On the histogram as a
 // density estimator: L2 theory", Z. Wahrscheinlichkeitstheorie verw. Gebiete 57, 1981), rounded
-// up to 1, 2 or 5 × 10^k, over the range of the data, shared by every histogram passed in (so
+// to the nearest (in ratio) of 1, 2 or 5 × 10^k, over the range of the data, shared by every histogram passed in (so
 // the left and right flanks are drawn on the same bins). A width is never finer than 2^-10 of
 // the largest magnitude, so every bin spans at least four buckets of a RelativeHistogram (whose
 // buckets are 2^-12 of their value wide) and re-binning by bucket centres is faithful. When the
@@ -28,6 +28,8 @@ struct HistogramBins {
 
 // The smallest of 1, 2, 5 × 10^k that is >= x (x > 0, finite).
 double nice_width_at_least(double x);
+// The one of 1, 2, 5 × 10^k nearest to x in ratio (x > 0, finite); ties go up.
+double nice_width_nearest(double x);
 
 // Freedman–Diaconis bins for the union of `data` (null entries and empty histograms are
 // ignored; with no value at all: one bin [0, 1)). A zero IQR (most values equal) falls back to

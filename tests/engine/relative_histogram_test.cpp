@@ -190,17 +190,25 @@ TEST(HistogramBins, NiceWidths) {
   EXPECT_DOUBLE_EQ(nice_width_at_least(3.0), 5.0);
   EXPECT_DOUBLE_EQ(nice_width_at_least(6.0), 10.0);
   EXPECT_DOUBLE_EQ(nice_width_at_least(1e-4), 1e-4);
+  // Nearest in ratio: 0.13 is 1.3x above 0.1 and 1.54x below 0.2; 0.16 is 1.6x and 1.25x.
+  EXPECT_DOUBLE_EQ(nice_width_nearest(0.13), 0.1);
+  EXPECT_DOUBLE_EQ(nice_width_nearest(0.16), 0.2);
+  EXPECT_DOUBLE_EQ(nice_width_nearest(3.0), 2.0);   // 1.5x above 2, 1.67x below 5
+  EXPECT_DOUBLE_EQ(nice_width_nearest(3.3), 5.0);   // 1.65x above 2, 1.52x below 5
+  EXPECT_DOUBLE_EQ(nice_width_nearest(8.0), 10.0);  // 1.6x above 5, 1.25x below 10
+  EXPECT_DOUBLE_EQ(nice_width_nearest(0.002), 0.002);
 }
 
 TEST(HistogramBins, FreedmanDiaconisOnNormalDataSharedByTwoHistograms) {
-  // N(5, 1), n = 2 x 5000: IQR = 1.349 (2 Φ^-1(0.75)), FD = 2 IQR n^(-1/3) = 2.698 / 21.54 =
-  // 0.125 -> the next nice width 0.2. Sampling noise moves IQR by ~2 %, not across 0.1 or 0.2.
+  // N(5, 1) and N(5.5, 1), 5000 each: the union has sd sqrt(1 + 0.25^2) = 1.03 and IQR about
+  // 1.349 x 1.03 = 1.39; FD = 2 IQR n^(-1/3) = 2.78 / 21.54 = 0.129 -> the nearest nice width
+  // 0.1 (0.129 is 1.29x above 0.1, 1.55x below 0.2; sampling noise moves the IQR ~2 %).
   std::mt19937_64 rng(18);
   std::normal_distribution<double> law(5.0, 1.0);
   RelativeHistogram left, right;
   for (int i = 0; i < 5000; ++i) left.add(law(rng)), right.add(law(rng) + 0.5);
   const HistogramBins bins = freedman_diaconis_bins({&left, &right});
-  EXPECT_DOUBLE_EQ(bins.width, 0.2);
+  EXPECT_DOUBLE_EQ(bins.width, 0.1);
   EXPECT_FALSE(bins.clipped);
   EXPECT_LE(bins.lo, std::min(left.min(), right.min()));
   EXPECT_GT(bins.lo + bins.width * static_cast<double>(bins.count),
