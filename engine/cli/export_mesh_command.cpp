@@ -15,12 +15,12 @@ namespace gearmc {
 int export_mesh_command(const ExportMeshOptions& o, std::ostream& out) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  check_output_file(o.out, "--out");
   try {
     (void)mesh_format_of(o.out);
   } catch (const MeshIoError& e) {
     throw InputError({}, "--out", o.out, "a file ending in .stl, .ply, .obj or .off");
   }
-  check_output_file(o.out, "--out");
   if (o.gear < 0) {
     throw InputError({}, "--gear", std::to_string(o.gear), "a gear index >= 0");
   }

@@ -1,6 +1,7 @@
 // All-or-nothing output files (see output_files.h).
 #include "engine/report/output_files.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -49,15 +50,17 @@ void check_output_file(const fs::path& file, const std::string& option) {
     throw InputError({}, option, file.string(),
                      "a file in an existing folder (" + parent.string() + " is not a folder)");
   }
-  if (::access(parent.c_str(), W_OK) != 0) {
-    throw InputError(
-        {}, option, file.string(),
-        "a file in a writable folder (" + parent.string() + ": " + std::strerror(errno) + ")");
-  }
-  if (fs::exists(file, ec) && ::access(file.c_str(), W_OK) != 0) {
+  // Prove it by opening the file for writing (without truncating it), and remove it again if
+  // this check created it; permission bits alone say nothing for root or read-only mounts.
+  const bool existed = fs::exists(file, ec);
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    const int error = errno;
     throw InputError({}, option, file.string(),
-                     "a writable file (" + std::string(std::strerror(errno)) + ")");
+                     "a file that can be written (" + std::string(std::strerror(error)) + ")");
   }
+  ::close(fd);
+  if (!existed) fs::remove(file, ec);
 }
 
 void remove_if_empty(const fs::path& dir) {

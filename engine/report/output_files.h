@@ -18,7 +18,8 @@ namespace gearmc {
 void prepare_output_folder(const std::filesystem::path& dir, bool* created);
 
 // Checks, before any work, that `file` can be written: its folder exists and is writable, and
-// `file` is not a folder. `option` names the command-line option (e.g. "--out") in the message.
+// `file` is not a folder and can be opened for writing (tried, and removed again if it did not
+// exist). `option` names the command-line option (e.g. "--out") in the message.
 void check_output_file(const std::filesystem::path& file, const std::string& option);
 
 // Removes `dir` if it is empty (a folder a failed or interrupted command created); errors are

@@ -99,4 +99,25 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   EXPECT_EQ(run("export-mesh --gear 2").exit_code, 2);  // --out is required
 }
 
+TEST(Cli, OutputFilesThatCannotBeWrittenAreBadInputNamedBeforeTheWork) {
+  // Before: `simulate` to a folder or an unwritable path said "internal error" (exit 1) after
+  // the work, and export-mesh reported a refused path as "No such file or directory". /proc
+  // refuses new files even for root (tests may run as root, so file modes prove nothing).
+  const std::string folder = testing::TempDir();
+  for (const std::string& command :
+       {std::string("simulate --out "), std::string("export-mesh --gear 0 --out ")}) {
+    const std::string file_ext = command.rfind("simulate", 0) == 0 ? ".csv" : ".stl";
+    const Result to_folder = run(command + folder);
+    EXPECT_EQ(to_folder.exit_code, 2) << command << to_folder.err;
+    EXPECT_NE(to_folder.err.find("not a folder"), std::string::npos) << to_folder.err;
+    const Result missing = run(command + "/nonexistent-folder/x" + file_ext);
+    EXPECT_EQ(missing.exit_code, 2) << command << missing.err;
+    EXPECT_NE(missing.err.find("existing folder"), std::string::npos) << missing.err;
+    const Result refused = run(command + "/proc/gearmc-x" + file_ext);
+    EXPECT_EQ(refused.exit_code, 2) << command << refused.err;
+    EXPECT_EQ(refused.err.find("internal error"), std::string::npos) << refused.err;
+    EXPECT_TRUE(refused.out.empty()) << refused.out;  // nothing was computed
+  }
+}
+
 }  // namespace
