@@ -4,15 +4,19 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iostream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "engine/cli/diagnose_command.h"
 #include "engine/cli/export_mesh_command.h"
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
 #include "engine/cli/simulate_command.h"
+#include "engine/report/provenance.h"
+#include "engine/report/version.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
@@ -23,17 +27,73 @@ Scenario load_or_reference(const std::string& path) {
   return path.empty() ? reference_scenario() : load_scenario_file(path);
 }
 
+// The subcommand CLI11 was parsing when it stopped (the last one parsed), or null.
+const CLI::App* parsed_subcommand(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->parsed()) return sub;
+  }
+  return nullptr;
+}
+
+std::string help_command(const CLI::App& app) {
+  const CLI::App* sub = parsed_subcommand(app);
+  return sub ? "gearmc " + sub->get_name() + " --help" : "gearmc --help";
+}
+
+std::string help_of(const CLI::App& app, int, const char* const*) {
+  const CLI::App* sub = parsed_subcommand(app);
+  return sub ? sub->help() : app.help();
+}
+
+// "; did you mean 'X'?" for a mistyped subcommand or option, else "".
+std::string suggestion(const CLI::App& app, int argc, const char* const* argv) {
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands({})) commands.push_back(sub->get_name());
+  const CLI::App* sub = parsed_subcommand(app);
+  if (sub == nullptr) {
+    // The first word that is not an option should have been a command.
+    for (int i = 1; i < argc; ++i) {
+      const std::string word = argv[i];
+      if (word.rfind("-", 0) == 0) continue;
+      const std::string hint = did_you_mean(word, commands);
+      return hint.empty() ? "" : "; did you mean '" + hint + "'?";
+    }
+    return "";
+  }
+  std::vector<std::string> options;
+  for (const CLI::Option* o : sub->get_options()) {
+    for (const std::string& name : o->get_lnames()) options.push_back("--" + name);
+  }
+  for (int i = 1; i < argc; ++i) {
+    std::string word = argv[i];
+    if (word.rfind("--", 0) != 0) continue;
+    word = word.substr(0, word.find('='));
+    if (std::find(options.begin(), options.end(), word) != options.end()) continue;
+    const std::string hint = did_you_mean(word, options);
+    if (!hint.empty()) return "; did you mean '" + hint + "'?";
+  }
+  return "";
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
-  CLI::App app{
-      "gearmc — Monte-Carlo prediction of CMM measurement accuracy on involute spur gears"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "gearmc 0.1.0");
+  CLI::App app{"gearmc — Monte-Carlo prediction of CMM measurement accuracy on involute spur gears",
+               "gearmc"};
+  app.require_subcommand(0, 1);
+  app.set_version_flag("--version", gearmc_version_line());
+  app.footer(
+      "Examples:\n"
+      "  gearmc run                                   P1's reference gear, 50 gears\n"
+      "  gearmc run scenarios/p1_iso_class8.yaml --gears 500 --seed 7\n"
+      "  gearmc diagnose --model model.yaml --measured readings.csv --out results/diag\n"
+      "Run 'gearmc COMMAND --help' for a command's options.");
+  app.add_subcommand("help", "Print this help");
 
   std::string geometry_scenario;
   CLI::App* geometry =
       app.add_subcommand("geometry", "Print the nominal geometry and resolved tolerances as JSON");
+  geometry->footer("Example:\n  gearmc geometry scenarios/p1_iso_class8.yaml");
   geometry->add_option("SCENARIO", geometry_scenario,
                        "Scenario file (default: the built-in reference, P1's gear)");
 
@@ -42,6 +102,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "run", "Monte-Carlo batch: perturbed gears, probing grid, contact, δRcomp statistics");
   run->add_option("SCENARIO", run_options.scenario_path,
                   "Scenario file (default: the built-in reference, P1's gear)");
+  run->footer(
+      "Example:\n  gearmc run scenarios/p1_iso_class8.yaml --gears 500 --seed 7 --out results/c8");
   run->add_option("--out", run_options.out_dir, "Output folder (default results/<scenario>)");
   run->add_option("--gears", run_options.gears, "Number of gears (overrides run.gears)")
       ->check(CLI::Range(1, 100000000));
@@ -58,6 +120,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   ExportMeshOptions mesh_options;
   CLI::App* export_mesh = app.add_subcommand(
       "export-mesh", "Write perturbed gear K as a triangle mesh (STL, PLY, OBJ or OFF)");
+  export_mesh->footer("Example:\n  gearmc export-mesh --gear 17 --out gear17.stl");
   export_mesh->add_option("SCENARIO", mesh_options.scenario_path,
                           "Scenario file (default: the built-in reference)");
   export_mesh->add_option("--gear", mesh_options.gear, "Gear index K (0-based, as in run)");
@@ -75,6 +138,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   SimulateCommandOptions simulate_options;
   CLI::App* simulate = app.add_subcommand(
       "simulate", "Simulated CMM readings of the scenario's gears with its effects (readings CSV)");
+  simulate->footer(
+      "Example:\n  gearmc simulate scenarios/diagnose/lobing_truth.yaml --master --out lobing.csv");
   simulate->add_option("SCENARIO", simulate_options.scenario_path,
                        "Scenario file (default: the built-in reference)");
   simulate->add_option("--out", simulate_options.out, "Readings file to write (.csv)")->required();
@@ -91,6 +156,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "diagnose",
       "Find where model and measurement disagree, name the missing effect, fit it, write the "
       "extended scenario and a report");
+  diagnose->footer(
+      "Example:\n  gearmc diagnose --model scenarios/diagnose/lobing_model.yaml --measured "
+      "lobing.csv --out results/diagnose_lobing");
   diagnose->add_option("--model", diagnose_options.model_path, "Model scenario file")->required();
   diagnose->add_option("--measured", diagnose_options.measured_path, "Readings CSV (measured)")
       ->required();
@@ -107,21 +175,27 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                      "Predict on the model's perturbed gears (same seed) instead of its nominal "
                      "master (only for readings simulated from the same gear model)");
 
+  run_options.command_line = command_line_text(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    out << app.help();
+    out << help_of(app, argc, argv);
     return 0;
   } catch (const CLI::CallForAllHelp& e) {
     out << app.help("", CLI::AppFormatMode::All);
     return 0;
   } catch (const CLI::CallForVersion& e) {
-    out << "gearmc 0.1.0\n";
+    out << gearmc_version_line() << "\n";
     return 0;
   } catch (const CLI::ParseError& e) {
-    err << "gearmc: " << e.what() << "\n"
-        << "Run 'gearmc --help' for the commands.\n";
+    err << "gearmc: " << e.what() << suggestion(app, argc, argv) << "\n"
+        << "Run '" << help_command(app) << "' for the options.\n";
     return 2;
+  }
+  if (app.get_subcommands().empty() || app.got_subcommand("help")) {
+    // The top-level help itself (App::help() would show the `help` subcommand's).
+    out << app.get_formatter()->make_help(&app, "gearmc", CLI::AppFormatMode::Normal);
+    return 0;
   }
 
   try {

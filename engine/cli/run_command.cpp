@@ -134,6 +134,10 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   if (o.points) {
     points_file = files.open("points.csv");
     points_file << std::setprecision(17);
+    points_file << "# "
+                << provenance_line(
+                       make_provenance(o.command_line, scenario.source_path, scenario.source_text))
+                << "\n";
     points_file << "gear,tooth,flank,i,j,px,py,pz,nx,ny,nz,cx,cy,cz,ox,oy,oz,ex,ey,ez,delta_um,"
                    "normal_err_um,status\n";
   }
@@ -187,7 +191,8 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
     throw InputError({scenario.source_path, 0, 0}, msg.str());
   }
 
-  const RunPresentation view = present_run(r);
+  const RunPresentation view =
+      present_run(r, make_provenance(o.command_line, scenario.source_path, scenario.source_text));
   files.write("summary.json", run_summary_json(scenario, mc, r, view, o.only_gear).dump(2) + "\n");
   files.write("histograms.csv", run_histograms_csv(r, view));
   const std::vector<RunFigure> figures = run_figures(scenario, r, view);

@@ -23,6 +23,7 @@ struct RunCommandOptions {
   std::optional<int> only_gear;
   bool quiet = false;
   bool force = false;  // write points.csv even above the size limit
+  std::string command_line;  // as typed, for the outputs' provenance
 };
 
 // Runs the command; throws InputError for bad input. `out` gets the terminal summary, `err`

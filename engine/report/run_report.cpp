@@ -166,8 +166,9 @@ const ErrorStatistics& run_statistics(const RunResults& r, RunQuantity q, int s)
   }
 }
 
-RunPresentation present_run(const RunResults& r) {
+RunPresentation present_run(const RunResults& r, Provenance provenance) {
   RunPresentation view;
+  view.provenance = std::move(provenance);
   for (int q = 0; q < kRunQuantities; ++q) {
     const auto quantity = static_cast<RunQuantity>(q);
     view.bins[q] = freedman_diaconis_bins(
@@ -217,6 +218,7 @@ nlohmann::ordered_json run_summary_json(const Scenario& scenario, const MonteCar
                                         const RunResults& r, const RunPresentation& view,
                                         std::optional<int> only_gear) {
   nlohmann::ordered_json summary;
+  summary["provenance"] = provenance_json(view.provenance);
   summary["scenario"] = scenario.name;
   summary["source"] = scenario.source_path;
   summary["gears"] = r.gears;
@@ -290,6 +292,7 @@ std::string run_histograms_csv(const RunResults& r, const RunPresentation& view)
                                                     "total_abs"};
   std::ostringstream csv;
   csv << std::setprecision(17);
+  csv << "# " << provenance_line(view.provenance) << "\n";
   csv << "quantity,side,bin_lo_um,bin_hi_um,count\n";
   for (int q = 0; q < kRunQuantities; ++q) {
     for (int s = 0; s < 2; ++s) {
@@ -460,6 +463,7 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
   }
   report.table(fit_table);
   report.preformatted(scenario.source_text, "Scenario (" + scenario.source_path + ")");
+  report.paragraph("Made by " + provenance_line(view.provenance) + ".");
   return report.html();
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/mc/monte_carlo.h"
+#include "engine/report/provenance.h"
 #include "engine/stats/distribution_fit.h"
 #include "engine/stats/histogram_bins.h"
 
@@ -36,6 +37,7 @@ struct LawVerdict {
 enum RunQuantity { kPointDelta, kFlankMax, kFlankMean, kTotalAbs, kRunQuantities };
 
 struct RunPresentation {
+  Provenance provenance;               // what made these outputs
   HistogramBins bins[kRunQuantities];  // shared by left and right
   LawVerdict laws[2];                  // per-flank maximum, [0] L, [1] R
   std::vector<std::string> warnings;   // also printed on the terminal
@@ -45,7 +47,7 @@ struct RunPresentation {
 const ErrorStatistics& run_statistics(const RunResults& r, RunQuantity q, int s);
 
 // Bins, law fits and warnings for the run (the fits cost ~0.1 s per side).
-RunPresentation present_run(const RunResults& r);
+RunPresentation present_run(const RunResults& r, Provenance provenance);
 
 // Warnings about contacts that gave no value and values that were not finite; empty when
 // there is nothing to say. Throws nothing: the caller decides what is fatal.

@@ -2,6 +2,7 @@
 // scenario (P1's Table 1 and tolerances) and one clear message for bad input.
 #include <gtest/gtest.h>
 
+#include "engine/report/provenance.h"
 #include "tests/support/run_gearmc.h"
 
 #include <nlohmann/json.hpp>
@@ -68,6 +69,38 @@ TEST(Cli, BadInputExitsWithTwoAndOneMessage) {
   EXPECT_EQ(run("no-such-command").exit_code, 2);
   EXPECT_EQ(run("geometry a.yaml b.yaml").exit_code, 2);
   EXPECT_EQ(run("--help").exit_code, 0);
+}
+
+TEST(Cli, HelpVersionAndSuggestions) {
+  // `gearmc` alone and `gearmc help` print the help (exit 0), as --help does.
+  const Result bare = run("");
+  EXPECT_EQ(bare.exit_code, 0);
+  EXPECT_NE(bare.out.find("Usage: gearmc"), std::string::npos) << bare.out;
+  EXPECT_EQ(run("help").out, bare.out);
+  // --version: the CMake project version and the build's git commit.
+  const Result version = run("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.out.rfind("gearmc 0.1.0 (git ", 0), 0u) << version.out;
+  // A mistyped command or option: exit 2, a suggestion, and where the help is.
+  const Result command = run("rnu");
+  EXPECT_EQ(command.exit_code, 2);
+  EXPECT_NE(command.err.find("did you mean 'run'?"), std::string::npos) << command.err;
+  const Result option = run("run --gaers 3");
+  EXPECT_EQ(option.exit_code, 2);
+  EXPECT_NE(option.err.find("did you mean '--gears'?"), std::string::npos) << option.err;
+  EXPECT_NE(option.err.find("gearmc run --help"), std::string::npos) << option.err;
+  // Each command's help has an example.
+  EXPECT_NE(run("run --help").out.find("Example:"), std::string::npos);
+}
+
+TEST(Cli, FingerprintAndCommandLineText) {
+  // FNV-1a 64 test vectors (draft-eastlake-fnv, and the reference implementation's table):
+  // "" -> cbf29ce484222325, "a" -> af63dc4c8601ec8c, "foobar" -> 85944171f73967e8.
+  EXPECT_EQ(gearmc::fnv1a64_text(""), "fnv1a64:cbf29ce484222325");
+  EXPECT_EQ(gearmc::fnv1a64_text("a"), "fnv1a64:af63dc4c8601ec8c");
+  EXPECT_EQ(gearmc::fnv1a64_text("foobar"), "fnv1a64:85944171f73967e8");
+  const char* argv[] = {"gearmc", "run", "my file.yaml", "--out", "it's"};
+  EXPECT_EQ(gearmc::command_line_text(5, argv), "gearmc run 'my file.yaml' --out 'it'\\''s'");
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "engine/mc/monte_carlo.h"
+#include "engine/report/provenance.h"
 #include "tests/support/run_compare.h"
 #include "tests/support/run_gearmc.h"
 
@@ -90,11 +91,26 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   EXPECT_TRUE(flank_max_left["p99_73"].is_null());
   EXPECT_EQ(flank_max_left["p99_73_note"], "not enough values: n = 48, p99.73 needs at least 371");
   EXPECT_TRUE(summary["delta_rcomp_um"]["point"]["left"]["p99_73"].is_number());
+  // Provenance: this build's version, the command line as typed, the built-in scenario's
+  // fingerprint (FNV-1a of its text, recomputed here from the file it is compiled from).
+  const auto& made = summary["provenance"];
+  EXPECT_EQ(made["gearmc"], "0.1.0");
+  EXPECT_FALSE(made["git"].get<std::string>().empty());
+  EXPECT_NE(made["command"].get<std::string>().find("run --gears 2 --points --quiet --out"),
+            std::string::npos);
+  EXPECT_EQ(made["created_utc"].get<std::string>().size(), 20u);  // 2026-11-22T20:55:00Z
+  {
+    std::ifstream f(std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference.yaml");
+    const std::string text((std::istreambuf_iterator<char>(f)), {});
+    EXPECT_EQ(made["input_hash"], fnv1a64_text(text));
+  }
   EXPECT_NE(r.out.find("n<371"), std::string::npos);
   // histograms.csv: long format; the counts of each quantity and side add up to its n.
   {
     std::ifstream csv(dir / "histograms.csv");
     std::string row;
+    std::getline(csv, row);
+    EXPECT_EQ(row.rfind("# gearmc ", 0), 0u) << row;
     std::getline(csv, row);
     EXPECT_EQ(row, "quantity,side,bin_lo_um,bin_hi_um,count");
     std::map<std::string, std::uint64_t> sums;
@@ -121,6 +137,9 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   // points.csv: |C - O| = R (0.5 mm), delta = |C - E| with E = O - R n, normal_err = (E - C).n
   std::ifstream points(dir / "points.csv");
   std::string line;
+  std::getline(points, line);
+  EXPECT_EQ(line.rfind("# gearmc ", 0), 0u) << line;  // provenance first
+  EXPECT_NE(line.find("command: "), std::string::npos) << line;
   std::getline(points, line);
   EXPECT_EQ(line.rfind("gear,tooth,flank,i,j,px,py,pz,nx,ny,nz,cx,cy,cz,ox,oy,oz,ex,ey,ez,delta_um,"
                        "normal_err_um",

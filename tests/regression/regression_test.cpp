@@ -46,9 +46,10 @@ std::vector<std::string> scenario_stems() {
   return stems;
 }
 
-// summary.json without what changes from run to run (timing) or from machine to machine (paths).
+// summary.json without what changes from run to run (timing, provenance: date, command, build
+// commit) or from machine to machine (paths).
 ordered_json regression_view(ordered_json summary) {
-  for (const char* key : {"wall_s", "contacts_per_s", "source"}) summary.erase(key);
+  for (const char* key : {"wall_s", "contacts_per_s", "source", "provenance"}) summary.erase(key);
   return summary;
 }
 

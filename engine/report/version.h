@@ -1,0 +1,15 @@
+// The version of this gearmc build: CMake's project(VERSION) and the git commit the build was
+// made from (written at build time by engine/report/version.cmake; "unknown" outside a git
+// checkout, with "-dirty" when the work tree had uncommitted changes).
+#pragma once
+
+#include <string>
+
+namespace gearmc {
+
+std::string gearmc_version();   // e.g. "0.1.0"
+std::string gearmc_git_hash();  // e.g. "163c6ed2a1b4" or "163c6ed2a1b4-dirty" or "unknown"
+// "gearmc 0.1.0 (git 163c6ed2a1b4)"
+std::string gearmc_version_line();
+
+}  // namespace gearmc
