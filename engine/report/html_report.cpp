@@ -22,7 +22,14 @@ th, td { border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: right; }
 th { background: #f0f0f0; }
 th:first-child, td:first-child { text-align: left; }
 tr.highlight td { background: #fff4d6; }
-figure { margin: 1.2em 0; }
+figure { margin: 1.2em 0; break-inside: avoid; }
+figure svg { max-width: 100%; height: auto; }
+.figure-row { display: flex; flex-wrap: wrap; gap: 0 1.5em; }
+.figure-row figure { flex: 1 1 420px; min-width: 0; }
+table { break-inside: avoid; }
+h2, h3, h4, caption, .pre-caption { break-after: avoid; }
+@media print { body { max-width: none; margin: 0; font-size: 10pt; }
+  pre { white-space: pre-wrap; } }
 figcaption { font-size: 0.9em; color: #444; margin-top: 0.3em; }
 pre { background: #f6f6f6; border: 1px solid #ddd; padding: 0.8em; overflow-x: auto;
   font-size: 0.85em; }
@@ -67,6 +74,14 @@ HtmlReport& HtmlReport::figure(std::string_view svg, std::string_view caption) {
   body_ += svg;
   if (!caption.empty()) body_ += "<figcaption>" + escape_xml(caption) + "</figcaption>\n";
   body_ += "</figure>\n";
+  return *this;
+}
+
+HtmlReport& HtmlReport::figure_row(
+    const std::vector<std::pair<std::string, std::string>>& figures) {
+  body_ += "<div class=\"figure-row\">\n";
+  for (const auto& [svg, caption] : figures) figure(svg, caption);
+  body_ += "</div>\n";
   return *this;
 }
 

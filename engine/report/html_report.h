@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace gearmc {
@@ -34,6 +35,9 @@ class HtmlReport {
   HtmlReport& table(const HtmlTable& table);
   // `svg` from svg_plot.h, inlined verbatim; `caption` escaped.
   HtmlReport& figure(std::string_view svg, std::string_view caption);
+  // Figures side by side (e.g. left and right flanks), wrapping onto new lines on a narrow
+  // window; each (svg, caption).
+  HtmlReport& figure_row(const std::vector<std::pair<std::string, std::string>>& figures);
   // A <pre> block, e.g. the scenario file; `caption` (optional) above it.
   HtmlReport& preformatted(std::string_view text, std::string_view caption = "");
 

@@ -68,6 +68,7 @@ std::string run_histograms_csv(const RunResults& r, const RunPresentation& view)
 struct RunFigure {
   std::string file;  // e.g. "flank_max_left.svg"
   std::string svg, caption;
+  int row = 0;  // figures with the same row are shown side by side
 };
 std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r,
                                    const RunPresentation& view);

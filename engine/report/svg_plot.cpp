@@ -301,6 +301,7 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
       }
     }
   }
+  if (options.y_max && *options.y_max > 0.0) y_top = *options.y_max;
   const Ticks yt = loose_ticks(0.0, y_top > 0 ? y_top : 1.0, 6);
   const Frame f = make_frame(options.width_px, options.height_px, x_lo, x_hi, 0.0, yt.hi);
   const Ticks xt = loose_ticks(x_lo, x_hi);
@@ -335,6 +336,42 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
   if (!options.bars_label.empty()) legend.push_back({options.bars_label, kPalette[0], false});
   if (options.overlay_pdf) legend.push_back({options.overlay_label, kPalette[1], true});
   draw_header(svg, options.width_px, options.title, legend, note);
+  return svg.finish();
+}
+
+std::string bar_chart_svg(const std::vector<std::string>& labels, const std::vector<double>& values,
+                          const BarChartOptions& options) {
+  constexpr double kRowHeight = 26.0, kTop = 44.0;
+  const std::size_t n = std::min(labels.size(), values.size());
+  double label_width = 0.0, top = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    label_width = std::max(label_width, text_width(labels[i]));
+    if (std::isfinite(values[i])) top = std::max(top, values[i]);
+  }
+  const int height = static_cast<int>(kTop + kRowHeight * static_cast<double>(n) + 50.0);
+  const Ticks xt = loose_ticks(0.0, top > 0 ? top : 1.0, 6);
+  Frame f{label_width + 16.0, kTop, options.width_px - 40.0, height - 50.0, 0.0, xt.hi, 0.0, 1.0};
+  Svg svg(options.width_px, height);
+  for (double v : tick_values(xt, f.x_lo, f.x_hi)) {
+    const double x = f.to_x(v);
+    svg.line(x, f.top, x, f.bottom, kGridColour);
+    svg.text(x, f.bottom + 18, fixed(v, xt.decimals), "middle");
+  }
+  svg.line(f.left, f.bottom, f.right, f.bottom, kAxisColour);
+  svg.line(f.left, f.top, f.left, f.bottom, kAxisColour);
+  if (!options.x_label.empty()) {
+    svg.text((f.left + f.right) / 2, f.bottom + 38, options.x_label, "middle");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y = kTop + kRowHeight * static_cast<double>(i);
+    svg.text(f.left - 8, y + kRowHeight / 2 + 4, labels[i], "end");
+    const double v = std::isfinite(values[i]) ? std::max(values[i], 0.0) : 0.0;
+    const double w = f.to_x(v) - f.left;
+    svg.rect(f.left, y + 4, w, kRowHeight - 8, kPalette[0], " class=\"bar\"",
+             labels[i] + ": " + fixed(values[i], options.decimals));
+    svg.text(f.left + w + 4, y + kRowHeight / 2 + 4, fixed(values[i], options.decimals));
+  }
+  draw_header(svg, options.width_px, options.title, {});
   return svg.finish();
 }
 

@@ -45,6 +45,9 @@ struct HistogramPlotOptions {
   // The x range shown (µm). Default: the histogram's lo to the upper edge of its last occupied
   // bin, widened to include the markers, rounded out to ticks.
   std::optional<double> x_min, x_max;
+  // The top of the count axis (e.g. the same for the left and right flanks' plots); default:
+  // the tallest shown bar or overlay value. Rounded up to a tick.
+  std::optional<double> y_max;
   int width_px = 640, height_px = 400;
 };
 
@@ -53,6 +56,16 @@ struct HistogramPlotOptions {
 // <title> tooltip "[lo, hi) µm: count". Under/overflow counts are noted in the header when
 // non-zero.
 std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions& options);
+
+// Horizontal bars, one per label, from 0 to value (values >= 0, e.g. shares of a variance in
+// %), each labelled with its value; bars in the order given, top to bottom.
+struct BarChartOptions {
+  std::string title, x_label;
+  int decimals = 1;  // of the value labels
+  int width_px = 640;
+};
+std::string bar_chart_svg(const std::vector<std::string>& labels, const std::vector<double>& values,
+                          const BarChartOptions& options);
 
 enum class SeriesStyle { kLine, kPoints, kLineAndPoints };
 

@@ -234,6 +234,48 @@ TEST(SvgPlot, HistogramBarsAreProportionalToCounts) {
   EXPECT_EQ(svg.find("outside the bins"), std::string::npos);  // nothing under/overflowed
 }
 
+TEST(SvgPlot, SharedCountAxis) {
+  // With y_max = 900 the axis top is the tick above 900 (Heckbert: range nice(900) = 1000, step
+  // 200, top 1000), whatever the tallest bar: left and right plots get the same scale.
+  const Histogram h = display_histogram({0, 3, 40, 180, 320, 250, 120, 60, 20, 5, 0, 1});
+  HistogramPlotOptions options;
+  options.y_max = 900.0;
+  const std::string svg = histogram_svg(h, options);
+  parse_ok(svg);
+  EXPECT_NE(svg.find(">1000</text>"), std::string::npos);
+  // The tallest bar, 320 counts, in the 294 px plot area: 294 * 320 / 1000 = 94.08 px (it would
+  // be 235.2 px with the default top 400).
+  double tallest = 0.0;
+  for (const Element& e : parse_ok(svg)) {
+    if (e.name == "rect" && e.attributes.count("class")) {
+      tallest = std::max(tallest, std::stod(e.attributes.at("height")));
+    }
+  }
+  EXPECT_NEAR(tallest, 94.08, 0.005);
+}
+
+TEST(SvgPlot, BarChartLengthsAreProportionalToValues) {
+  const std::vector<std::string> labels = {"noise", "drift <x>", "scale"};
+  const std::vector<double> values = {44.2, 14.5, 1.1};
+  BarChartOptions options;
+  options.title = "Error budget";
+  const std::string svg = bar_chart_svg(labels, values, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::vector<double> widths;
+  for (const Element& e : elements) {
+    if (e.name == "rect" && e.attributes.count("class")) {
+      widths.push_back(std::stod(e.attributes.at("width")));
+    }
+  }
+  ASSERT_EQ(widths.size(), 3u);
+  // px per unit from the longest bar; widths are written to 0.01 px.
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(widths[i], widths[0] / values[0] * values[i], 0.011) << labels[i];
+  }
+  EXPECT_NE(svg.find(">drift &lt;x&gt;</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">44.2</text>"), std::string::npos);
+}
+
 TEST(SvgPlot, OverlayIsTheDensityScaledToCounts) {
   // Bars = expected counts n P(bin) of a normal law (mu 2, sigma 0.5, n 10 000, w 0.2), rounded;
   // the overlay f(x) n w must pass through the top of the fullest bar at its centre, to within
@@ -393,6 +435,18 @@ TEST(HtmlReport, EscapesEveryText) {
             std::string::npos);
   EXPECT_EQ(html.find("<run>"), std::string::npos);
   EXPECT_EQ(html.find("<gearmc>"), std::string::npos);
+}
+
+TEST(HtmlReport, FigureRowsHoldTheirFigures) {
+  HtmlReport report("rows");
+  report.figure_row({{"<svg xmlns=\"http://www.w3.org/2000/svg\"></svg>", "left"},
+                     {"<svg xmlns=\"http://www.w3.org/2000/svg\"></svg>", "right"}});
+  const std::string html = report.html();
+  parse_ok(html, true);
+  const std::size_t row = html.find("<div class=\"figure-row\">");
+  ASSERT_NE(row, std::string::npos);
+  EXPECT_EQ(count_text(html.substr(row), "<figure>"), 2u);
+  EXPECT_NE(html.find("@media print"), std::string::npos);  // a print stylesheet
 }
 
 TEST(HtmlReport, StructureIsSelfContained) {
