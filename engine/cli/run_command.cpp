@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "engine/mc/monte_carlo.h"
@@ -85,6 +86,23 @@ void write_point_row(std::ostream& f, const ProbedPoint& p) {
   }
 }
 
+// The default folder results/<name> may hold the results of another scenario file with the same
+// `name:`; overwriting them silently would lose them. (An explicit --out is the user's choice.)
+void refuse_another_scenarios_folder(const fs::path& dir, const Scenario& scenario) {
+  std::ifstream previous(dir / "summary.json");
+  if (!previous) return;
+  const nlohmann::json summary = nlohmann::json::parse(previous, nullptr, false);
+  if (summary.is_discarded() || !summary.contains("source") || !summary["source"].is_string()) {
+    return;
+  }
+  const std::string source = summary["source"].get<std::string>();
+  if (source == scenario.source_path) return;
+  throw InputError({scenario.source_path, 0, 0},
+                   dir.string() + " holds the results of another scenario file with the name '" +
+                       scenario.name + "' (" + source + "); give this run its own folder with " +
+                       "--out DIR, or remove " + dir.string());
+}
+
 }  // namespace
 
 int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err) {
@@ -115,6 +133,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   // Fail before the work: the output folder must be writable now, not after the run.
   CreatedFolder folder;
   folder.dir = o.out_dir.empty() ? fs::path("results") / scenario.name : fs::path(o.out_dir);
+  if (o.out_dir.empty()) refuse_another_scenarios_folder(folder.dir, scenario);
   prepare_output_folder(folder.dir, &folder.created);
   const fs::path& dir = folder.dir;
 

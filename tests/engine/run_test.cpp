@@ -266,6 +266,32 @@ TEST(RunCommand, ManyCollisionsGiveAWarning) {
   EXPECT_NE(r.err.find("gearmc: warning:"), std::string::npos) << r.err;
 }
 
+TEST(RunCommand, TwoScenarioFilesWithOneNameDoNotOverwriteEachOther) {
+  // Both files say `name: p1_reference`; the second run into the default results/p1_reference
+  // would silently replace the first one's results. It is refused with a hint instead; the
+  // same file again (a re-run) is fine.
+  namespace fs = std::filesystem;
+  const fs::path work = fs::path(testing::TempDir()) / "gearmc_same_name";
+  fs::remove_all(work);
+  fs::create_directories(work);
+  const std::string text = reference_with("");
+  std::ofstream(work / "a.yaml") << text;
+  std::ofstream(work / "b.yaml") << text;
+  const auto run_in_work = [&](const std::string& args) {
+    const std::string cmd = "cd " + work.string() + " && " + std::string(GEARMC_BINARY) + " " +
+                            args + " --gears 1 --quiet >/dev/null 2>err.txt";
+    return WEXITSTATUS(std::system(cmd.c_str()));
+  };
+  EXPECT_EQ(run_in_work("run a.yaml"), 0);
+  EXPECT_EQ(run_in_work("run a.yaml"), 0);
+  EXPECT_EQ(run_in_work("run b.yaml"), 2);
+  std::ifstream e(work / "err.txt");
+  const std::string err((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(err.find("holds the results of another scenario file"), std::string::npos) << err;
+  EXPECT_NE(err.find("--out DIR"), std::string::npos) << err;
+  EXPECT_EQ(run_in_work("run b.yaml --out results/b"), 0);
+}
+
 TEST(RunCommand, BadOptionsExitWithTwo) {
   EXPECT_EQ(run_cli("run --gears 0").exit_code, 2);
   EXPECT_EQ(run_cli("run --only-gear 60 --gears 5 --out " + testing::TempDir() + "x").exit_code, 2);
