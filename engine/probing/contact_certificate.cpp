@@ -84,14 +84,13 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   const double num_LL_ub = a_hi * std::max(dLL.hi, 0.0) - a_lo * a_lo / r_b + slope_term;
   const double M_LL_ub = num_LL_ub >= 0.0 ? num_LL_ub / uL_lo : num_LL_ub / (a_hi + dL_mag * Phi);
   const double M_LL_mag = (a_hi * dLL.magnitude() + a_hi * a_hi / r_b + slope_term) / uL_lo;
-  const double M_Lz_mag = dL_mag * dz_mag / r_b / uL_lo;     // delta_Lz = 0
+  const double M_Lz_mag = dL_mag * dz_mag / r_b / uL_lo;        // delta_Lz = 0
   const double M_zz_ub = a_hi * std::max(dzz.hi, 0.0) / uL_lo;  // a delta_zz / u_L
-  const double r_mag = dz_mag * Phi / uL_lo;                 // |u_z(tau) / u_L|
+  const double r_mag = dz_mag * Phi / uL_lo;                    // |u_z(tau) / u_L|
   // H_tt = M_LL / u_L^2, H_tz = (M_Lz - r M_LL) / u_L, H_zz = r^2 M_LL - 2 r M_Lz + M_zz.
   const double H_tt_ub = M_LL_ub >= 0.0 ? M_LL_ub / (uL_lo * uL_lo) : 0.0;
   const double H_tz_mag = (M_Lz_mag + r_mag * M_LL_mag) / uL_lo;
-  const double H_zz_ub =
-      r_mag * r_mag * std::max(M_LL_ub, 0.0) + 2.0 * r_mag * M_Lz_mag + M_zz_ub;
+  const double H_zz_ub = r_mag * r_mag * std::max(M_LL_ub, 0.0) + 2.0 * r_mag * M_Lz_mag + M_zz_ub;
   // Gershgorin: the largest eigenvalue is at most max(H_tt + |H_tz|, H_zz + |H_tz|). (H_tt's
   // negative part, the involute's convexity, is dropped: a bound, not an estimate.)
   out.kappa = std::max(H_tt_ub, H_zz_ub) + H_tz_mag;

@@ -218,8 +218,8 @@ TEST(ContactCertificate, AStartOutOfReachIsNotConvergedNotAValue) {
   const FlankPoint fp = gear.flank_point(2, FlankSide::kLeft, 30.0, 40.0);
   const Eigen::Vector3d across = fp.profile_tangent * 0.6;
   const AnalyticFlank flank(gear, 2, FlankSide::kLeft, none, across.head<2>());
-  const ContactResult r = solve_contact(flank, extent_of(gear), fp.point, fp.normal, 0.5, 30.0,
-                                        40.0);
+  const ContactResult r =
+      solve_contact(flank, extent_of(gear), fp.point, fp.normal, 0.5, 30.0, 40.0);
   EXPECT_EQ(r.status, ContactResult::Status::kNotConverged);
   EXPECT_EQ(r.iterations, 0);
   EXPECT_EQ(r.restarts, 0);

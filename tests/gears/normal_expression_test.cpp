@@ -43,8 +43,8 @@ TEST(NormalExpression, SlopesAreAccurateToTheCertificateTolerance) {
                          ((L - 30) * (L - 30) / (s2 * s2) - 1 / s2) * g;
       const double dzz = -35 * kz * kz * std::sin(kL * L) * std::cos(kz * z) +
                          ((z - 40) * (z - 40) / (s2 * s2) - 1 / s2) * g;
-      const double dLz = -35 * kL * kz * std::cos(kL * L) * std::sin(kz * z) +
-                         (L - 30) * (z - 40) / (s2 * s2) * g;
+      const double dLz =
+          -35 * kL * kz * std::cos(kL * L) * std::sin(kz * z) + (L - 30) * (z - 40) / (s2 * s2) * g;
       const NormalExpression::Derivatives d = e.derivatives(L, z, 1, 1.0);
       EXPECT_NEAR(e.d_dL(L, z, 1, 1.0), dL, 2e-5);
       EXPECT_NEAR(e.d_dz(L, z, 1, 1.0), dz, 2e-5);
