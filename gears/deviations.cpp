@@ -153,6 +153,28 @@ void CubicBSpline::evaluate(double t, double* value, double* first, double* seco
   *second = 2.0 * q[2] + 6.0 * u * q[3];
 }
 
+CubicBSpline::Ranges CubicBSpline::derivative_ranges() const {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  if (c_.empty()) return {{-inf, inf}, {0.0, 0.0}, {0.0, 0.0}};
+  Ranges r{{-inf, inf}, {inf, -inf}, {0.0, 0.0}};  // the continuation's second derivative 0
+  auto add = [](Range& range, double v) {
+    range.lo = std::min(range.lo, v);
+    range.hi = std::max(range.hi, v);
+  };
+  for (const std::array<double, 4>& q : poly_) {
+    auto first = [&](double u) { return q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]); };
+    add(r.first, first(0.0));
+    add(r.first, first(h_));
+    add(r.second, 2.0 * q[2]);
+    add(r.second, 2.0 * q[2] + 6.0 * h_ * q[3]);
+    if (q[3] != 0.0) {
+      const double u = -q[2] / (3.0 * q[3]);
+      if (u > 0.0 && u < h_) add(r.first, first(u));
+    }
+  }
+  return r;
+}
+
 double CubicBSpline::value(double t) const {
   double v, d1, d2;
   evaluate(t, &v, &d1, &d2);
@@ -192,6 +214,19 @@ void FlankDeviation::evaluate(double L, double z, double* d, double* dL, double*
   *dz = helix_slope_um_per_mm + h1;
   *dLL = p2;
   *dzz = h2;
+}
+
+FlankDeviation::Ranges FlankDeviation::derivative_ranges() const {
+  const CubicBSpline::Ranges p = profile_form.derivative_ranges();
+  const CubicBSpline::Ranges h = helix_form.derivative_ranges();
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Ranges r;
+  r.d = {-inf, inf};
+  r.dL = {profile_slope_um_per_mm + p.first.lo, profile_slope_um_per_mm + p.first.hi};
+  r.dz = {helix_slope_um_per_mm + h.first.lo, helix_slope_um_per_mm + h.first.hi};
+  r.dLL = p.second;
+  r.dzz = h.second;
+  return r;
 }
 
 double FlankDeviation::d2_dL2(double L) const { return profile_form.second_derivative(L); }

@@ -58,6 +58,16 @@ class CubicBSpline {
   // line a + b t exactly (linear precision).
   double greville(int i) const;
   const std::vector<double>& coefficients() const { return c_; }
+  struct Range {
+    double lo, hi;
+  };
+  struct Ranges {
+    Range value, first, second;
+  };
+  // The ranges of the first and second derivative over the whole real line (the linear
+  // continuation adds the end slopes and a zero second derivative): exact, from the spans'
+  // cubics. value is left at (-inf, inf).
+  Ranges derivative_ranges() const;
   double t0() const { return t0_; }
   double t1() const { return t1_; }
 
@@ -88,6 +98,13 @@ struct FlankDeviation {
   // All of the above at once (µm, µm/mm, µm/mm²): the contact solver's hot path.
   void evaluate(double L, double z, double* d, double* dL, double* dz, double* dLL,
                 double* dzz) const;
+  // The ranges of d and its partials (µm, µm/mm, µm/mm²; d_Lz is identically zero): the
+  // contact certificate's derivative bounds.
+  struct Ranges {
+    CubicBSpline::Range d, dL, dz, dLL, dzz;
+  };
+  // The partials' ranges over all (L, z), exact (d itself unbounded: (-inf, inf)).
+  Ranges derivative_ranges() const;
 };
 
 // A drawn gear: every deviation of gear `index`.

@@ -55,17 +55,38 @@ double NormalExpression::value_um(double L, double z, int tooth, double side) co
   return impl_->eval(L, z, tooth, side);
 }
 
-namespace {
-constexpr double kStep = 1e-4;  // mm
-}
-
 double NormalExpression::d_dL(double L, double z, int tooth, double side) const {
-  return (value_um(L + kStep, z, tooth, side) - value_um(L - kStep, z, tooth, side)) /
-         (2.0 * kStep);
+  impl_->eval(L, z, tooth, side);  // sets z, tooth and side (and checks the expression)
+  try {
+    return impl_->parser.Diff(&impl_->L, L, kDerivativeStepMm);
+  } catch (const mu::Parser::exception_type& e) {
+    throw ExpressionError(e.GetMsg(), static_cast<int>(e.GetPos()));
+  }
 }
 double NormalExpression::d_dz(double L, double z, int tooth, double side) const {
-  return (value_um(L, z + kStep, tooth, side) - value_um(L, z - kStep, tooth, side)) /
-         (2.0 * kStep);
+  impl_->eval(L, z, tooth, side);
+  try {
+    return impl_->parser.Diff(&impl_->z, z, kDerivativeStepMm);
+  } catch (const mu::Parser::exception_type& e) {
+    throw ExpressionError(e.GetMsg(), static_cast<int>(e.GetPos()));
+  }
+}
+
+NormalExpression::Derivatives NormalExpression::derivatives(double L, double z, int tooth,
+                                                            double side) const {
+  constexpr double h = kDerivativeStepMm;
+  auto f = [&](double a, double b) { return impl_->eval(a, b, tooth, side); };
+  const double f0 = f(L, z);
+  const double fLp = f(L + h, z), fLm = f(L - h, z), fLp2 = f(L + 2 * h, z), fLm2 = f(L - 2 * h, z);
+  const double fzp = f(L, z + h), fzm = f(L, z - h), fzp2 = f(L, z + 2 * h), fzm2 = f(L, z - 2 * h);
+  Derivatives d;
+  d.value = f0;
+  d.dL = (-fLp2 + 8.0 * fLp - 8.0 * fLm + fLm2) / (12.0 * h);
+  d.dz = (-fzp2 + 8.0 * fzp - 8.0 * fzm + fzm2) / (12.0 * h);
+  d.dLL = (-fLp2 + 16.0 * fLp - 30.0 * f0 + 16.0 * fLm - fLm2) / (12.0 * h * h);
+  d.dzz = (-fzp2 + 16.0 * fzp - 30.0 * f0 + 16.0 * fzm - fzm2) / (12.0 * h * h);
+  d.dLz = (f(L + h, z + h) - f(L + h, z - h) - f(L - h, z + h) + f(L - h, z - h)) / (4.0 * h * h);
+  return d;
 }
 
 }  // namespace gearmc

@@ -35,6 +35,14 @@ class AnalyticFlank {
   Eigen::Vector3d point(double roll_length_mm, double z_mm) const;
   int tooth() const { return tooth_; }
   FlankSide side() const { return side_; }
+  // The ingredients, for bounds over a region (the contact certificate, contact.h).
+  const InvoluteGear& gear() const { return gear_; }
+  const FlankDeviation& deviation() const { return deviation_; }
+  const NormalExpression* expression() const { return expression_; }
+  const Eigen::Vector3d& eccentricity() const { return eccentricity_; }
+  // The deviation's partials' ranges over all (L, z), µm/mm and µm/mm² (exact; computed once
+  // here, FlankDeviation::derivative_ranges); without the expression.
+  const FlankDeviation::Ranges& deviation_derivative_ranges() const { return ranges_; }
 
  private:
   const InvoluteGear& gear_;
@@ -43,6 +51,7 @@ class AnalyticFlank {
   const FlankDeviation& deviation_;
   Eigen::Vector3d eccentricity_;
   const NormalExpression* expression_;
+  FlankDeviation::Ranges ranges_;
 };
 
 }  // namespace gearmc

@@ -190,6 +190,7 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
               ++out.collisions;
               break;
             case ContactResult::Status::kNotConverged:
+            case ContactResult::Status::kUncertified:  // reason in r.failure
               ++out.failed;
               break;
           }

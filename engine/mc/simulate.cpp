@@ -25,6 +25,8 @@ const char* status_reason(const ContactResult& r) {
       return "collision";
     case ContactResult::Status::kNotConverged:
       return "contact not converged";
+    case ContactResult::Status::kUncertified:
+      return "contact not certified as the first contact";
   }
   return "";
 }
@@ -70,10 +72,13 @@ SimulatedReadings simulate_readings(const Scenario& input, const SimulateOptions
           {planned.tooth, planned.side == FlankSide::kRight ? 1 : 0, planned.i, planned.j});
       if (q.contact.status != ContactResult::Status::kOk) {
         if (out.skipped++ == 0) {
-          out.first_skip_reason = std::string(status_reason(q.contact)) + " at gear " +
-                                  std::to_string(k) + ", tooth " + std::to_string(q.tooth) +
-                                  (q.side == FlankSide::kRight ? " R" : " L") + ", point (" +
-                                  std::to_string(q.i) + ", " + std::to_string(q.j) + ")";
+          out.first_skip_reason =
+              std::string(status_reason(q.contact)) +
+              (*q.contact.failure != '\0' ? std::string(" (") + q.contact.failure + ")"
+                                          : std::string()) +
+              " at gear " + std::to_string(k) + ", tooth " + std::to_string(q.tooth) +
+              (q.side == FlankSide::kRight ? " R" : " L") + ", point (" + std::to_string(q.i) +
+              ", " + std::to_string(q.j) + ")";
         }
         continue;
       }

@@ -4,6 +4,8 @@
 //   f_uv = S_uv.n - (S_v_perp.S_u + w_perp.S_uv) / q - (w_perp.S_u)(w_perp.S_v) / q^3
 #include "engine/probing/contact.h"
 
+#include "engine/probing/contact_certificate.h"
+
 #include <Eigen/LU>
 #include <cmath>
 #include <limits>
@@ -25,8 +27,9 @@ struct Local {
 };
 
 Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                  double R, double L, double z) {
+                  double R, double L, double z, FlankSurfacePoint* keep = nullptr) {
   const FlankSurfacePoint s = flank.evaluate(L, z);
+  if (keep) *keep = s;
   const Eigen::Vector3d w = s.point - p;
   const Eigen::Vector3d w_perp = w - w.dot(n) * n;
   const double q2 = R * R - w_perp.squaredNorm();
@@ -65,14 +68,23 @@ double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
 }
 
-ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
-                            const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
-                            double z0) {
-  ContactResult result;
-  Eigen::Vector2d x(L0, z0);
-  Local m = local_model(flank, p, n, R, x[0], x[1]);
+namespace {
+
+// One local maximisation from x: the nearest local maximum of f (or the edge, or a failure).
+struct LocalSolution {
+  ContactResult::Status status;
+  Eigen::Vector2d x;
+  double height;          // f(x), mm (kOk)
+  double gradient_bound;  // >= |grad f(x)| (kOk)
+  int iterations;
+};
+
+LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
+                          const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R,
+                          Eigen::Vector2d x, FlankSurfacePoint* start = nullptr) {
+  Local m = local_model(flank, p, n, R, x[0], x[1], start);
   bool converged = false, at_edge = false;
-  double final_height = 0.0;
+  double final_height = 0.0, gradient_bound = 0.0;
   int it = 0;
   for (; it < kMaxIterations && m.reachable; ++it) {
     // Newton step for the maximum; where the Hessian is not negative definite, shift it
@@ -90,12 +102,16 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
     const bool newton_region = H == m.hessian && step.norm() < kNewtonRegion;
     if (newton_region && step.norm() < kFinishStep) {
       // Quadratic convergence: the error after this step is ~|step|^2 / R < 1e-11 mm, so the
-      // step is taken and only the point (not the derivatives) is evaluated there.
+      // step is taken and only the point (not the derivatives) is evaluated there. The
+      // gradient there is the Newton remainder, at most (1/2) max|f'''| |step|^2; f''' of a
+      // sphere on a flank is of order 3 / R^2, taken here as 1e3 / R^2 (the resulting
+      // certificate term, ~1e-17 mm, is nine orders below its tolerance).
       x += step;
       final_height = contact_height(flank, p, n, R, x[0], x[1]);
       at_edge = x[0] < extent.roll_length_min || x[0] > extent.roll_length_max ||
                 x[1] < extent.z_min || x[1] > extent.z_max;
       converged = std::isfinite(final_height);
+      gradient_bound = 0.5 * (1e3 / (R * R)) * step.squaredNorm() + 1e-15 * m.gradient.norm();
       ++it;
       break;
     }
@@ -117,19 +133,51 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
     if (step.norm() < kStepTolerance) {
       converged = true;
       final_height = m.f;
+      gradient_bound = m.gradient.norm();
       ++it;
       break;
     }
   }
-  result.iterations = it;
-  result.roll_length = x[0];
-  result.z = x[1];
-  result.status = at_edge     ? ContactResult::Status::kEdge
-                  : converged ? ContactResult::Status::kOk
-                              : ContactResult::Status::kNotConverged;
+  return {at_edge     ? ContactResult::Status::kEdge
+          : converged ? ContactResult::Status::kOk
+                      : ContactResult::Status::kNotConverged,
+          x, final_height, gradient_bound, it};
+}
+
+}  // namespace
+
+ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
+                            const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
+                            double z0) {
+  ContactResult result;
+  FlankSurfacePoint start;  // S(L0, z0): the certificate checks p and n against it
+  LocalSolution s = local_solve(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), &start);
+  result.iterations = s.iterations;
+  // The certificate (contact_certificate.h): restart from a higher point until none is left.
+  while (s.status == ContactResult::Status::kOk) {
+    const ContactCertificate c =
+        certify_contact(flank, p, n, R, L0, start, s.x, s.height, s.gradient_bound);
+    if (c.verdict == ContactCertificate::Verdict::kCertified) break;
+    if (c.verdict == ContactCertificate::Verdict::kUnproven) {
+      s.status = ContactResult::Status::kUncertified;
+      result.failure = c.reason;
+      break;
+    }
+    if (result.restarts == kMaxCertificateRestarts) {
+      s.status = ContactResult::Status::kUncertified;
+      result.failure = "restart_cap";
+      break;
+    }
+    ++result.restarts;
+    s = local_solve(flank, extent, p, n, R, c.higher_point);
+    result.iterations += s.iterations;
+  }
+  result.roll_length = s.x[0];
+  result.z = s.x[1];
+  result.status = s.status;
   if (result.status != ContactResult::Status::kOk) return result;
-  result.contact = flank.point(x[0], x[1]);
-  result.centre = p + final_height * n;
+  result.contact = flank.point(s.x[0], s.x[1]);
+  result.centre = p + s.height * n;
   result.reported = result.centre - R * n;
   result.delta_um = 1e3 * (result.contact - result.reported).norm();
   result.normal_error_um = 1e3 * (result.reported - result.contact).dot(n);

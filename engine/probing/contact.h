@@ -3,9 +3,14 @@
 // first contact is the largest t at which the sphere of radius R touches the surface:
 //   t* = max over (L, z) of  f(L, z) = w.n + sqrt(R^2 - |w_perp|^2),  w = S(L, z) - p,
 // w_perp = w - (w.n) n. f is maximised by a safeguarded Newton iteration on its gradient
-// (tangency), not by a search. Then C = S(L*, z*) (true contact point), O = p + t* n, the CMM
-// reports E = O - R n, delta_Rcomp = |C - E| and the normal error is (E - C).n.
-// Lengths mm; the errors in µm.
+// (tangency), which finds the nearest local maximum; a certificate (contact_certificate.h)
+// then proves that no point of the flank within the stylus's footprint (|w_perp| < R) has
+// f > t* + kCertificateToleranceMm, i.e. rises above the found sphere by more than 1e-2 nm
+// along n. Where it finds a higher point the Newton iteration restarts there (at most
+// kMaxCertificateRestarts times); where it cannot prove the bound the point gets status
+// kUncertified with the reason, and no value. Then C = S(L*, z*) (true contact point),
+// O = p + t* n, the CMM reports E = O - R n, delta_Rcomp = |C - E| and the normal error is
+// (E - C).n. Lengths mm; the errors in µm.
 #pragma once
 
 #include <Eigen/Core>
@@ -26,6 +31,8 @@ struct ContactResult {
     kEdge,          // the sphere touches the flank's edge first (collision, not a flank point)
     kCollision,     // the sphere meets another part of the tooth space first (see reason)
     kNotConverged,  // numerical failure: counted, never used as a value
+    kUncertified,   // converged, but not proven the first contact (`failure` says why):
+                    // counted with the failed contacts, never used as a value
   };
   Status status = Status::kNotConverged;
   Eigen::Vector3d contact;        // C, mm
@@ -34,18 +41,25 @@ struct ContactResult {
   double roll_length = 0, z = 0;  // parameters of C
   double delta_um = 0;            // |C - E|
   double normal_error_um = 0;     // (E - C).n
-  int iterations = 0;
+  int iterations = 0;             // Newton iterations, all restarts included
+  int restarts = 0;               // Newton restarts from a higher point the certificate found
   // kCollision: "neighbour_flank", "root" or "tip"; on a mesh flank also "touching_at_start"
   // (the sphere already touches the mesh where the approach starts, mesh_probe.h).
   const char* collision = "";
   // kNotConverged: why, when it is not the Newton iteration's failure: "no_mesh_contact" (the
-  // sphere passed a mesh flank without touching it, mesh_probe.h). Empty otherwise.
+  // sphere passed a mesh flank without touching it, mesh_probe.h). kUncertified: the
+  // certificate's reason (contact_certificate.h). Empty otherwise.
   const char* failure = "";
 };
 
 // The stylus's pre-position distance outside the planned point along n (mm): where the
 // approach that check_tooth_space checks starts.
 inline constexpr double kProbeApproachMm = 1.0;
+
+// How often the Newton iteration restarts from a higher point before the contact is given up
+// as kUncertified ("restart_cap"). Each restart raises t* by more than the certificate's
+// tolerance.
+inline constexpr int kMaxCertificateRestarts = 8;
 
 // p, n: planned point and nominal outward unit normal (datum frame, mm); R: tip radius (mm);
 // (L0, z0): the flank parameters of p, the starting guess.

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
@@ -95,6 +97,61 @@ inline Eigen::Vector2d brute_force_contact(const AnalyticFlank& flank, const Eig
     L = bL, z = bz, half *= 0.25;
   }
   return {L, z};
+}
+
+// The global first contact by search over the whole footprint: the contact height on a
+// (2 cells_z + 1)-node grid per unit of R, over [L0 - half_L, L0 + half_L] x [z0 - R, z0 + R],
+// then brute_force_contact's nested shrinking grids (from +/- 2 grid steps) around each of the
+// `candidates` highest grid nodes that are local maxima of the grid. Independent of the Newton
+// solver and of its certificate. Returns (L, z, f).
+struct BruteForceMaximum {
+  double L, z, height;
+};
+inline BruteForceMaximum brute_force_global_contact(const AnalyticFlank& flank,
+                                                    const Eigen::Vector3d& p,
+                                                    const Eigen::Vector3d& n, double R, double L0,
+                                                    double z0, double half_L, int cells = 120,
+                                                    int candidates = 4, int levels = 10) {
+  const int N = cells;
+  const double dL = 2 * half_L / N, dz = 2 * R / N;
+  std::vector<double> f(static_cast<std::size_t>((N + 1) * (N + 1)));
+  auto at = [&](int i, int j) -> double& { return f[static_cast<std::size_t>(j * (N + 1) + i)]; };
+  for (int j = 0; j <= N; ++j)
+    for (int i = 0; i <= N; ++i)
+      at(i, j) = brute_force_contact_height(flank, p, n, R, L0 - half_L + i * dL, z0 - R + j * dz);
+  std::vector<std::pair<double, std::pair<int, int>>> peaks;
+  for (int j = 0; j <= N; ++j) {
+    for (int i = 0; i <= N; ++i) {
+      if (!std::isfinite(at(i, j))) continue;
+      bool peak = true;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b)
+          if ((a || b) && i + a >= 0 && i + a <= N && j + b >= 0 && j + b <= N &&
+              at(i + a, j + b) > at(i, j))
+            peak = false;
+      if (peak) peaks.push_back({at(i, j), {i, j}});
+    }
+  }
+  std::sort(peaks.begin(), peaks.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  BruteForceMaximum best{L0, z0, -std::numeric_limits<double>::infinity()};
+  for (std::size_t c = 0; c < peaks.size() && c < static_cast<std::size_t>(candidates); ++c) {
+    double L = L0 - half_L + peaks[c].second.first * dL, z = z0 - R + peaks[c].second.second * dz;
+    double hL = 2 * dL, hz = 2 * dz, value = peaks[c].first;
+    for (int level = 0; level < levels; ++level) {
+      double bL = L, bz = z;
+      for (int a = -10; a <= 10; ++a) {
+        for (int b = -10; b <= 10; ++b) {
+          const double Lc = L + hL * a / 10.0, zc = z + hz * b / 10.0;
+          const double v = brute_force_contact_height(flank, p, n, R, Lc, zc);
+          if (v > value) value = v, bL = Lc, bz = zc;
+        }
+      }
+      L = bL, z = bz, hL *= 0.25, hz *= 0.25;
+    }
+    if (value > best.height) best = {L, z, value};
+  }
+  return best;
 }
 
 }  // namespace gearmc::testing_support

@@ -1,0 +1,81 @@
+// Certificate that a stylus contact found by the local Newton iteration (contact.h) is the
+// FIRST contact: no point of the flank within the stylus's footprint rises above the found
+// sphere by more than kCertificateToleranceMm along n.
+//
+// Frame: u = (w.tau, w.e_z) in the plane normal to n (n transverse, tau = e_z x n), h = w.n,
+// w = S(L, z) - p. Over the footprint disk |u| < R the flank is a graph h = H(u) (u_z = z - p_z
+// exactly; u_tau is monotone in L because the involute turns by far less than pi/2 within the
+// footprint), and the contact height is F(u) = H(u) + sqrt(R^2 - |u|^2). The lower
+// hemisphere's Hessian is >= I / R everywhere on the disk, so where the surface's Hessian
+// H_uu <= kappa I with kappa < 1/R, F is strongly concave and, with |grad F(u*)| = g at the
+// found point, F(u) <= F(u*) + g^2 / (2 (1/R - kappa)) on the convex set considered.
+//
+// Two stages:
+//  1. Exact, O(1) (B-spline deviation fields, no expression): interval bounds of H_uu over a
+//     parameter box that provably contains the footprint, from the exact ranges of the
+//     deviation's first and second partials (FlankDeviation::derivative_ranges, computed once
+//     per flank) and the closed-form
+//     involute terms (H_uu = J^-T M J^-1, M = h_xx - (h_L / u_L) u_xx; the rotation of the
+//     involute normal cancels in the cross products). kappa < 1/R proves the whole footprint
+//     at once. This is what P1's smooth fields take.
+//  2. Sampled (expressions, or a field too wavy for stage 1): the footprint box on a grid of
+//     surface points (64 cells across 2R, the same spacing in u along the profile); any node
+//     higher than t* + tol is returned as a higher point
+//     (the caller restarts Newton there). Otherwise the neighbourhood |u - u*| <= rho is
+//     proved by the concavity bound above with kappa from H_uu on its own 9 x 9 grid (rho
+//     from 2 cells down to 1/8 cell until it holds), and every other
+//     cell by a bilinear bound of psi = h - G.u (G the slope of a tangent plane of the
+//     hemisphere, which lies below it: the hemisphere is convex) plus (dL^2/8) max(-psi_LL)
+//     + (dz^2/8) max(-psi_zz), the second derivatives estimated by the grid's second
+//     differences around the cell; a cell that fails is split 2 x 2 (4 levels).
+//     ASSUMPTION (stated, not proved): over a cell, psi'' stays within the range of the second
+//     differences at the cell's and its neighbours' nodes widened by that range's width (the
+//     Lipschitz estimate, a safety factor of about 2 over a linear variation); H_uu likewise
+//     on the neighbourhood's own grid. A feature narrower than the sample spacing (2R/64 =
+//     16 µm for R = 0.5 mm) can escape it. Expression fields are evaluated with five-point
+//     differences (normal_expression.h).
+// Lengths mm.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "surfaces/analytic_flank.h"
+
+namespace gearmc {
+
+// The certificate proves max f <= t* + this (mm): 1e-2 nm along n.
+inline constexpr double kCertificateToleranceMm = 1e-8;
+
+struct ContactCertificate {
+  enum class Verdict {
+    kCertified,    // proven: f <= t* + tolerance over the footprint
+    kHigherPoint,  // a point with f > t* + tolerance: `higher_point`, `higher_height`
+    kUnproven,     // neither: `reason`
+  };
+  Verdict verdict = Verdict::kUnproven;
+  // kUnproven: "normal_not_transverse", "footprint_not_bounded", "not_concave_at_contact"
+  // (the field's curvature at the found contact reaches 1/R: a saddle or a ridge the sphere
+  // cannot be proven to rest on), "unproven_region" (a cell's bound still exceeds the
+  // tolerance after refinement).
+  const char* reason = "";
+  Eigen::Vector2d higher_point = Eigen::Vector2d::Zero();  // (L, z), mm
+  double higher_height = 0.0;                              // f there, mm
+  bool sampled = false;  // stage 2 was needed (stage 1 did not prove it)
+};
+
+// p, n: planned point and nominal outward unit normal; R: tip radius; L0: the planned roll
+// length and `start` = flank.evaluate(L0, p_z) (stage 1 needs p = P(L0, p_z) on the nominal
+// flank and n = n(L0); it checks that with `start` and otherwise leaves the point to stage 2);
+// x_star = (L*, z*), t_star = f(x_star) the found maximum; gradient_bound >=
+// |grad_(L,z) f(x_star)| (mm/mm).
+ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                                   const Eigen::Vector3d& n, double R, double L0,
+                                   const FlankSurfacePoint& start, const Eigen::Vector2d& x_star,
+                                   double t_star, double gradient_bound);
+
+// Stage 1 alone (exposed for tests): kappa, the proven upper bound of the largest eigenvalue of
+// H_uu over the footprint (1/mm), or +infinity where stage 1 does not apply.
+double exact_curvature_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                             const Eigen::Vector3d& n, double R, double L0, double z0);
+
+}  // namespace gearmc
