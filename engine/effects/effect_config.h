@@ -18,7 +18,8 @@ const std::vector<std::string>& effect_names();
 
 // Reads `effects:` (a map from effect name to its map of parameters); throws InputError with
 // file:line:column for unknown effects or keys, wrong types and out-of-range values.
-// An effect with `enabled: false` is left out.
-EffectChain parse_effects(const YamlValue& section);
+// An effect with `enabled: false` is left out. Every parameter is checked against its plausible
+// range (effect_ranges()); values outside the usual range append a warning to `warnings`.
+EffectChain parse_effects(const YamlValue& section, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace gearmc

@@ -9,6 +9,8 @@
 
 #include "engine/report/html_report.h"
 #include "engine/scenario/input_error.h"
+#include "engine/scenario/input_file.h"
+#include "engine/scenario/parameter_ranges.h"
 
 namespace gearmc {
 namespace {
@@ -41,6 +43,36 @@ std::vector<std::string> split(const std::string& line, std::vector<int>* column
   return fields;
 }
 
+// The lines of a text: ends are "\n", "\r\n" or a lone "\r" (old Mac exports); a line longer
+// than kMaxReadingsLineBytes is an InputError (a binary file, or a file without line ends).
+class LineReader {
+ public:
+  LineReader(const std::string& text, const std::string& source) : text_(text), source_(source) {}
+  bool next(std::string* line, int* line_no) {
+    if (pos_ >= text_.size()) return false;
+    ++*line_no;
+    std::size_t end = text_.find_first_of("\r\n", pos_);
+    if (end == std::string::npos) end = text_.size();
+    if (end - pos_ > kMaxReadingsLineBytes) {
+      throw InputError({source_, *line_no, static_cast<int>(kMaxReadingsLineBytes) + 1},
+                       "a line of at most " + std::to_string(kMaxReadingsLineBytes) +
+                           " bytes, but this line is longer (is it a readings CSV?)");
+    }
+    line->assign(text_, pos_, end - pos_);
+    pos_ = end;
+    if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
+    if (pos_ < text_.size() && text_[pos_] == '\n' && (pos_ == end || text_[pos_ - 1] == '\r')) {
+      ++pos_;
+    }
+    return true;
+  }
+
+ private:
+  const std::string& text_;
+  const std::string& source_;
+  std::size_t pos_ = 0;
+};
+
 }  // namespace
 
 double measured_deviation_um(const ReadingRow& row, double stylus_radius_mm) {
@@ -71,28 +103,24 @@ void write_readings(const std::string& path, const Readings& readings) {
 }
 
 Readings read_readings(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, 0}, "cannot read the readings file '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_readings(text.str(), path);
+  return parse_readings(read_input_file(path, "readings file", kMaxReadingsBytes), path);
 }
 
 Readings parse_readings(const std::string& text, const std::string& source) {
   Readings readings;
-  std::istringstream in(text);
+  LineReader in(text, source);
   std::string line;
   int line_no = 0;
   auto error = [&](int column, const std::string& key, const std::string& value,
                    const std::string& expected) {
     return InputError({source, line_no, column}, key, value, expected);
   };
+  const RangeTable& ranges = readings_ranges();
   // Header: the version line, key=value comment lines, then the column line.
   bool version = false, radius = false;
   std::vector<std::string> header;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  int header_line = 0;
+  while (in.next(&line, &line_no)) {
     if (line.empty()) continue;
     if (line[0] == '#') {
       const std::string body = line.substr(line.find_first_not_of("# ") == std::string::npos
@@ -115,11 +143,12 @@ Readings parse_readings(const std::string& text, const std::string& source) {
         const std::string v = body.substr(eq + 1);
         double r = 0.0;
         const auto res = std::from_chars(v.data(), v.data() + v.size(), r);
-        if (res.ec != std::errc() || res.ptr != v.data() + v.size() || !(r > 0.0) ||
-            !std::isfinite(r)) {
-          throw error(static_cast<int>(line.find('=')) + 2, "stylus_radius_mm", v,
-                      "a radius > 0 in mm");
+        const int column = static_cast<int>(line.find('=')) + 2;
+        if (res.ec != std::errc() || res.ptr != v.data() + v.size() || !std::isfinite(r)) {
+          throw error(column, "stylus_radius_mm", v, describe_range(ranges.at("stylus_radius_mm")));
         }
+        check_ranged(r, ranges.at("stylus_radius_mm"), {source, line_no, column}, v,
+                     &readings.warnings);
         readings.stylus_radius_mm = r;
         radius = true;
       }
@@ -132,6 +161,7 @@ Readings parse_readings(const std::string& text, const std::string& source) {
     }
     std::vector<int> cols;
     header = split(line, &cols);
+    header_line = line_no;
     for (std::size_t k = 0; k < kColumns.size(); ++k) {
       if (k >= header.size() || header[k] != kColumns[k]) {
         throw error(k < cols.size() ? cols[k] : static_cast<int>(line.size()) + 1,
@@ -150,21 +180,21 @@ Readings parse_readings(const std::string& text, const std::string& source) {
     break;
   }
   if (header.empty()) {
-    throw InputError({source, line_no, 0},
-                     "no column line 'gear,tooth,flank,...' in the readings file");
+    throw InputError({source, line_no + 1, 1},
+                     "the readings file ends before its column line 'gear,tooth,flank,...'");
   }
   const std::size_t width = header.size();
   std::set<int> orders;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  while (in.next(&line, &line_no)) {
     if (line.empty() || line[0] == '#') continue;
     std::vector<int> cols;
     const std::vector<std::string> f = split(line, &cols);
     if (f.size() != width) {
-      throw InputError({source, line_no, 0}, "row has " + std::to_string(f.size()) +
-                                                 " fields, expected " + std::to_string(width) +
-                                                 " (as the column line)");
+      // Placed at the first field too many, or at the end of a short row.
+      const int column = f.size() > width ? cols[width] - 1 : static_cast<int>(line.size()) + 1;
+      throw InputError({source, line_no, column}, "row has " + std::to_string(f.size()) +
+                                                      " fields, expected " + std::to_string(width) +
+                                                      " (as the column line)");
     }
     auto integer = [&](std::size_t k, int min) {
       int v = 0;
@@ -174,14 +204,20 @@ Readings parse_readings(const std::string& text, const std::string& source) {
       }
       return v;
     };
-    auto real = [&](std::size_t k) {
+    auto real = [&](std::size_t k, const ParameterRange* range) {
       double v = 0.0;
       const auto res = std::from_chars(f[k].data(), f[k].data() + f[k].size(), v);
       if (res.ec != std::errc() || res.ptr != f[k].data() + f[k].size() || !std::isfinite(v)) {
         throw error(cols[k], header[k], f[k], "a finite number");
       }
+      if (range != nullptr) {
+        ParameterRange named = *range;
+        named.key = header[k];
+        check_ranged(v, named, {source, line_no, cols[k]}, f[k], nullptr);
+      }
       return v;
     };
+    const ParameterRange& coordinate = ranges.at("coordinate_mm");
     ReadingRow r;
     r.gear = integer(0, 0);
     r.tooth = integer(1, 1);
@@ -194,19 +230,25 @@ Readings parse_readings(const std::string& text, const std::string& source) {
       throw error(cols[5], "order", f[5], "an order not used by an earlier row");
     }
     for (int a = 0; a < 3; ++a) {
-      r.p[a] = real(6 + a);
-      r.n[a] = real(9 + a);
-      r.c[a] = real(12 + a);
+      r.p[a] = real(6 + a, &coordinate);
+      r.n[a] = real(9 + a, nullptr);  // checked as a unit vector below
+      r.c[a] = real(12 + a, &coordinate);
     }
     if (std::abs(r.n.norm() - 1.0) > 1e-6) {
       throw error(cols[9], "nx,ny,nz", f[9] + "," + f[10] + "," + f[11],
                   "a unit normal (|n| = 1 within 1e-6)");
     }
-    if (readings.has_ref_dev) r.ref_dev_um = real(15);
+    if (readings.has_ref_dev) r.ref_dev_um = real(15, &ranges.at("ref_dev_um"));
+    // The reading itself: far off means a stylus radius or coordinates in other units.
+    const double e = measured_deviation_um(r, readings.stylus_radius_mm);
+    check_ranged(e, ranges.at("reading_um"), {source, line_no, cols[12]},
+                 "(c - p)·n - R = " + number_text(e) + " µm", nullptr);
     readings.rows.push_back(r);
   }
   if (readings.rows.empty()) {
-    throw InputError({source, line_no, 0}, "the readings file has no rows");
+    throw InputError({source, line_no + 1, 1},
+                     "the readings file has no rows after its column line (line " +
+                         std::to_string(header_line) + ")");
   }
   return readings;
 }

@@ -34,6 +34,8 @@ struct Readings {
   double stylus_radius_mm = 0.5;
   bool has_ref_dev = false;  // the ref_dev_um column is present (then every row has it)
   std::vector<ReadingRow> rows;
+  // Values valid but outside their usual range (parameter_ranges.h), whole located messages.
+  std::vector<std::string> warnings;
 };
 
 // e = ((c − p)·n − R)·1000 µm, less ref_dev_um when given: the measurement error of the point
@@ -49,7 +51,9 @@ void write_readings(const std::string& path, const Readings& readings);
 // (and column number of the field): a missing or unknown header line or column, a wrong unit
 // in the header (e.g. stylus_radius_in=), a non-numeric, NaN or infinite field, a flank other
 // than L/R, a normal that is not a unit vector (|n| off by > 1e-6), a row with too few or too
-// many fields, an order used twice, a file without rows.
+// many fields, an order used twice, a file without rows, a number outside its plausible range
+// (readings_ranges()), a line longer than kMaxReadingsLineBytes. read_readings reads only a
+// regular file of at most kMaxReadingsBytes. Lines may end in LF, CRLF or CR.
 Readings read_readings(const std::string& path);
 // Same from text; `source_name` is used in messages.
 Readings parse_readings(const std::string& text, const std::string& source_name);

@@ -20,9 +20,12 @@ std::string location_prefix(const InputLocation& where) {
   return prefix;
 }
 
-std::string compose_message(const InputLocation& where, const std::string& key,
-                            const std::string& value, const std::string& expected,
-                            const std::string& hint) {
+std::string compose_message(const InputLocation& where, const std::string& raw_key,
+                            const std::string& raw_value, const std::string& expected,
+                            const std::string& raw_hint) {
+  const std::string key = shown_input(raw_key, 2 * kShownChars);
+  const std::string value = shown_input(raw_value);
+  const std::string hint = shown_input(raw_hint);
   std::string body;
   if (!value.empty()) body = "got '" + value + "'";
   if (!expected.empty()) body += (body.empty() ? "" : ", ") + std::string("expected ") + expected;
@@ -60,6 +63,52 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 }
 
 }  // namespace
+
+std::string shown_input(std::string_view text, std::size_t max_chars) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out;
+  std::size_t chars = 0;
+  std::size_t i = 0;
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  while (i < text.size()) {
+    if (chars >= max_chars) return out + "\u2026";
+    const unsigned char b = byte(i);
+    std::string piece;
+    std::size_t used = 1;
+    if (b == '\n') {
+      piece = "\\n";
+    } else if (b == '\r') {
+      piece = "\\r";
+    } else if (b == '\t') {
+      piece = "\\t";
+    } else if (b < 0x20 || b == 0x7F) {
+      piece = {'\\', 'x', kHex[b >> 4], kHex[b & 15]};
+    } else if (b < 0x80) {
+      piece = std::string(1, static_cast<char>(b));
+    } else {
+      // A well-formed UTF-8 sequence stays as it is; any other byte is shown in hex.
+      const std::size_t length = b >= 0xF0 ? 4 : b >= 0xE0 ? 3 : b >= 0xC0 ? 2 : 0;
+      bool valid = length > 0 && i + length <= text.size() && b >= 0xC2 && b <= 0xF4;
+      for (std::size_t k = 1; valid && k < length; ++k) valid = (byte(i + k) & 0xC0) == 0x80;
+      if (valid && length == 3) {
+        valid = !(b == 0xE0 && byte(i + 1) < 0xA0) && !(b == 0xED && byte(i + 1) > 0x9F);
+      }
+      if (valid && length == 4) {
+        valid = !(b == 0xF0 && byte(i + 1) < 0x90) && !(b == 0xF4 && byte(i + 1) > 0x8F);
+      }
+      if (valid) {
+        piece = std::string(text.substr(i, length));
+        used = length;
+      } else {
+        piece = {'\\', 'x', kHex[b >> 4], kHex[b & 15]};
+      }
+    }
+    out += piece;
+    chars += used > 1 ? 1 : piece.size();  // a UTF-8 character counts as one
+    i += used;
+  }
+  return out;
+}
 
 InputError::InputError(InputLocation where, std::string key, std::string value,
                        std::string expected, std::string hint)

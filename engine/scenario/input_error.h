@@ -3,8 +3,10 @@
 // main() catches it, prints what() and exits with code 2.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gearmc {
@@ -18,7 +20,7 @@ struct InputLocation {
 class InputError : public std::runtime_error {
  public:
   // Message: "<file>:<line>:<col>: <key>: got '<value>', expected <expected>[; did you mean
-  // '<hint>'?]". Empty parts are left out.
+  // '<hint>'?]". Empty parts are left out; key, value and hint are shown with shown_input.
   InputError(InputLocation where, std::string key, std::string value, std::string expected,
              std::string hint = "");
   // A message that already says everything (e.g. an unreadable file).
@@ -31,6 +33,13 @@ class InputError : public std::runtime_error {
   InputLocation where_;
   std::string key_;
 };
+
+// Input text as messages echo it: one line of printable text. Control bytes become C escapes
+// (\n, \r, \t, else \xNN), bytes that are not UTF-8 become \xNN, valid UTF-8 characters stay;
+// more than `max_chars` characters (after escaping) are cut to that many plus "…". Every
+// InputError applies it to the value and the key it echoes.
+inline constexpr std::size_t kShownChars = 60;
+std::string shown_input(std::string_view text, std::size_t max_chars = kShownChars);
 
 // The closest of `candidates` to `word` by edit distance, if close enough to be a likely typo
 // (distance <= max(2, |word|/3)), else the only candidate that starts with `word` (3+ letters);

@@ -22,7 +22,10 @@
 #include <vector>
 
 #include "engine/scenario/input_error.h"
+#include "engine/scenario/input_file.h"
+#include "engine/scenario/parameter_ranges.h"
 #include "engine/scenario/yaml_reader.h"
+#include "gears/deviations.h"
 #include "gears/normal_expression.h"
 
 namespace gearmc {
@@ -35,24 +38,32 @@ namespace {
 //   basic_rack: {addendum > 0, dedendum > 0, root_radius >= 0} (defaults: ISO 53 profile A).
 // The parameters together must make a gear (validate_gear_parameters); if not, the error is
 // placed at the `gear` key.
-GearParameters read_gear(const YamlMap& gear) {
+GearParameters read_gear(const YamlMap& gear, InputWarnings* warnings) {
+  const RangeTable& r = gear_ranges();
   GearParameters p;
-  p.teeth = static_cast<int>(gear.require_int("teeth", 5, 1000));
-  p.module_mm = gear.require_number("module_mm", NumberRange::positive());
+  const auto required = [&](const std::string& key) {
+    const ParameterRange& range = r.at("gear." + key);
+    return gear.require(key, describe_range(range));
+  };
+  p.teeth = static_cast<int>(read_ranged_int(required("teeth"), r.at("gear.teeth"), warnings));
+  p.module_mm = read_ranged(required("module_mm"), r.at("gear.module_mm"), warnings);
   p.pressure_angle_deg =
-      gear.get_number("pressure_angle_deg", NumberRange::open(0.0, 45.0)).value_or(20.0);
-  p.profile_shift = gear.get_number("profile_shift", NumberRange::closed(-1.5, 3.0)).value_or(0.0);
-  p.face_width_mm = gear.require_number("face_width_mm", NumberRange::positive());
-  p.tip_diameter_mm = gear.get_number("tip_diameter_mm", NumberRange::positive());
-  p.root_diameter_mm = gear.get_number("root_diameter_mm", NumberRange::positive());
+      get_ranged(gear, "pressure_angle_deg", r.at("gear.pressure_angle_deg"), warnings)
+          .value_or(20.0);
+  p.profile_shift =
+      get_ranged(gear, "profile_shift", r.at("gear.profile_shift"), warnings).value_or(0.0);
+  p.face_width_mm = read_ranged(required("face_width_mm"), r.at("gear.face_width_mm"), warnings);
+  p.tip_diameter_mm = get_ranged(gear, "tip_diameter_mm", r.at("gear.tip_diameter_mm"), warnings);
+  p.root_diameter_mm =
+      get_ranged(gear, "root_diameter_mm", r.at("gear.root_diameter_mm"), warnings);
   if (const auto rack = gear.get_map("basic_rack", {"addendum", "dedendum", "root_radius"})) {
-    const std::string in_modules = "in modules";
-    p.rack.addendum =
-        rack->get_number("addendum", NumberRange::positive(), in_modules).value_or(p.rack.addendum);
-    p.rack.dedendum =
-        rack->get_number("dedendum", NumberRange::positive(), in_modules).value_or(p.rack.dedendum);
-    p.rack.root_radius = rack->get_number("root_radius", NumberRange::non_negative(), in_modules)
-                             .value_or(p.rack.root_radius);
+    p.rack.addendum = get_ranged(*rack, "addendum", r.at("gear.basic_rack.addendum"), warnings)
+                          .value_or(p.rack.addendum);
+    p.rack.dedendum = get_ranged(*rack, "dedendum", r.at("gear.basic_rack.dedendum"), warnings)
+                          .value_or(p.rack.dedendum);
+    p.rack.root_radius =
+        get_ranged(*rack, "root_radius", r.at("gear.basic_rack.root_radius"), warnings)
+            .value_or(p.rack.root_radius);
   }
   const std::string why = validate_gear_parameters(p);
   if (!why.empty()) {
@@ -113,8 +124,8 @@ std::vector<std::string> tolerance_symbols(ToleranceStandard standard) {
 
 // overrides_um: {symbol: µm}. The symbols are the chosen standard's (tolerance_symbol); E_Hs is
 // the magnitude of the least rack shift (>= 0), every other value a tolerance (> 0).
-std::map<ToleranceKind, double> read_overrides(const YamlMap& overrides,
-                                               ToleranceStandard standard) {
+std::map<ToleranceKind, double> read_overrides(const YamlMap& overrides, ToleranceStandard standard,
+                                               InputWarnings* warnings) {
   const ToleranceStandard other = standard == ToleranceStandard::kGost1643_81
                                       ? ToleranceStandard::kIso1328_1_2013
                                       : ToleranceStandard::kGost1643_81;
@@ -132,18 +143,17 @@ std::map<ToleranceKind, double> read_overrides(const YamlMap& overrides,
       throw InputError(entry.value.key_location(), entry.value.path(), entry.key, expected,
                        did_you_mean(entry.key, symbols));
     }
-    values[*kind] =
-        *kind == ToleranceKind::kThicknessUpper
-            ? entry.value.as_number(NumberRange::non_negative(),
-                                    "µm; the magnitude of the least rack shift, which is negative")
-            : entry.value.as_number(NumberRange::positive(), "µm");
+    const bool shift = *kind == ToleranceKind::kThicknessUpper;
+    const ParameterRange& range = tolerance_ranges().at(
+        shift ? "tolerances.overrides_um.E_Hs" : "tolerances.overrides_um.tolerance");
+    values[*kind] = read_ranged(entry.value, range, warnings);
   }
   return values;
 }
 
 // tolerances: standard (gost_1643_81 | iso_1328_1_2013, default gost_1643_81), grade (see
 // read_grade; default "6-5-5" for GOST, required for ISO), overrides_um (see read_overrides).
-ToleranceSpec read_tolerances(const YamlMap& tolerances) {
+ToleranceSpec read_tolerances(const YamlMap& tolerances, InputWarnings* warnings) {
   ToleranceSpec spec;
   const std::vector<std::string> standards = {standard_name(ToleranceStandard::kGost1643_81),
                                               standard_name(ToleranceStandard::kIso1328_1_2013)};
@@ -158,20 +168,20 @@ ToleranceSpec read_tolerances(const YamlMap& tolerances) {
                              "an ISO 1328-1:2013 flank tolerance class, an integer from 1 to 11");
   }
   if (const auto overrides = tolerances.find("overrides_um")) {
-    spec.overrides_um = read_overrides(overrides->as_open_map(), spec.standard);
+    spec.overrides_um = read_overrides(overrides->as_open_map(), spec.standard, warnings);
   }
   return spec;
 }
 
 // {distribution: uniform | normal | at_tolerance, k: > 0}, each key falling back to `base`.
-DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base) {
+DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base,
+                               InputWarnings* warnings) {
   if (const auto law = map.get_choice("distribution", {"uniform", "normal", "at_tolerance"})) {
     base.law = *law == "normal"         ? DeviationDistribution::Law::kNormal
                : *law == "at_tolerance" ? DeviationDistribution::Law::kAtTolerance
                                         : DeviationDistribution::Law::kUniform;
   }
-  base.k = map.get_number("k", NumberRange::positive(), "tolerance = k sigma for the normal law")
-               .value_or(base.k);
+  base.k = get_ranged(map, "k", deviation_ranges().at("deviations.k"), warnings).value_or(base.k);
   return base;
 }
 
@@ -179,10 +189,11 @@ DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base) {
 // eccentricity, pitch, thickness: {distribution, k}; profile, helix: {distribution, k,
 // control_points 4..64} (the law applies to both slope and form of the group); normal_um: a
 // muParser expression in L, z, tooth, side (µm), checked where it is compiled.
-DeviationModel read_deviations(const YamlMap& deviations, std::string* normal_expression_um) {
+DeviationModel read_deviations(const YamlMap& deviations, std::string* normal_expression_um,
+                               InputWarnings* warnings) {
   DeviationModel model;
   model.random = deviations.get_bool("random").value_or(model.random);
-  const DeviationDistribution base = read_law(deviations, DeviationDistribution{});
+  const DeviationDistribution base = read_law(deviations, DeviationDistribution{}, warnings);
   model.eccentricity = model.pitch = model.thickness = model.profile_slope = model.profile_form =
       model.helix_slope = model.helix_form = base;
 
@@ -192,19 +203,24 @@ DeviationModel read_deviations(const YamlMap& deviations, std::string* normal_ex
       {"pitch", &model.pitch},
       {"thickness", &model.thickness}};
   for (const auto& [key, law] : simple_groups) {
-    if (const auto group = deviations.get_map(key, law_keys)) *law = read_law(*group, base);
+    if (const auto group = deviations.get_map(key, law_keys)) {
+      *law = read_law(*group, base, warnings);
+    }
   }
 
   const std::vector<std::string> shape_keys = {"distribution", "k", "control_points"};
+  const ParameterRange& points = deviation_ranges().at("deviations.control_points");
   if (const auto profile = deviations.get_map("profile", shape_keys)) {
-    model.profile_slope = model.profile_form = read_law(*profile, base);
-    model.profile_form_control_points = static_cast<int>(
-        profile->get_int("control_points", 4, 64).value_or(model.profile_form_control_points));
+    model.profile_slope = model.profile_form = read_law(*profile, base, warnings);
+    model.profile_form_control_points =
+        static_cast<int>(get_ranged_int(*profile, "control_points", points, warnings)
+                             .value_or(model.profile_form_control_points));
   }
   if (const auto helix = deviations.get_map("helix", shape_keys)) {
-    model.helix_slope = model.helix_form = read_law(*helix, base);
-    model.helix_form_control_points = static_cast<int>(
-        helix->get_int("control_points", 4, 64).value_or(model.helix_form_control_points));
+    model.helix_slope = model.helix_form = read_law(*helix, base, warnings);
+    model.helix_form_control_points =
+        static_cast<int>(get_ranged_int(*helix, "control_points", points, warnings)
+                             .value_or(model.helix_form_control_points));
   }
 
   if (const auto expression = deviations.find("normal_um")) {
@@ -216,8 +232,8 @@ DeviationModel read_deviations(const YamlMap& deviations, std::string* normal_ex
     try {
       const NormalExpression compiled(text);  // compile now: errors point into the file
     } catch (const ExpressionError& e) {
-      throw expression->error(expected + " (muParser: " + e.what() + " at character " +
-                              std::to_string(e.position() + 1) + ")");
+      throw expression->error(expected + " (muParser: " + shown_input(e.what(), 2 * kShownChars) +
+                              " at character " + std::to_string(e.position() + 1) + ")");
     }
     *normal_expression_um = text;
   }
@@ -237,15 +253,21 @@ std::string read_name(const YamlValue& value) {
 
 // probing: {points_along_profile, sections_across_face, margin_fraction, profile_spacing,
 // teeth: all | [list], flanks: both | L | R, order: tooth_by_tooth | side_by_side}
-ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth) {
+ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth, InputWarnings* warnings) {
+  const RangeTable& r = probing_ranges();
   ProbingPlanSpec plan;
   ProbingGridSpec& grid = plan.grid;
-  grid.points_along_profile = static_cast<int>(
-      probing.get_int("points_along_profile", 1, 1000).value_or(grid.points_along_profile));
-  grid.sections_across_face = static_cast<int>(
-      probing.get_int("sections_across_face", 1, 1000).value_or(grid.sections_across_face));
-  grid.margin_fraction = probing.get_number("margin_fraction", NumberRange{0.0, 0.5, true, false})
-                             .value_or(grid.margin_fraction);
+  grid.points_along_profile =
+      static_cast<int>(get_ranged_int(probing, "points_along_profile",
+                                      r.at("probing.points_along_profile"), warnings)
+                           .value_or(grid.points_along_profile));
+  grid.sections_across_face =
+      static_cast<int>(get_ranged_int(probing, "sections_across_face",
+                                      r.at("probing.sections_across_face"), warnings)
+                           .value_or(grid.sections_across_face));
+  grid.margin_fraction =
+      get_ranged(probing, "margin_fraction", r.at("probing.margin_fraction"), warnings)
+          .value_or(grid.margin_fraction);
   if (const auto spacing =
           probing.get_choice("profile_spacing", {"roll_length", "arc_length", "radius"})) {
     grid.spacing = *spacing == "roll_length"  ? ProfileSpacing::kRollLength
@@ -383,9 +405,95 @@ std::vector<FlankMeshSurface> read_surfaces(const YamlValue& value, const GearPa
   return surfaces;
 }
 
+// Where a tolerance problem is best shown: the override of `kind` when the scenario gives one,
+// else the grade, else the tolerances section, else the gear (a default GOST grade).
+InputLocation tolerance_place(const YamlMap& gear, const std::optional<YamlMap>& tolerances,
+                              std::optional<ToleranceKind> kind, std::string* key) {
+  if (tolerances) {
+    if (kind) {
+      if (const auto overrides = tolerances->find("overrides_um")) {
+        const YamlMap map = overrides->as_open_map();
+        for (const YamlMap::Entry& entry : map.entries()) {
+          if (tolerance_kind_from_symbol(entry.key, ToleranceStandard::kGost1643_81) == kind ||
+              tolerance_kind_from_symbol(entry.key, ToleranceStandard::kIso1328_1_2013) == kind) {
+            *key = entry.value.path();
+            return entry.value.location();
+          }
+        }
+      }
+    }
+    if (const auto grade = tolerances->find("grade")) {
+      *key = grade->path();
+      return grade->location();
+    }
+    *key = tolerances->path();
+    return tolerances->location();
+  }
+  *key = gear.path();
+  return gear.location();
+}
+
+// Gears drawn by the runout check (see check_tolerances).
+constexpr int kRunoutCheckGears = 8;
+
+// Resolves the scenario's tolerances for its gear (as every command does later) and checks
+// that the runout tolerance F_r can hold what the profile and helix tolerances alone produce:
+// the gear sampler shrinks pitch deviations to fit F_r but not profile and helix shapes, so a
+// gear whose shapes alone break F_r stops a run. The check draws the run's first
+// kRunoutCheckGears gears (the scenario's seed and laws) and rejects F_r when one of them does
+// not fit; when gears with every profile and helix deviation at its tolerance (the largest any
+// law draws) do not fit, it warns that a longer run may meet such a gear.
+void check_tolerances(Scenario& scenario, const YamlMap& gear_map,
+                      const std::optional<YamlMap>& tolerances) {
+  const InvoluteGear gear(scenario.gear);
+  ToleranceSet set;
+  std::string key;
+  try {
+    set = resolve_tolerances(scenario.tolerances, gear);
+  } catch (const ToleranceError& e) {
+    const InputLocation where = tolerance_place(gear_map, tolerances, std::nullopt, &key);
+    throw InputError(where, key + ": " + e.what());
+  }
+  if (!set.get_um(ToleranceKind::kRunout) || !scenario.deviations.random) return;
+  const GearSampler sampler(gear, set, scenario.deviations, scenario.seed);
+  for (int k = 0; k < kRunoutCheckGears; ++k) {
+    try {
+      sampler.draw(k);
+    } catch (const ToleranceError& e) {
+      const InputLocation where =
+          tolerance_place(gear_map, tolerances, ToleranceKind::kRunout, &key);
+      throw InputError(where, key + ": " + e.what() + " (gear " + std::to_string(k) +
+                                  " of the run; every command rejects this scenario)");
+    }
+  }
+  DeviationModel worst = scenario.deviations;
+  for (DeviationDistribution* law :
+       {&worst.profile_slope, &worst.profile_form, &worst.helix_slope, &worst.helix_form}) {
+    law->law = DeviationDistribution::Law::kAtTolerance;
+  }
+  const GearSampler worst_sampler(gear, set, worst, scenario.seed);
+  for (int k = 0; k < kRunoutCheckGears; ++k) {
+    try {
+      worst_sampler.draw(k);
+    } catch (const ToleranceError& e) {
+      const InputLocation where =
+          tolerance_place(gear_map, tolerances, ToleranceKind::kRunout, &key);
+      scenario.warnings.push_back(
+          InputError(where, key +
+                                ": F_r leaves little room: with profile and helix deviations "
+                                "at their tolerances, " +
+                                e.what() + "; a run may stop at such a gear")
+              .what());
+      break;
+    }
+  }
+}
+
 }  // namespace
 
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name) {
+  // Every user string may end up in JSON outputs and reports: the whole text must be UTF-8.
+  require_utf8(yaml_text, source_name, "scenario file");
   const YamlValue root = parse_yaml_document(yaml_text, source_name);
   const std::string expected_top =
       "a map of scenario keys (name, seed, gear, tolerances, deviations, probing, stylus, run, "
@@ -407,56 +515,58 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
     if (scenario.name.empty()) scenario.name = "scenario";
   }
   scenario.seed = top.get_uint64("seed").value_or(scenario.seed);
-  scenario.gear = read_gear(top.require_map(
+  InputWarnings* warnings = &scenario.warnings;
+  const YamlMap gear_map = top.require_map(
       "gear", {"teeth", "module_mm", "pressure_angle_deg", "profile_shift", "face_width_mm",
-               "tip_diameter_mm", "root_diameter_mm", "basic_rack"}));
-  if (const auto tolerances = top.get_map("tolerances", {"standard", "grade", "overrides_um"})) {
-    scenario.tolerances = read_tolerances(*tolerances);
-  }
+               "tip_diameter_mm", "root_diameter_mm", "basic_rack"});
+  scenario.gear = read_gear(gear_map, warnings);
+  const std::optional<YamlMap> tolerances =
+      top.get_map("tolerances", {"standard", "grade", "overrides_um"});
+  if (tolerances) scenario.tolerances = read_tolerances(*tolerances, warnings);
   if (const auto deviations =
           top.get_map("deviations", {"random", "distribution", "k", "eccentricity", "pitch",
                                      "thickness", "profile", "helix", "normal_um"})) {
-    scenario.deviations = read_deviations(*deviations, &scenario.normal_expression_um);
+    scenario.deviations = read_deviations(*deviations, &scenario.normal_expression_um, warnings);
   }
-  if (const auto probing =
-          top.get_map("probing", {"points_along_profile", "sections_across_face", "margin_fraction",
-                                  "profile_spacing", "teeth", "flanks", "order"})) {
-    scenario.probing = read_probing(*probing, scenario.gear.teeth);
+  // The tolerances are resolved here, so that every command (geometry, run, simulate, …)
+  // accepts or rejects the same scenario, with the place of the cause.
+  check_tolerances(scenario, gear_map, tolerances);
+  const std::optional<YamlMap> probing =
+      top.get_map("probing", {"points_along_profile", "sections_across_face", "margin_fraction",
+                              "profile_spacing", "teeth", "flanks", "order"});
+  if (probing) scenario.probing = read_probing(*probing, scenario.gear.teeth, warnings);
+  {
+    const ProbingPlanSpec& plan = scenario.probing;
+    const double teeth =
+        plan.teeth.empty() ? scenario.gear.teeth : static_cast<double>(plan.teeth.size());
+    const double points = static_cast<double>(plan.grid.points_along_profile) *
+                          plan.grid.sections_across_face * teeth *
+                          ((plan.left ? 1 : 0) + (plan.right ? 1 : 0));
+    const InputLocation where = probing ? probing->location() : top.location();
+    check_ranged(points, probing_ranges().at("probing.points_per_gear"), where,
+                 std::to_string(static_cast<long long>(points)), warnings);
   }
   if (const auto stylus = top.get_map("stylus", {"radius_mm"})) {
-    scenario.stylus_radius_mm = stylus->get_number("radius_mm", NumberRange{0.0, 50.0, false, true})
-                                    .value_or(scenario.stylus_radius_mm);
+    scenario.stylus_radius_mm =
+        get_ranged(*stylus, "radius_mm", probing_ranges().at("stylus.radius_mm"), warnings)
+            .value_or(scenario.stylus_radius_mm);
   }
   if (const auto run = top.get_map("run", {"gears"})) {
-    scenario.gears = static_cast<int>(run->get_int("gears", 1, 100000000).value_or(scenario.gears));
+    scenario.gears =
+        static_cast<int>(get_ranged_int(*run, "gears", probing_ranges().at("run.gears"), warnings)
+                             .value_or(scenario.gears));
   }
   if (const auto surfaces = top.find("surfaces")) {
     scenario.surfaces = read_surfaces(*surfaces, scenario.gear, scenario.probing, source_name);
   }
   if (const auto effects = top.find("effects")) {
-    scenario.effects = std::make_shared<const EffectChain>(parse_effects(*effects));
+    scenario.effects = std::make_shared<const EffectChain>(parse_effects(*effects, warnings));
   }
   return scenario;
 }
 
 Scenario load_scenario_file(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw InputError({path, 0, 0}, path + ": cannot read the scenario file: it is a directory");
-  }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int code = errno;
-    throw InputError({path, 0, 0}, path + ": cannot read the scenario file: " +
-                                       (code != 0 ? std::strerror(code) : "cannot open it"));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    throw InputError({path, 0, 0}, path + ": cannot read the scenario file: read error");
-  }
-  return parse_scenario(text.str(), path);
+  return parse_scenario(read_input_file(path, "scenario file", kMaxScenarioBytes), path);
 }
 
 }  // namespace gearmc

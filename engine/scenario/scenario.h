@@ -50,9 +50,13 @@ struct Scenario {
   // `effects:` — the measurement effects, in physical order (empty: δRcomp alone). Shared,
   // read-only; never null.
   std::shared_ptr<const EffectChain> effects = std::make_shared<const EffectChain>();
+  // Values that are valid but outside their usual range (parameter_ranges.h), each a whole
+  // located message "file:line:col: key: …"; the caller prints them (they are not errors).
+  std::vector<std::string> warnings;
 };
 
-// Reads and validates a scenario file. Throws InputError.
+// Reads and validates a scenario file (a regular file of at most kMaxScenarioBytes, UTF-8),
+// including the resolution of its tolerances for its gear. Throws InputError.
 Scenario load_scenario_file(const std::string& path);
 // Same, from text; `source_name` is used in error messages.
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name);

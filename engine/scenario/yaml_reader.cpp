@@ -3,17 +3,18 @@
 // marks are 0-based; messages are 1-based), the dotted key, the value and what was expected.
 #include "engine/scenario/yaml_reader.h"
 
+#include <yaml-cpp/eventhandler.h>
+
 #include <algorithm>
 #include <cassert>
 #include <charconv>
 #include <cmath>
+#include <sstream>
 #include <system_error>
 #include <utility>
 
 namespace gearmc {
 namespace {
-
-constexpr std::size_t kShownLength = 60;  // longer values are shortened in messages
 
 InputLocation location_of(const YAML::Mark& mark, const std::string& file) {
   if (mark.is_null()) return {file, 0, 0};
@@ -24,40 +25,6 @@ std::string format_number(double value) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
   return std::string(buffer, result.ptr);
-}
-
-// Control characters as C escapes, so a value stays on one line of the message.
-std::string escape_control(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += '?';
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
-}
-
-std::string shorten(std::string text) {
-  if (text.size() <= kShownLength) return text;
-  std::size_t cut = kShownLength;
-  // Do not cut a UTF-8 sequence in half.
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
-  text.resize(cut);
-  return text + "...";
 }
 
 std::string join(const std::vector<std::string>& words, const std::string& separator) {
@@ -101,6 +68,24 @@ bool parse_number(const std::string& text, double* value) {
 std::string quoted_note(const YamlValue& value) {
   return value.is_quoted() ? ", written without quotes" : "";
 }
+
+// Records where each document of a stream starts; ignores everything else.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
 
 }  // namespace
 
@@ -165,12 +150,12 @@ bool YamlValue::is_quoted() const {
 
 std::string YamlValue::shown() const {
   if (!node_.IsDefined() || node_.IsNull()) return "null";
-  if (node_.IsScalar()) return shorten(escape_control(node_.Scalar()));
+  if (node_.IsScalar()) return node_.Scalar();
   YAML::Emitter emitter;
   emitter.SetSeqFormat(YAML::Flow);
   emitter.SetMapFormat(YAML::Flow);
   emitter << node_;
-  return shorten(escape_control(emitter.c_str()));
+  return emitter.c_str();
 }
 
 InputError YamlValue::error(const std::string& expected, const std::string& hint) const {
@@ -377,21 +362,34 @@ YamlMap YamlMap::require_map(const std::string& key, const std::vector<std::stri
 // ---- documents ------------------------------------------------------------------------------
 
 YamlValue parse_yaml_document(const std::string& text, const std::string& file) {
-  std::vector<YAML::Node> documents;
+  YAML::Node document;
+  std::vector<YAML::Mark> starts;
   try {
-    documents = YAML::LoadAll(text);
+    document = YAML::Load(text);
+    // Where the documents start: the first two are enough. (YAML::LoadAll never returns on
+    // a stray ',' at the top level of yaml-cpp 0.7: its parser reports empty documents
+    // forever; counting with a bound cannot hang.)
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    DocumentStarts handler;
+    while (handler.starts.size() < 2 && parser.HandleNextDocument(handler)) {
+    }
+    starts = handler.starts;
   } catch (const YAML::Exception& e) {
     const InputLocation where = location_of(e.mark, file);
     throw InputError(where, "invalid YAML: " + e.msg);
   }
-  if (documents.empty()) return YamlValue(YAML::Node(), "", file, {file, 1, 1});
-  if (documents.size() > 1) {
-    throw InputError(location_of(documents[1].Mark(), file), "", "",
-                     "one YAML document, found a second one (a line '---' starts it)");
+  if (starts.empty()) {  // no text or only comments
+    return YamlValue(YAML::Node(), "", file, {file, 1, 1});
   }
-  InputLocation root_where = location_of(documents[0].Mark(), file);
+  if (starts.size() > 1) {
+    throw InputError(location_of(starts[1], file), "", "",
+                     "one YAML document, found a second one (a line '---' or a stray ',' "
+                     "starts it)");
+  }
+  InputLocation root_where = location_of(document.Mark(), file);
   if (root_where.line == 0) root_where = {file, 1, 1};
-  return YamlValue(documents[0], "", file, root_where);
+  return YamlValue(document, "", file, root_where);
 }
 
 }  // namespace gearmc

@@ -67,8 +67,8 @@ class YamlValue {
   bool is_sequence() const { return node_.IsSequence(); }
   // Written in quotes (or tagged !!str): text, never a number or a boolean.
   bool is_quoted() const;
-  // The value as messages show it: scalars verbatim (control characters escaped), null as
-  // "null", maps and sequences in flow style; shortened to about 60 characters.
+  // The value as messages show it: scalars verbatim, null as "null", maps and sequences in
+  // flow style (InputError escapes and shortens it, see shown_input).
   std::string shown() const;
 
   // An InputError at this value: "<file>:<l>:<c>: <path>: got '<shown>', expected <expected>".

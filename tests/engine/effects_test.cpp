@@ -400,8 +400,10 @@ TEST(EffectConfig, BadInputNamesFileLineColumnKeyAndExpectation) {
                "e.yaml:1:1: scael: got 'scael', expected a known key (the top level has: "
                "probe_lobing, stylus_radius, tip_form, scale, squareness, thermal_expansion, "
                "drift, step_quantization, eccentricity, noise); did you mean 'scale'?");
-  expect_error("noise: {sigma_um: -1}\n",
-               "e.yaml:1:19: noise.sigma_um: got '-1', expected a number >= 0");
+  expect_error(
+      "noise: {sigma_um: -1}\n",
+      "e.yaml:1:19: noise.sigma_um: got '-1', expected a number from 0 to 100 µm (probing noise "
+      "σ 0.1–0.5 µm); a value in nm? (300 nm = 0.3 µm)");
   expect_error("scale: {x_ppm: {uniform: [3, 1]}}\n",
                "e.yaml:1:26: scale.x_ppm.uniform: got '[3, 1]', expected [lo, hi] with lo <= hi");
   expect_error("probe_lobing: {calibration: mean7}\n",

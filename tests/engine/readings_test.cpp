@@ -95,12 +95,12 @@ TEST(ReadingsCsv, BadInputGivesOneMessageWithTheLine) {
   expect_error(kHead + "0,1,X,0,0,0,60,0,10,1,0,0,60.5,0,10\n",
                "r.csv:4:5: flank: got 'X', expected L or R");
   expect_error(kHead + "0,1,L,0,0,0,60,0,10,1,0\n",
-               "r.csv:4: row has 11 fields, expected 15 (as the column line)");
+               "r.csv:4:24: row has 11 fields, expected 15 (as the column line)");
   expect_error(kHead + "0,1,L,0,0,0,60,0,10,2,0,0,60.5,0,10\n",
                "r.csv:4:21: nx,ny,nz: got '2,0,0', expected a unit normal (|n| = 1 within 1e-6)");
   expect_error(kHead + "0,1,L,0,0,0,60,0,10,1,0,0,60.5,0,10\n0,1,L,1,0,0,61,0,10,1,0,0,61.5,0,10\n",
                "r.csv:5:11: order: got '0', expected an order not used by an earlier row");
-  expect_error(kHead, "r.csv:3: the readings file has no rows");
+  expect_error(kHead, "r.csv:4:1: the readings file has no rows after its column line (line 3)");
 }
 
 }  // namespace

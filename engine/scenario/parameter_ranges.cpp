@@ -1,0 +1,280 @@
+// The plausible-range tables of scenario and readings numbers and the checks that use them
+// (see parameter_ranges.h). Typical values quoted in the reasons are the README's "Measurement
+// effects" table, ISO 1328-1:2013's scope (z 5–1000, d 5–15 000 mm, m_n 0.5–70 mm,
+// b 4–1 200 mm) and ISO 53 (basic rack). Valid ranges are wide (a value beyond them is not a
+// gear or not a CMM); usual ranges are what such gears and machines have.
+#include "engine/scenario/parameter_ranges.h"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace gearmc {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+NumberRange closed(double lo, double hi) { return NumberRange::closed(lo, hi); }
+NumberRange above(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
+
+std::string number(double value) {
+  char buffer[64];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, r.ptr);
+}
+
+std::string with_unit(double value, const std::string& unit) {
+  if (unit.empty()) return number(value);
+  return number(value) + (unit == "%" ? "" : " ") + unit;
+}
+
+}  // namespace
+
+const ParameterRange& RangeTable::at(const std::string& key) const {
+  for (const ParameterRange& entry : entries) {
+    if (entry.key == key) return entry;
+  }
+  throw std::logic_error("no plausible range for '" + key + "' in the " + section + " table");
+}
+
+const RangeTable& gear_ranges() {
+  static const RangeTable table{
+      "gear",
+      {{"gear.teeth", "", closed(5, 1000), 6, 500, "ISO 1328-1:2013 scope z 5–1000", "", true},
+       {"gear.module_mm", "mm", closed(0.01, 200), 0.2, 70,
+        "ISO 1328-1:2013 scope m_n 0.5–70 mm; fine-pitch gears down to 0.2 mm",
+        "a module in inches or in µm?"},
+       {"gear.pressure_angle_deg", "deg", NumberRange{5, 45, true, false}, 14.5, 30,
+        "ISO 53: 20°; 14.5°, 25° and 30° are also made",
+        "a value below 1 is an angle in radians (0.349 rad = 20°): give degrees"},
+       {"gear.profile_shift", "", closed(-1.5, 3), -1, 1.5,
+        "profile shift coefficients in practice -1…+1.5 (P1: 0.90116)", ""},
+       {"gear.face_width_mm", "mm", closed(0.01, 5000), 1, 1200,
+        "ISO 1328-1:2013 scope b 4–1200 mm", "a width in m or in µm?"},
+       {"gear.tip_diameter_mm", "mm", above(0, 100000), 1, 16000,
+        "ISO 1328-1:2013 scope d 5–15000 mm", ""},
+       {"gear.root_diameter_mm", "mm", above(0, 100000), 1, 16000,
+        "ISO 1328-1:2013 scope d 5–15000 mm", ""},
+       {"gear.basic_rack.addendum", "modules", above(0, 3), 0.8, 1.25,
+        "ISO 53 addendum 1.0 m; stub teeth 0.8 m", ""},
+       {"gear.basic_rack.dedendum", "modules", above(0, 3), 1.0, 1.4,
+        "ISO 53 dedendum 1.25 m (profiles A–D 1.25–1.4 m)", ""},
+       {"gear.basic_rack.root_radius", "modules", closed(0, 1), 0, 0.5,
+        "ISO 53 root radius 0.25–0.39 m", ""}}};
+  return table;
+}
+
+const RangeTable& tolerance_ranges() {
+  static const RangeTable table{
+      "tolerances",
+      {{"tolerances.overrides_um.tolerance", "µm", closed(0.5, 10000), 1, 2000,
+        "ISO 1328-1:2013 class 1 (finest) gives >= 1.3 µm, class 11 at d 15000 mm about 1300 µm",
+        "a value in mm? (0.02 mm = 20 µm)"},
+       {"tolerances.overrides_um.E_Hs", "µm", closed(0, 10000), 1, 2000,
+        "GOST 1643-81 least rack shifts are tens to hundreds of µm (P1: 110 µm)",
+        "a value in mm? (0.11 mm = 110 µm)"}}};
+  return table;
+}
+
+const RangeTable& deviation_ranges() {
+  static const RangeTable table{
+      "deviations",
+      {{"deviations.k", "", above(0, 100), 1, 6,
+        "tolerance = k sigma; k 2–4 is usual (3: 99.73 % of a normal law inside)", ""},
+       {"deviations.control_points", "", closed(4, 64), 4, 32,
+        "B-spline control points of a form deviation; >= 4 for a cubic", "", true}}};
+  return table;
+}
+
+const RangeTable& probing_ranges() {
+  static const RangeTable table{
+      "probing",
+      {{"probing.points_along_profile", "", closed(1, 1000), 3, 200,
+        "P1: 10; ISO 1328-1 evaluation needs a few points per mm", "", true},
+       {"probing.sections_across_face", "", closed(1, 1000), 1, 100, "P1: 5", "", true},
+       {"probing.points_per_gear", "", closed(1, 10000000), 1, 1000000,
+        "points x sections x teeth x flanks; 10 million points is several GB of results", "", true},
+       {"probing.margin_fraction", "", NumberRange{0, 0.5, true, false}, 0, 0.2,
+        "P1: 0.05 away from every edge", "a percentage? (5 % is 0.05)"},
+       {"stylus.radius_mm", "mm", closed(0.01, 50), 0.05, 5,
+        "stylus balls are 0.1–10 mm in diameter (P1: R 0.5 mm)", "a diameter, or µm?"},
+       {"run.gears", "", closed(1, 100000000), 1, 1000000, "P1: 50 gears", "", true}}};
+  return table;
+}
+
+const RangeTable& effect_ranges() {
+  const std::string lobing =
+      "touch-trigger pre-travel: P2 ±0.75 µm lobing, kinematic probes a few µm, TP20 ±0.6–1 µm";
+  const std::string angle = "an angle in degrees; beyond ±3600° it is surely not meant";
+  static const RangeTable table{
+      "effects",
+      {{"effects.probe_lobing.pretravel_um", "µm", closed(-1000, 1000), -100, 100, lobing,
+        "a value in nm? (1000 nm = 1 µm)"},
+       {"effects.probe_lobing.harmonics.amplitude_um", "µm", closed(-1000, 1000), -20, 20, lobing,
+        "a value in nm?"},
+       {"effects.probe_lobing.harmonics.phase_deg", "deg", closed(-3600, 3600), -360, 360, angle,
+        ""},
+       {"effects.probe_lobing.repeatability_um", "µm", closed(0, 100), 0, 5,
+        "unidirectional repeatability of a probe 0.05–1 µm (P2: 0.07 µm)", "a value in nm?"},
+       {"effects.probe_lobing.calibration_start_deg", "deg", closed(-3600, 3600), -360, 360, angle,
+        ""},
+       {"effects.probe_lobing.from_probe_model.stylus_length_mm", "mm", closed(1, 200), 10, 100,
+        "styli are 10–100 mm long", ""},
+       {"effects.probe_lobing.from_probe_model.stem_diameter_mm", "mm", closed(0.1, 10), 0.3, 5,
+        "stylus stems 0.3–5 mm", ""},
+       {"effects.probe_lobing.from_probe_model.ball_diameter_mm", "mm", closed(0.1, 20), 0.3, 10,
+        "stylus balls 0.3–10 mm", ""},
+       {"effects.probe_lobing.from_probe_model.trigger_latency_s", "s", closed(0, 0.1), 0, 0.01,
+        "trigger latencies are µs to ms", "a value in ms? (1 ms = 0.001 s)"},
+       {"effects.probe_lobing.from_probe_model.speed_mm_s", "mm/s", closed(0.01, 100), 0.5, 20,
+        "probing speeds 1–10 mm/s", ""},
+       {"effects.stylus_radius.error_um", "µm", closed(-100, 100), -5, 5,
+        "radius qualification errors 0.1–0.5 µm", "a value in nm?"},
+       {"effects.tip_form.amplitude_um", "µm", closed(-100, 100), -5, 5,
+        "ruby ball grade 5 sphericity <= 0.13 µm (ISO 3290)", "a value in nm?"},
+       {"effects.tip_form.phase_deg", "deg", closed(-3600, 3600), -360, 360, angle, ""},
+       {"effects.scale.x_ppm", "ppm", closed(-10000, 10000), -100, 100,
+        "scale errors 1–5 ppm; 10000 ppm is 1 %", ""},
+       {"effects.scale.y_ppm", "ppm", closed(-10000, 10000), -100, 100,
+        "scale errors 1–5 ppm; 10000 ppm is 1 %", ""},
+       {"effects.scale.z_ppm", "ppm", closed(-10000, 10000), -100, 100,
+        "scale errors 1–5 ppm; 10000 ppm is 1 %", ""},
+       {"effects.squareness.xy_urad", "µrad", closed(-10000, 10000), -200, 200,
+        "squareness errors 5–20 µrad; 10000 µrad is 0.57°", "a value in arc seconds?"},
+       {"effects.squareness.xz_urad", "µrad", closed(-10000, 10000), -200, 200,
+        "squareness errors 5–20 µrad; 10000 µrad is 0.57°", "a value in arc seconds?"},
+       {"effects.squareness.yz_urad", "µrad", closed(-10000, 10000), -200, 200,
+        "squareness errors 5–20 µrad; 10000 µrad is 0.57°", "a value in arc seconds?"},
+       {"effects.thermal_expansion.workpiece_delta_t_k", "K", closed(-100, 100), -10, 10,
+        "ΔT 0.5–2 K off 20 °C (ISO 1)", "a temperature in °C instead of its difference to 20 °C?"},
+       {"effects.thermal_expansion.scale_delta_t_k", "K", closed(-100, 100), -10, 10,
+        "ΔT 0.5–2 K off 20 °C (ISO 1)", "a temperature in °C instead of its difference to 20 °C?"},
+       {"effects.thermal_expansion.workpiece_cte_ppm_per_k", "ppm/K", closed(0, 300), 0, 30,
+        "steel 11.5, aluminium 23, plastics up to about 200 ppm/K", ""},
+       {"effects.thermal_expansion.scale_cte_ppm_per_k", "ppm/K", closed(0, 300), 0, 30,
+        "glass-ceramic 0, steel 11.5 ppm/K", ""},
+       {"effects.drift.x_um", "µm", closed(-1000, 1000), -20, 20, "drift about 1 µm per hour",
+        "a value in nm?"},
+       {"effects.drift.y_um", "µm", closed(-1000, 1000), -20, 20, "drift about 1 µm per hour",
+        "a value in nm?"},
+       {"effects.drift.z_um", "µm", closed(-1000, 1000), -20, 20, "drift about 1 µm per hour",
+        "a value in nm?"},
+       {"effects.step_quantization.step_um", "µm", closed(0, 100), 0, 5,
+        "servo interpolation steps 0.05–1 µm", "a value in nm?"},
+       {"effects.step_quantization.approach_mm", "mm", above(0, 100), 0.1, 20,
+        "approach distances 1–5 mm (default 2 mm)", ""},
+       {"effects.eccentricity.x_um", "µm", closed(-1000, 1000), -100, 100,
+        "set-up eccentricity a few µm", "a value in nm, or in mm given as µm?"},
+       {"effects.eccentricity.y_um", "µm", closed(-1000, 1000), -100, 100,
+        "set-up eccentricity a few µm", "a value in nm, or in mm given as µm?"},
+       {"effects.noise.sigma_um", "µm", closed(0, 100), 0, 5, "probing noise σ 0.1–0.5 µm",
+        "a value in nm? (300 nm = 0.3 µm)"}}};
+  return table;
+}
+
+const RangeTable& readings_ranges() {
+  static const RangeTable table{
+      "readings",
+      {{"stylus_radius_mm", "mm", closed(0.01, 50), 0.05, 5,
+        "stylus balls are 0.1–10 mm in diameter", "a diameter, or µm?"},
+       {"coordinate_mm", "mm", closed(-100000, 100000), -10000, 10000,
+        "a CMM's measuring volume is at most a few metres", "µm instead of mm?"},
+       {"ref_dev_um", "µm", closed(-10000, 10000), -1000, 1000,
+        "an artefact's calibrated deviation is a few µm", "mm instead of µm?"},
+       {"reading_um", "µm", closed(-100000, 100000), -10000, 10000,
+        "(c − p)·n − R: a measured flank is within a few tens of µm of the nominal one",
+        "a stylus radius or a point in other units?"}}};
+  return table;
+}
+
+std::vector<const RangeTable*> all_range_tables() {
+  return {&gear_ranges(),    &tolerance_ranges(), &deviation_ranges(),
+          &probing_ranges(), &effect_ranges(),    &readings_ranges()};
+}
+
+std::string describe_range(const ParameterRange& range) {
+  std::string text = range.valid.describe();
+  if (range.integer) {
+    text = "an integer from " + number(range.valid.min) + " to " + number(range.valid.max);
+  }
+  if (!range.unit.empty()) text += " " + range.unit;
+  return text + " (" + range.why + ")";
+}
+
+namespace {
+
+std::string warning_text(double value, const ParameterRange& range) {
+  std::string text = with_unit(value, range.unit) + " is outside the usual range " +
+                     number(range.usual_min) + " … " + with_unit(range.usual_max, range.unit) +
+                     " (" + range.why + ")";
+  if (!range.slip.empty()) text += "; " + range.slip;
+  return text;
+}
+
+}  // namespace
+
+double read_ranged(const YamlValue& value, const ParameterRange& range, InputWarnings* warnings) {
+  std::string expected = describe_range(range);
+  double x = 0.0;
+  try {
+    x = value.as_number();
+  } catch (const InputError&) {
+    throw value.error(expected + (value.is_quoted() ? ", written without quotes" : ""));
+  }
+  if (!range.valid.contains(x)) {
+    if (!range.slip.empty()) expected += "; " + range.slip;
+    throw value.error(expected);
+  }
+  if (warnings != nullptr && (x < range.usual_min || x > range.usual_max)) {
+    warnings->push_back(
+        InputError(value.location(), value.path() + ": " + warning_text(x, range)).what());
+  }
+  return x;
+}
+
+std::int64_t read_ranged_int(const YamlValue& value, const ParameterRange& range,
+                             InputWarnings* warnings) {
+  const std::string expected = describe_range(range);
+  std::int64_t x = 0;
+  try {
+    x = value.as_int();
+  } catch (const InputError&) {
+    throw value.error(expected + (value.is_quoted() ? ", written without quotes" : ""));
+  }
+  const double real = static_cast<double>(x);
+  if (!range.valid.contains(real)) throw value.error(expected);
+  if (warnings != nullptr && (real < range.usual_min || real > range.usual_max)) {
+    warnings->push_back(
+        InputError(value.location(), value.path() + ": " + warning_text(real, range)).what());
+  }
+  return x;
+}
+
+std::optional<std::int64_t> get_ranged_int(const YamlMap& map, const std::string& key,
+                                           const ParameterRange& range, InputWarnings* warnings) {
+  const std::optional<YamlValue> value = map.find(key);
+  if (!value) return std::nullopt;
+  return read_ranged_int(*value, range, warnings);
+}
+
+std::optional<double> get_ranged(const YamlMap& map, const std::string& key,
+                                 const ParameterRange& range, InputWarnings* warnings) {
+  const std::optional<YamlValue> value = map.find(key);
+  if (!value) return std::nullopt;
+  return read_ranged(*value, range, warnings);
+}
+
+void check_ranged(double value, const ParameterRange& range, const InputLocation& where,
+                  const std::string& shown, InputWarnings* warnings) {
+  if (!range.valid.contains(value)) {
+    std::string expected = describe_range(range);
+    if (!range.slip.empty()) expected += "; " + range.slip;
+    throw InputError(where, range.key, shown, expected);
+  }
+  if (warnings != nullptr && (value < range.usual_min || value > range.usual_max)) {
+    warnings->push_back(InputError(where, range.key + ": " + warning_text(value, range)).what());
+  }
+}
+
+}  // namespace gearmc
