@@ -10,6 +10,7 @@
 #include "engine/diagnose/diagnosis_json.h"
 #include "engine/diagnose/diagnosis_report.h"
 #include "engine/diagnose/fitted_scenario.h"
+#include "engine/diagnose/readings_check.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
@@ -29,7 +30,9 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out) {
       o.model_gears ? ArtefactModel::kModelGears : ArtefactModel::kNominalMaster;
   if (o.seed) options.selection.seed = *o.seed;
   if (o.null_replicates) options.selection.null_replicates = *o.null_replicates;
+  check_readings_against_model(model, readings, o.measured_path);
   const Residuals residuals = compute_residuals(model, readings, options.prediction);
+  check_residuals(residuals, readings, o.measured_path);
   const NoiseFloor noise = estimate_noise_floor(model, residuals);
   const Diagnosis diagnosis = diagnose_residuals(residuals, noise, options);
 
