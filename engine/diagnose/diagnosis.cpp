@@ -224,15 +224,18 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
     return out;
   }
 
-  std::vector<PointContext> contexts;
   std::vector<double> azimuths;
   Eigen::VectorXd r(rows);
   for (int k = 0; k < rows; ++k) {
-    contexts.push_back(residuals.points[k].context);
     azimuths.push_back(residuals.points[k].context.azimuth_rad);
     r[k] = residuals.points[k].residual_um;
   }
-  const std::vector<CandidateDesign> candidates = candidate_designs(contexts, options.candidates);
+  const std::vector<CandidateDesign> candidates = [&] {
+    std::vector<PointContext> contexts;  // a copy only while the columns are made
+    contexts.reserve(residuals.points.size());
+    for (const ResidualPoint& p : residuals.points) contexts.push_back(p.context);
+    return candidate_designs(contexts, options.candidates);
+  }();
   for (const CandidateDesign& c : candidates) out.candidate_names.push_back(c.name);
 
   // 3. Selection.
