@@ -931,7 +931,8 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
         caption += " Outside the plotted range: " + std::to_string(h.underflow()) +
                    " below (smallest " + general(h.underflow_min()) + " µm) and " +
                    std::to_string(h.overflow()) + " above (largest " + general(h.overflow_max()) +
-                   " µm); the range covers the central 99 % of the residuals.";
+                   " µm); the range is the central 99 % of the residuals widened by half its width "
+                   "on each side.";
       }
       report.figure(histogram_svg(h, o), caption);
     }

@@ -41,8 +41,13 @@ DisplayBins display_bins(std::span<const double> values, double sigma_um, int ma
       std::nth_element(v.begin(), v.begin() + k, v.end());
       return v[static_cast<std::size_t>(k)];
     };
-    lo = std::min(lo, order_statistic(tail_fraction));
-    hi = std::max(hi, order_statistic(1.0 - tail_fraction));
+    const double q_lo = order_statistic(tail_fraction), q_hi = order_statistic(1.0 - tail_fraction);
+    const auto [min, max] = std::minmax_element(v.begin(), v.end());
+    // Half the central span again on each side (a Gaussian's ±2.6σ become ±5.2σ, so only gross
+    // outliers fall outside), but not beyond the data.
+    const double margin = 0.5 * (q_hi - q_lo);
+    lo = std::min(lo, std::max(q_lo - margin, *min));
+    hi = std::max(hi, std::min(q_hi + margin, *max));
   }
   if (std::isfinite(sigma_um) && sigma_um > 0.0) {
     lo = std::min(lo, -3.0 * sigma_um);

@@ -4,7 +4,9 @@
 //  * display_bins: the bins of a residual histogram. At most `max_bins` bins of a 1-2-5 width
 //    (…, 0.1, 0.2, 0.5, 1, 2, 5, … µm) covering the central part of the values — the
 //    `tail_fraction` and 1 − `tail_fraction` sample quantiles (Hyndman & Fan 1996, definition 1),
-//    widened to ±3σ of the noise floor so the expected law shows — never a bin count taken from
+//    widened by half their distance on each side (not beyond the data: a Gaussian sample's
+//    ±2.6σ become ±5.2σ, so only gross outliers fall outside) and to ±3σ of the noise floor so
+//    the expected law shows — never a bin count taken from
 //    the full range: one reading 10⁸ mm off no longer asks for 10¹¹ bins. Values outside the
 //    bins are the histogram's underflow / overflow, which the plot states with their extremes.
 //  * plotted_sample: which points a scatter plot draws. All of them up to `max_marks`; beyond,

@@ -304,16 +304,17 @@ TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
 TEST(DiagnoseReportData, HistogramBinsComeFromTheCentralQuantilesNotTheRange) {
   // 10 000 residuals in [−1, 1) µm plus one at 10¹¹ µm (a reading 10⁸ mm off) and one at −10⁹:
   // the old range-based bin count would have been 10¹¹ / 50 = 2·10⁹ bins. Now at most 62 bins of a
-  // 1-2-5 width covering the 0.5 %–99.5 % quantiles (±1 µm) and ±3σ (σ = 0.3): width 0.05 µm
-  // (2 µm / 60 = 0.033 → 0.05), from −1.0.
+  // 1-2-5 width covering the 0.5 %–99.5 % quantiles (−0.99, 0.99 µm: the 51st and 9 952nd of the
+  // 10 002 sorted values) widened by half their span, 0.99 µm, each side: ±1.98 µm (more than
+  // ±3σ, σ = 0.3), so the width is 3.96 / 60 = 0.066 → 0.1 µm, from ⌊−1.98 / 0.1⌋ · 0.1 = −2.0.
   std::vector<double> v;
   for (int k = 0; k < 10000; ++k) v.push_back(-1.0 + 2.0 * k / 10000.0);
   v.push_back(1e11);
   v.push_back(-1e9);
   const DisplayBins b = display_bins(v, 0.3);
   EXPECT_LE(b.bins, 62u);
-  EXPECT_DOUBLE_EQ(b.width_um, 0.05);
-  EXPECT_NEAR(b.lo_um, -1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(b.width_um, 0.1);
+  EXPECT_NEAR(b.lo_um, -2.0, 1e-12);
   Histogram h(b.lo_um, b.width_um, b.bins);
   for (double x : v) h.add(x);
   EXPECT_EQ(h.overflow(), 1u);
