@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "engine/diagnose/diagnosis_json.h"
 #include "engine/diagnose/diagnosis_report.h"
 #include "engine/diagnose/fitted_scenario.h"
+#include "engine/diagnose/readings_check.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
@@ -22,14 +24,17 @@ namespace fs = std::filesystem;
 int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out) {
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
-  const Readings readings = read_readings(o.measured_path);
+  auto readings = std::make_unique<Readings>(read_readings(o.measured_path));
 
   DiagnoseOptions options;
   options.prediction.artefact =
       o.model_gears ? ArtefactModel::kModelGears : ArtefactModel::kNominalMaster;
   if (o.seed) options.selection.seed = *o.seed;
   if (o.null_replicates) options.selection.null_replicates = *o.null_replicates;
-  const Residuals residuals = compute_residuals(model, readings, options.prediction);
+  check_readings_against_model(model, *readings, o.measured_path);
+  const Residuals residuals = compute_residuals(model, *readings, options.prediction);
+  check_residuals(residuals, *readings, o.measured_path);
+  readings.reset();  // the residuals carry what the diagnosis needs (memory at 10⁶ readings)
   const NoiseFloor noise = estimate_noise_floor(model, residuals);
   const Diagnosis diagnosis = diagnose_residuals(residuals, noise, options);
 

@@ -17,7 +17,9 @@
 //     at the same point k (a measured residual and a model-simulated one). Under the null the
 //     pair (x-cluster, y-cluster) is exchangeable, so each replicate swaps x and y on all points
 //     of a cluster together, every cluster independently with probability 1/2, and recomputes
-//     E; p = (1 + #{E* ≥ E}) / (replicates + 1), the Monte-Carlo p-value of Davison & Hinkley
+//     E (a swap never changes the pooled sample, so it is sorted once and each replicate only
+//     re-labels it: O(N) per replicate); p = (1 + #{E* ≥ E}) / (replicates + 1), the Monte-Carlo
+//     p-value of Davison & Hinkley
 //     ("Bootstrap Methods and their Application", 1997, ch. 4), valid for any number of
 //     replicates. Ties in exact arithmetic (e.g. the all-swapped replicate) are counted as
 //     E* ≥ E despite rounding: E* ≥ E − 1e-10 · max|x, y|. E is symmetric in x and y, so swapping

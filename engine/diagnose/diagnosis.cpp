@@ -11,6 +11,7 @@
 
 #include "engine/diagnose/cluster_tests.h"
 #include "engine/diagnose/linear_model.h"
+#include "engine/diagnose/readings_check.h"
 #include "engine/stats/distribution_fit.h"
 
 namespace gearmc {
@@ -185,7 +186,9 @@ FittedEffect point_law_effect(const PointLawStage& stage, const std::vector<std:
 
 Diagnosis diagnose(const Scenario& model, const Readings& readings,
                    const DiagnoseOptions& options) {
+  check_readings_against_model(model, readings, "");
   const Residuals residuals = compute_residuals(model, readings, options.prediction);
+  check_residuals(residuals, readings, "");
   NoiseFloor noise = estimate_noise_floor(model, residuals);
   if (options.noise_floor_um) {
     noise.sigma_um = *options.noise_floor_um;
@@ -207,16 +210,32 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   out.alpha = so.alpha;
   const int rows = out.points;
   const double sigma = noise.sigma_um;
+  if (!noise.not_enough.empty()) {  // nothing to judge the residuals against: no verdict
+    out.status = "not_enough_readings";
+    out.status_reason = noise.not_enough;
+    out.named_effect = "not_tested";
+    for (const ResidualPoint& p : residuals.points) out.residual_before_um.push_back(p.residual_um);
+    out.residual_after_um = out.residual_before_um;
+    double ss = 0.0;
+    for (double v : out.residual_before_um) ss += v * v;
+    out.gap_before.rms_um = out.gap_after.rms_um = std::sqrt(ss / std::max(1, rows));
+    out.point_law.skipped_because = "no verdict: " + noise.not_enough;
+    out.notes.push_back(noise.not_enough);
+    return out;
+  }
 
-  std::vector<PointContext> contexts;
   std::vector<double> azimuths;
   Eigen::VectorXd r(rows);
   for (int k = 0; k < rows; ++k) {
-    contexts.push_back(residuals.points[k].context);
     azimuths.push_back(residuals.points[k].context.azimuth_rad);
     r[k] = residuals.points[k].residual_um;
   }
-  const std::vector<CandidateDesign> candidates = candidate_designs(contexts, options.candidates);
+  const std::vector<CandidateDesign> candidates = [&] {
+    std::vector<PointContext> contexts;  // a copy only while the columns are made
+    contexts.reserve(residuals.points.size());
+    for (const ResidualPoint& p : residuals.points) contexts.push_back(p.context);
+    return candidate_designs(contexts, options.candidates);
+  }();
   for (const CandidateDesign& c : candidates) out.candidate_names.push_back(c.name);
 
   // 3. Selection.
@@ -410,6 +429,8 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   const Eigen::MatrixXd q_after = orthonormal_basis(x_after).q;
   const bool reestimate =
       noise.source == "residual_second_differences" || noise.source == "residual_mad";
+  const std::vector<std::array<int, 3>> triplets =
+      reestimate ? scan_triplets(residuals.points) : std::vector<std::array<int, 3>>{};
   std::vector<double> chi2_before, chi2_after, ks_before, ks_after;
   const int orders = options.spectrum_max_order + 1;
   std::vector<std::vector<double>> amp_before(orders), amp_after(orders);
@@ -425,8 +446,10 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
     ResidualLaw l_before = sim_before, l_after = sim_after;
     if (reestimate) {
       const std::vector<double> e = to_vector(eps);
-      l_before.sigma_um = l_after.sigma_um =
-          noise.source == "residual_mad" ? mad_sigma(e) : robust_noise_sigma(residuals.points, e);
+      const double estimate =
+          noise.source == "residual_mad" ? mad_sigma(e) : robust_noise_sigma(triplets, e);
+      // As the data's floor: never below the numerical floor.
+      l_before.sigma_um = l_after.sigma_um = std::max(estimate, noise.numerical_um);
     }
     if (stage.chosen > 0) {  // the fitted law: its own draws
       RandomStream rng_after(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
@@ -502,8 +525,12 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
 
   // 8. The verdict.
   const double practical = so.min_effect_rms_fraction * sigma;
+  // At the numerical floor the floor is a bound on exactness, not a law of the residuals: only
+  // residuals beyond it (χ²) make a gap, not their shape (KS).
+  const bool shape_test = !noise.at_numerical_floor;
   auto gap_rejects = [&](const GapStatistics& g) {
-    return (g.chi2_p < so.alpha && g.excess_rms_um >= practical) || g.ks_p < so.alpha;
+    return (g.chi2_p < so.alpha && g.excess_rms_um >= practical) ||
+           (shape_test && g.ks_p < so.alpha);
   };
   out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
   out.unexplained_structure = gap_rejects(out.gap_after);

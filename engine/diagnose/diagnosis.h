@@ -4,7 +4,9 @@
 // with standard errors, and shows the gap before and after, with a held-out check and the
 // residuals' harmonic spectrum against approach azimuth with null bands. The result maps onto
 // diagnosis.json (diagnosis_json.h). Steps:
-//  1. residuals r = measured − predicted and the noise floor σ (prediction.h);
+//  1. residuals r = measured − predicted and the noise floor σ (prediction.h); when the model
+//     has no random part and the residuals are too few to estimate σ, no test is made (status
+//     "not_enough_readings", named_effect "not_tested");
 //  2. candidate design matrices from the effects' signatures (candidates.h);
 //  3. forward selection of at most 3 effects (selection.h);
 //  4. the joint least-squares fit of the selected effects, β with covariance σ̂² (XᵀX)⁻¹,
@@ -33,7 +35,9 @@
 //     stylus_radius's, so structurally they always overlap, yet 6-lobed residuals say nothing
 //     about a constant. Each ambiguity comes with the measurement that would separate the two.
 //  8. the verdict: gap_detected when an effect is selected or the χ² test (with an excess RMS of
-//     at least the practical size) or the KS test rejects at alpha; named_effect = the first
+//     at least the practical size) or the KS test rejects at alpha (the KS test only when the
+//     floor is not the numerical one, NoiseFloor::at_numerical_floor: that floor bounds an exact
+//     prediction's rounding, it is not a law of the residuals); named_effect = the first
 //     selected effect when the selected effects explain ≥ 50 % of the excess residual variance
 //     (Σr² − nσ²), "unexplained" when a gap is detected but nothing in the library explains it,
 //     "none" when there is no gap; unexplained_structure when the gap tests still reject after
@@ -124,8 +128,13 @@ struct GapStatistics {
 };
 
 struct Diagnosis {
+  // "tested", or "not_enough_readings": the noise floor of a model without a random part could not
+  // be estimated (NoiseFloor::not_enough, in status_reason); then no test is made, gap_detected is
+  // false and named_effect is "not_tested".
+  std::string status = "tested";
+  std::string status_reason;
   bool gap_detected = false;
-  std::string named_effect = "none";  // library name, "none" or "unexplained"
+  std::string named_effect = "none";  // library name, "none", "unexplained" or "not_tested"
   std::vector<std::string> ambiguous_with;
   bool unexplained_structure = false;
   double explained_fraction = kNotAvailable;  // of the excess variance

@@ -59,10 +59,39 @@ Json values_json(const std::vector<FittedValue>& values, bool errors) {
   return j;
 }
 
+// Removes every null (a number that could not be computed) from `j`: a null member of an object,
+// or a member array with a null element, is taken out and its key listed in that object's
+// "not_computed" array; arrays of objects are walked element by element.
+void move_nulls_to_status(Json& j) {
+  if (j.is_array()) {
+    for (Json& e : j) move_nulls_to_status(e);
+    return;
+  }
+  if (!j.is_object()) return;
+  Json missing = Json::array();
+  Json kept = Json::object();
+  for (auto& [key, value] : j.items()) {
+    bool null = value.is_null();
+    if (value.is_array()) {
+      for (const Json& e : value) null = null || e.is_null();
+    }
+    if (null) {
+      missing.push_back(key);
+      continue;
+    }
+    move_nulls_to_status(value);
+    kept[key] = std::move(value);
+  }
+  if (!missing.empty()) kept["not_computed"] = missing;
+  j = std::move(kept);
+}
+
 }  // namespace
 
 std::string diagnosis_json(const Diagnosis& d) {
   Json j;
+  j["status"] = d.status;
+  if (!d.status_reason.empty()) j["status_reason"] = d.status_reason;
   j["gap_detected"] = d.gap_detected;
   j["named_effect"] = d.named_effect;
   j["ambiguous_with"] = d.ambiguous_with;
@@ -113,6 +142,8 @@ std::string diagnosis_json(const Diagnosis& d) {
   j["noise_floor_um"] = number(d.noise.sigma_um);
   j["noise_floor_after_um"] = number(d.noise_floor_after_um);
   j["noise_floor"] = {{"source", d.noise.source},
+                      {"numerical_floor_um", number(d.noise.numerical_um)},
+                      {"raised_to_numerical_floor", d.noise.at_numerical_floor},
                       {"model_um", number(d.noise.model_um)},
                       {"robust_um", number(d.noise.robust_um)},
                       {"second_differences", d.noise.differences}};
@@ -137,7 +168,7 @@ std::string diagnosis_json(const Diagnosis& d) {
                       {"white_sd_um", number(std::sqrt(st.white_variance_um2))},
                       {"white_p", number(st.white_p)},
                       {"second_differences", st.differences},
-                      {"chosen", st.chosen > 0 ? Json(st.best().name) : Json(nullptr)},
+                      {"chosen", st.chosen > 0 ? Json(st.best().name) : Json("none")},
                       {"hypotheses", hypotheses}};
   }
   j["unexplained_structure"] = d.unexplained_structure;
@@ -159,7 +190,7 @@ std::string diagnosis_json(const Diagnosis& d) {
     Json tests = Json::array();
     for (const CandidateTest& t : s.tests) tests.push_back(test_json(t));
     js["candidates"] = tests;
-    js["accepted"] = s.accepted >= 0 ? Json(s.tests[s.accepted].name) : Json(nullptr);
+    js["accepted"] = s.accepted >= 0 ? Json(s.tests[s.accepted].name) : Json("none");
     steps.push_back(js);
   }
   j["selection"] = steps;
@@ -170,6 +201,7 @@ std::string diagnosis_json(const Diagnosis& d) {
                    {"after_um", numbers(d.spectrum_after_um)},
                    {"null95_before_um", numbers(d.spectrum_null95_before_um)},
                    {"null95_after_um", numbers(d.spectrum_null95_after_um)}};
+  move_nulls_to_status(j);
   return j.dump(2) + "\n";
 }
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "engine/diagnose/report_plot_data.h"
 #include "engine/report/html_report.h"
 #include "engine/report/svg_plot.h"
 #include "engine/stats/histogram.h"
@@ -25,6 +26,8 @@ const char* const kAfter = "#0072B2";       // blue
 const char* const kFitted = "#009E73";      // bluish green
 const char* const kNullBefore = "#E69F00";  // orange
 const char* const kNullAfter = "#56B4E9";   // sky blue
+// The most marks of one scatter series (report.html stays small at 10⁶ readings).
+constexpr std::size_t kMaxScatterMarks = 5000;
 
 std::string fixed(double v, int decimals = 3) {
   if (!std::isfinite(v)) return "–";
@@ -69,7 +72,9 @@ std::string p_text(double p, int replicates) {
   return "p = " + general(p);
 }
 
-bool is_library_effect(const std::string& name) { return name != "none" && name != "unexplained"; }
+bool is_library_effect(const std::string& name) {
+  return name != "none" && name != "unexplained" && name != "not_tested";
+}
 
 // Parameters worth stating: |value| > 3 standard errors (a phase goes with its amplitude).
 std::vector<const FittedValue*> significant_parameters(const FittedEffect& e) {
@@ -400,6 +405,12 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
   const ReportData r = report_data(in);
   const int k = d.null_replicates;
   std::ostringstream s;
+  if (d.status != "tested") {
+    s << "No verdict: " << d.status_reason << ". Nothing was tested; fitted.yaml is the model "
+      << "unchanged. Give the model its noise (e.g. effects: noise: {sigma_um: …}) or more "
+      << "readings.";
+    return s.str();
+  }
   if (!d.gap_detected) {
     s << "No gap: the readings agree with the model within the noise floor. " << points_phrase(in)
       << ": " << gap_phrase(d.gap_before, r.sigma, k) << ". ";
@@ -485,7 +496,9 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
                   in.readings_path + " against " + in.model.name + ", noise floor " +
                   fixed(d.noise.sigma_um) + " µm (" + d.noise.source + ")");
   std::string verdict;
-  if (!d.gap_detected) {
+  if (d.status != "tested") {
+    verdict = "no verdict: " + d.status_reason;
+  } else if (!d.gap_detected) {
     verdict = "no gap: the readings agree with the model within the noise floor";
   } else if (!is_library_effect(d.named_effect)) {
     verdict = "gap, unexplained structure remains: no library effect explains it";
@@ -525,8 +538,17 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
   report.heading("Where: residuals against the approach azimuth");
   {
     std::vector<Series> series;
-    series.push_back(
-        {"each point, before", r.azimuth_deg, r.before, SeriesStyle::kPoints, kRawColour});
+    // A bounded number of marks: bin means use every point, the grey marks a sample of them.
+    const std::vector<std::size_t> shown = plotted_sample(r.before, kMaxScatterMarks, d.seed);
+    Series each{"each point, before", {}, {}, SeriesStyle::kPoints, kRawColour};
+    for (std::size_t q : shown) {
+      each.x.push_back(r.azimuth_deg[q]);
+      each.y.push_back(r.before[q]);
+    }
+    if (shown.size() < r.before.size()) {
+      each.label = "sample of " + std::to_string(shown.size()) + " points, before";
+    }
+    series.push_back(std::move(each));
     series.push_back(
         {"mean per 5°, before", r.azimuth.x, r.azimuth.before, SeriesStyle::kLine, kBefore});
     if (fitted_any) {
@@ -545,8 +567,15 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
     o.x_min = 0.0;
     o.x_max = 360.0;
     o.horizontal_lines = {0.0};
-    report.figure(xy_plot_svg(series, o),
-                  "Every reading (grey) and the mean per 5° of azimuth before and after the fit.");
+    report.figure(
+        xy_plot_svg(series, o),
+        (shown.size() < r.before.size()
+             ? "A sample of " + std::to_string(shown.size()) + " of the " + std::to_string(r.n) +
+                   " readings (grey: the smallest and largest residual and a random "
+                   "sample of the others)"
+             : std::string("Every reading (grey)")) +
+            " and the mean per 5° of azimuth of every reading before and after the "
+            "fit.");
   }
   {
     std::vector<double> angle, before, after;
@@ -862,18 +891,13 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
   // --- Histograms ---
   report.heading("Distribution of the residuals before and after");
   if (r.n > 0) {
-    double lo = 0.0, hi = 0.0;
-    for (int q = 0; q < r.n; ++q) {
-      lo = std::min({lo, r.before[q], r.after[q]});
-      hi = std::max({hi, r.before[q], r.after[q]});
-    }
-    double width = 1.0;
-    for (double w : {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0}) {
-      width = w;
-      if ((hi - lo) / w <= 60.0) break;
-    }
-    const double start = std::floor(lo / width) * width;
-    const auto bins = static_cast<std::size_t>(std::ceil((hi - start) / width)) + 1;
+    // Bins from the central quantiles of both residual sets, never from their full range.
+    std::vector<double> both = r.before;
+    if (fitted_any) both.insert(both.end(), r.after.begin(), r.after.end());
+    const DisplayBins bins_of = display_bins(both, r.sigma);
+    both = {};
+    const double start = bins_of.lo_um, width = bins_of.width_um;
+    const std::size_t bins = bins_of.bins;
     const double sigma = r.sigma;
     for (int which = 0; which < (fitted_any ? 2 : 1); ++which) {
       Histogram h(start, width, bins);
@@ -901,9 +925,16 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
       }
       o.x_min = start;
       o.x_max = start + width * static_cast<double>(bins);
-      report.figure(histogram_svg(h, o), which == 0
-                                             ? "Residuals against the model as given."
-                                             : "Residuals with the selected effects fitted.");
+      std::string caption = which == 0 ? "Residuals against the model as given."
+                                       : "Residuals with the selected effects fitted.";
+      if (h.underflow() + h.overflow() > 0) {
+        caption += " Outside the plotted range: " + std::to_string(h.underflow()) +
+                   " below (smallest " + general(h.underflow_min()) + " µm) and " +
+                   std::to_string(h.overflow()) + " above (largest " + general(h.overflow_max()) +
+                   " µm); the range is the central 99 % of the residuals widened by half its width "
+                   "on each side.";
+      }
+      report.figure(histogram_svg(h, o), caption);
     }
   }
 

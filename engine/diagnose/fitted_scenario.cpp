@@ -219,7 +219,8 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
     }
   }
 
-  const bool named = d.named_effect != "none" && d.named_effect != "unexplained";
+  const bool named =
+      d.named_effect != "none" && d.named_effect != "unexplained" && d.named_effect != "not_tested";
   if (named) {
     YAML::Node effects = root["effects"];
     if (!effects.IsMap()) {

@@ -224,20 +224,28 @@ double sample_quantile(std::vector<double> values, double q) {
 HarmonicSpectrum::HarmonicSpectrum(const std::vector<double>& azimuth_rad, int max_order)
     : max_order_(max_order) {
   const int rows = static_cast<int>(azimuth_rad.size());
-  Eigen::MatrixXd x(rows, 2 * max_order + 1);
+  // Xᵀ is built in place of the operator and overwritten block by block, so the memory is one
+  // (2K + 1) × rows matrix (at 10⁶ readings 200 MB, not three of them).
+  solve_.resize(2 * max_order + 1, rows);
   for (int r = 0; r < rows; ++r) {
-    x(r, 0) = 1.0;
+    solve_(0, r) = 1.0;
     for (int k = 1; k <= max_order; ++k) {
-      x(r, 2 * k - 1) = std::cos(k * azimuth_rad[r]);
-      x(r, 2 * k) = std::sin(k * azimuth_rad[r]);
+      solve_(2 * k - 1, r) = std::cos(k * azimuth_rad[r]);
+      solve_(2 * k, r) = std::sin(k * azimuth_rad[r]);
     }
   }
   // Minimum-norm least squares, pinv(X) = pinv(XᵀX) Xᵀ (complete orthogonal decomposition of
   // the small Gram matrix): a plan that covers too few azimuths for the high orders still gives
   // finite amplitudes.
-  const Eigen::MatrixXd gram = x.transpose() * x;
-  solve_ =
-      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(gram).pseudoInverse() * x.transpose();
+  const Eigen::MatrixXd gram = solve_ * solve_.transpose();
+  const Eigen::MatrixXd pinv =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(gram).pseudoInverse();
+  constexpr int kBlock = 4096;
+  for (int b = 0; b < rows; b += kBlock) {
+    const int w = std::min(kBlock, rows - b);
+    const Eigen::MatrixXd block = pinv * solve_.middleCols(b, w);
+    solve_.middleCols(b, w) = block;
+  }
 }
 
 std::vector<double> HarmonicSpectrum::amplitudes(const Eigen::VectorXd& residual_um) const {

@@ -130,15 +130,22 @@ std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& 
   return out;
 }
 
-double robust_noise_sigma(const std::vector<ResidualPoint>& points,
-                          const std::vector<double>& residual_um, int* count) {
+double robust_noise_sigma(const std::vector<std::array<int, 3>>& triplets,
+                          const std::vector<double>& residual_um) {
   std::vector<double> d;
-  for (const auto& t : scan_triplets(points)) {
+  d.reserve(triplets.size());
+  for (const auto& t : triplets) {
     d.push_back(residual_um[t[0]] - 2.0 * residual_um[t[1]] + residual_um[t[2]]);
   }
-  if (count) *count = static_cast<int>(d.size());
   if (d.empty()) return std::numeric_limits<double>::quiet_NaN();
   return mad_sigma(std::move(d)) / std::sqrt(6.0);
+}
+
+double robust_noise_sigma(const std::vector<ResidualPoint>& points,
+                          const std::vector<double>& residual_um, int* count) {
+  const std::vector<std::array<int, 3>> triplets = scan_triplets(points);
+  if (count) *count = static_cast<int>(triplets.size());
+  return robust_noise_sigma(triplets, residual_um);
 }
 
 NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals) {
@@ -150,16 +157,30 @@ NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residual
   r.reserve(residuals.points.size());
   for (const ResidualPoint& p : residuals.points) r.push_back(p.residual_um);
   floor.robust_um = robust_noise_sigma(residuals.points, r, &floor.differences);
+  floor.numerical_um = kNumericalFloorUm;
+  const int n = static_cast<int>(r.size());
   if (floor.model_um > 0.0) {
     floor.sigma_um = floor.model_um;
     floor.source = "model";
     floor.law = model_law;
-  } else if (floor.robust_um > 0.0) {
+  } else if (floor.differences >= kMinFloorSamples) {
     floor.sigma_um = floor.robust_um;
     floor.source = "residual_second_differences";
-  } else {  // no profile scans of 3 points: the MAD of the residuals themselves (an upper bound)
+  } else if (n >= kMinFloorSamples) {
+    // Without enough scans of 3 points: the MAD of the residuals themselves (an upper bound).
     floor.sigma_um = mad_sigma(r);
     floor.source = "residual_mad";
+  } else {
+    floor.sigma_um = 0.0;
+    floor.source = "numerical_floor";
+    floor.not_enough = "not enough readings: " + std::to_string(n) + ", need ≥ " +
+                       std::to_string(kMinFloorSamples) +
+                       " (or as many second differences along profile scans) to estimate the "
+                       "noise floor of a model without a random part";
+  }
+  if (!(floor.sigma_um >= floor.numerical_um)) {
+    floor.sigma_um = floor.numerical_um;
+    floor.at_numerical_floor = true;
   }
   if (floor.source != "model") floor.law = PointLaw{floor.sigma_um * floor.sigma_um, {}};
   return floor;

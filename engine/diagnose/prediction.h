@@ -77,15 +77,30 @@ struct NoiseFloor {
   double sigma_um = 0.0;  // the value used
   // "model": √variance of the model's per-point law (EffectChain::point_law at nominal values:
   // noise σ², probe repeatability², step quantisation q²/12); "residual_second_differences":
-  // robust_noise_sigma below, when the model has no random part; "residual_mad": 1.4826 MAD of
-  // the residuals themselves when there are no scans of three consecutive points (an upper
-  // bound: structure counts as noise); "given": set by the caller.
+  // robust_noise_sigma below, when the model has no random part (from ≥ kMinFloorSamples
+  // differences); "residual_mad": 1.4826 MAD of the residuals themselves when there are fewer
+  // differences but ≥ kMinFloorSamples readings (an upper bound: structure counts as noise);
+  // "numerical_floor": neither (then `not_enough` says so); "given": set by the caller.
   std::string source;
   PointLaw law;            // the law used: the model's, or Gaussian with σ² = sigma_um²
   double model_um = 0.0;   // the model's value (0 when it has no random part)
   double robust_um = 0.0;  // robust_noise_sigma of the residuals (always computed)
   int differences = 0;     // second differences the robust value used
+  // The smallest floor a gap is judged against (kNumericalFloorUm): a model without a random part
+  // predicts each reading exactly, and a floor estimated as 0 (identical residuals) would make
+  // every test undefined; a floor below it is raised to it (at_numerical_floor).
+  double numerical_um = 0.0;
+  bool at_numerical_floor = false;
+  // Non-empty when the model has no random part and the residuals are too few to estimate the
+  // floor (fewer than kMinFloorSamples second differences and readings): "not enough readings:
+  // N, need ≥ M …". The diagnosis then makes no verdict (Diagnosis::status).
+  std::string not_enough;
 };
+// 1 nm: ten times below the finest scale resolution of CMMs (0.01 µm) and a thousand times above
+// the agreement of the model's contact solver with simulated readings (1e-6 µm).
+inline constexpr double kNumericalFloorUm = 1e-3;
+// The fewest second differences (or, without scans, readings) a floor estimate is made from.
+inline constexpr int kMinFloorSamples = 10;
 NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals);
 
 // Index triplets (i−1, i, i+1) of consecutive points along each profile scan (same gear, tooth,
@@ -103,5 +118,8 @@ std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& 
 // `count` receives the number of differences used. NaN when there are none.
 double robust_noise_sigma(const std::vector<ResidualPoint>& points,
                           const std::vector<double>& residual_um, int* count = nullptr);
+// The same on triplets from scan_triplets (computed once when called for many residual vectors).
+double robust_noise_sigma(const std::vector<std::array<int, 3>>& triplets,
+                          const std::vector<double>& residual_um);
 
 }  // namespace gearmc

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -170,6 +171,45 @@ TEST(ClusterTestsPermutation, DeterministicAndIndependentOfIdLabels) {
   const PermutationTest c = cluster_swap_energy_test(d.x, d.y, dense, 199, 11, 3);
   EXPECT_EQ(a.p_value, c.p_value);
   EXPECT_EQ(c.clusters, 12);
+}
+
+TEST(ClusterTestsPermutation, PValueEqualsTheDefinitionReplicateByReplicate) {
+  // The test walks the pooled sample sorted once instead of re-sorting each replicate; the
+  // reference here is the definition: each replicate draws the same swaps (RandomStream(seed, r,
+  // kDiagnoseNullStream, sub_index), one uniform per cluster in order of first appearance,
+  // swapped when < 1/2), swaps x and y on those clusters and computes energy_distance of the
+  // swapped samples. p = (1 + #{E* ≥ E − 1e-10 max|x, y|}) / (R + 1) must be the same.
+  for (std::uint64_t seed : {3u, 8u, 21u}) {
+    const Clustered d = clustered(seed, 9, 7, 1.0, 0.2 * static_cast<double>(seed % 3));
+    constexpr int kReplicates = 99;
+    const PermutationTest t = cluster_swap_energy_test(d.x, d.y, d.cluster, kReplicates, seed, 5);
+    double scale = 0.0;
+    for (std::size_t k = 0; k < d.x.size(); ++k) {
+      scale = std::max({scale, std::abs(d.x[k]), std::abs(d.y[k])});
+    }
+    const double observed = energy_distance(d.x, d.y);
+    std::vector<int> dense;  // ids in order of first appearance
+    std::vector<int> seen;
+    for (int id : d.cluster) {
+      auto at = std::find(seen.begin(), seen.end(), id);
+      if (at == seen.end()) seen.push_back(id), at = seen.end() - 1;
+      dense.push_back(static_cast<int>(at - seen.begin()));
+    }
+    int at_least = 0;
+    for (int r = 0; r < kReplicates; ++r) {
+      RandomStream rng(seed, static_cast<std::uint32_t>(r), StreamPurpose::kDiagnoseNull, 5);
+      std::vector<bool> swap;
+      for (std::size_t c = 0; c < seen.size(); ++c) swap.push_back(rng.uniform() < 0.5);
+      std::vector<double> xs, ys;
+      for (std::size_t k = 0; k < d.x.size(); ++k) {
+        const bool s = swap[static_cast<std::size_t>(dense[k])];
+        xs.push_back(s ? d.y[k] : d.x[k]);
+        ys.push_back(s ? d.x[k] : d.y[k]);
+      }
+      if (energy_distance(xs, ys) >= observed - 1e-10 * scale) ++at_least;
+    }
+    EXPECT_DOUBLE_EQ(t.p_value, (1.0 + at_least) / (kReplicates + 1.0)) << "seed " << seed;
+  }
 }
 
 TEST(ClusterTestsPermutation, SingleClusterCannotReject) {

@@ -89,6 +89,8 @@ TEST_F(DiagnoseCli, NamesTheHiddenLobingFitsItAndTheFittedModelClosesTheGap) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;
 
   const nlohmann::json j = json_of("first");
+  EXPECT_EQ(read_text(*dir_ / "first" / "diagnosis.json").find(": null"), std::string::npos);
+  EXPECT_EQ(j.at("status"), "tested");
   EXPECT_TRUE(j.at("gap_detected").get<bool>());
   EXPECT_EQ(j.at("named_effect"), "probe_lobing");
   const nlohmann::json& e = j.at("effects").at(0);
@@ -188,6 +190,22 @@ TEST_F(DiagnoseCli, BadReadingsGiveExitTwoWithTheCsvLineAndWriteNothing) {
       {"wrong_unit", 2, [](const std::string&) { return std::string("# stylus_radius_in=0.5"); },
        "stylus_radius"},
       {"nan", 21, [](const std::string& l) { return replace_field(l, 13, "nan"); }, "nan"},
+      // Rows the model's gear and plan cannot have (readings_check.h): P1's gear has 24 teeth
+      // and a 10 × 5 grid.
+      {"tooth_1000", 21, [](const std::string& l) { return replace_field(l, 1, "1000"); },
+       "a tooth in 1 … 24"},
+      {"i_beyond_plan", 22, [](const std::string& l) { return replace_field(l, 3, "10"); },
+       "i in 0 … 9"},
+      {"j_beyond_plan", 23, [](const std::string& l) { return replace_field(l, 4, "5"); },
+       "j in 0 … 4"},
+      // A stylus centre 10⁸ mm away: not a reading of a gear (and no histogram of 10¹¹ bins).
+      {"moved_1e8_mm", 24, [](const std::string& l) { return replace_field(l, 12, "1e8"); },
+       "within ±1e+09 µm"},
+      {"point_off_gear", 25, [](const std::string& l) { return replace_field(l, 6, "5e17"); },
+       "a nominal point on the model's gear"},
+      // A stylus radius no model can probe with: bad input, never an internal error.
+      {"radius_1e308", 2,
+       [](const std::string&) { return std::string("# stylus_radius_mm=1e308"); }, "stylus_radius"},
   };
   for (const BadCsv& c : cases) {
     std::vector<std::string> changed = lines;
@@ -206,6 +224,33 @@ TEST_F(DiagnoseCli, BadReadingsGiveExitTwoWithTheCsvLineAndWriteNothing) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;  // one message
     EXPECT_FALSE(fs::exists(out)) << c.name;
   }
+}
+
+TEST_F(DiagnoseCli, AReadingHundredMillimetresOffIsAGapWithABoundedReport) {
+  // One stylus centre moved 100 mm (within the 1 km plausibility bound): a gap of 10⁵ µm against
+  // a 0.3 µm floor. The report's histograms keep a fixed number of bins and count the outlier in
+  // their overflow / underflow note; diagnosis.json holds no null and no NaN.
+  const std::string good = read_text(path("lobing.csv"));
+  std::vector<std::string> lines;
+  std::stringstream s(good);
+  for (std::string l; std::getline(s, l);) lines.push_back(l);
+  std::vector<std::string> f;
+  std::stringstream row(lines.at(30));
+  for (std::string x; std::getline(row, x, ',');) f.push_back(x);
+  lines[30] = replace_field(lines[30], 12, std::to_string(std::stod(f.at(12)) + 100.0));
+  std::string text;
+  for (const std::string& l : lines) text += l + "\n";
+  write_text(path("moved_100mm.csv"), text);
+  const auto r = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                            path("moved_100mm.csv") + " --out " + path("out_moved"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string json = read_text(*dir_ / "out_moved" / "diagnosis.json");
+  EXPECT_EQ(json.find(": null"), std::string::npos);
+  EXPECT_EQ(json.find("NaN"), std::string::npos);
+  EXPECT_TRUE(json_of("out_moved").at("gap_detected").get<bool>());
+  const std::string html = read_text(*dir_ / "out_moved" / "report.html");
+  EXPECT_LT(html.size(), 3'000'000u);
+  EXPECT_NE(html.find("Outside the plotted range"), std::string::npos);
 }
 
 TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {

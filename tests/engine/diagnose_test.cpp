@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
@@ -22,8 +23,11 @@
 #include "engine/diagnose/diagnosis_json.h"
 #include "engine/diagnose/linear_model.h"
 #include "engine/diagnose/point_law_stage.h"
+#include "engine/diagnose/report_plot_data.h"
 #include "engine/effects/effect_config.h"
 #include "engine/mc/simulate.h"
+#include "engine/scenario/input_error.h"
+#include "engine/stats/histogram.h"
 
 namespace gearmc {
 namespace {
@@ -293,6 +297,221 @@ TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
       std::count_if(a.min_p.begin(), a.min_p.end(), [](double p) { return p <= 0.05 / 8; }));
   EXPECT_LE(hits / 200.0, bound);
   for (double f : a.max_f) EXPECT_TRUE(f > 0.0 && std::isfinite(f));
+}
+
+// --- Bounded report data, zero noise floor, statuses ------------------------------------------
+
+TEST(DiagnoseReportData, HistogramBinsComeFromTheCentralQuantilesNotTheRange) {
+  // 10 000 residuals in [−1, 1) µm plus one at 10¹¹ µm (a reading 10⁸ mm off) and one at −10⁹:
+  // the old range-based bin count would have been 10¹¹ / 50 = 2·10⁹ bins. Now at most 62 bins of a
+  // 1-2-5 width covering the 0.5 %–99.5 % quantiles (−0.99, 0.99 µm: the 51st and 9 952nd of the
+  // 10 002 sorted values) widened by half their span, 0.99 µm, each side: ±1.98 µm (more than
+  // ±3σ, σ = 0.3), so the width is 3.96 / 60 = 0.066 → 0.1 µm, from ⌊−1.98 / 0.1⌋ · 0.1 = −2.0.
+  std::vector<double> v;
+  for (int k = 0; k < 10000; ++k) v.push_back(-1.0 + 2.0 * k / 10000.0);
+  v.push_back(1e11);
+  v.push_back(-1e9);
+  const DisplayBins b = display_bins(v, 0.3);
+  EXPECT_LE(b.bins, 62u);
+  EXPECT_DOUBLE_EQ(b.width_um, 0.1);
+  EXPECT_NEAR(b.lo_um, -2.0, 1e-12);
+  Histogram h(b.lo_um, b.width_um, b.bins);
+  for (double x : v) h.add(x);
+  EXPECT_EQ(h.overflow(), 1u);
+  EXPECT_EQ(h.underflow(), 1u);
+  EXPECT_EQ(h.overflow_max(), 1e11);
+  // Degenerate inputs still give a valid histogram: all equal, σ 0; empty; non-finite ignored.
+  const DisplayBins same = display_bins(std::vector<double>(5, 2.5), 0.0);
+  EXPECT_GT(same.width_um, 0.0);
+  EXPECT_LE(same.bins, 62u);
+  EXPECT_LE(same.lo_um, 0.0);
+  EXPECT_GE(same.lo_um + same.width_um * same.bins, 2.5);
+  const DisplayBins none = display_bins(std::vector<double>{}, 0.0);
+  EXPECT_GE(none.bins, 1u);
+  const DisplayBins wild =
+      display_bins(std::vector<double>{std::numeric_limits<double>::quiet_NaN(), 1.0, 3.0}, 0.0);
+  EXPECT_TRUE(std::isfinite(wild.lo_um) && std::isfinite(wild.width_um));
+}
+
+TEST(DiagnoseReportData, ScatterSampleIsBoundedDeterministicAndKeepsTheExtremes) {
+  std::vector<double> v;
+  for (int k = 0; k < 100000; ++k) v.push_back(std::sin(0.001 * k));
+  v[77777] = 50.0;   // the largest
+  v[12345] = -40.0;  // the smallest
+  const std::vector<std::size_t> a = plotted_sample(v, 5000, 1);
+  EXPECT_EQ(a.size(), 5000u);
+  EXPECT_TRUE(std::is_sorted(a.begin(), a.end()));
+  EXPECT_TRUE(std::binary_search(a.begin(), a.end(), 77777u));
+  EXPECT_TRUE(std::binary_search(a.begin(), a.end(), 12345u));
+  EXPECT_EQ(a, plotted_sample(v, 5000, 1));
+  // Uniform over the indices: each tenth of the file holds 500 ± 3·√(5000·0.1·0.9) ≈ 500 ± 64.
+  for (int tenth = 0; tenth < 10; ++tenth) {
+    const auto in = std::count_if(
+        a.begin(), a.end(), [&](std::size_t k) { return static_cast<int>(k / 10000) == tenth; });
+    EXPECT_NEAR(static_cast<double>(in), 500.0, 64.0) << "tenth " << tenth;
+  }
+  EXPECT_EQ(plotted_sample(std::vector<double>(10, 1.0), 5000, 1).size(), 10u);
+}
+
+TEST(DiagnoseNoiseFloor, AModelWithoutARandomPartIsJudgedAgainstTheNumericalFloor) {
+  // Readings of the nominal master with a 2 µm stylus radius error and no noise, against the
+  // reference (no random part): the residuals are −2 µm everywhere (error_um 2 shortens every
+  // reading along n: candidates.h, stylus_radius column −1), so the second differences and the
+  // MAD are 0 and the floor is raised to kNumericalFloorUm. The residuals are 2000 × that floor:
+  // a gap, named stylus_radius (or one of its constant-shift twins).
+  const Diagnosis d = diagnose(reference_scenario(),
+                               master_readings(with_effects("stylus_radius: {error_um: 2}\n")));
+  EXPECT_EQ(d.status, "tested");
+  EXPECT_TRUE(d.noise.at_numerical_floor);
+  EXPECT_DOUBLE_EQ(d.noise.sigma_um, kNumericalFloorUm);
+  EXPECT_TRUE(d.gap_detected);
+  EXPECT_NE(d.named_effect, "none");
+  EXPECT_TRUE(std::isfinite(d.gap_before.chi2_dof));
+  // The same readings of a perfect master: residuals at the solver's 1e-6 µm, within the floor.
+  const Diagnosis exact = diagnose(reference_scenario(), master_readings(reference_scenario()));
+  EXPECT_FALSE(exact.gap_detected);
+  EXPECT_EQ(exact.named_effect, "none");
+}
+
+TEST(DiagnoseNoiseFloor, TooFewReadingsForAFloorGiveNoVerdictAndNoNullInTheJson) {
+  // 5 readings (fewer than kMinFloorSamples = 10; one scan of 5 gives 3 second differences) against
+  // a model without a random part, the first moved 100 mm (10⁵ µm) off: no floor can be estimated,
+  // so no verdict.
+  Readings r = master_readings(reference_scenario());
+  r.rows.resize(5);
+  r.rows[0].c += 100.0 * r.rows[0].n;
+  const Diagnosis d = diagnose(reference_scenario(), r);
+  EXPECT_EQ(d.status, "not_enough_readings");
+  EXPECT_NE(d.status_reason.find("not enough readings: 5, need ≥ 10"), std::string::npos)
+      << d.status_reason;
+  EXPECT_FALSE(d.gap_detected);
+  EXPECT_EQ(d.named_effect, "not_tested");
+  const std::string json = diagnosis_json(d);
+  EXPECT_EQ(json.find(": null"), std::string::npos) << json;
+  EXPECT_EQ(json.find("NaN"), std::string::npos);
+  EXPECT_NE(json.find("\"not_computed\""), std::string::npos);
+  // With a model that has its noise (σ 0.3 µm) the same 5 readings are tested: 10⁵ µm is a gap.
+  const Diagnosis tested = diagnose(baseline(), r);
+  EXPECT_EQ(tested.status, "tested");
+  EXPECT_TRUE(tested.gap_detected);
+  EXPECT_EQ(diagnosis_json(tested).find(": null"), std::string::npos);
+}
+
+TEST(DiagnoseInput, RowsOutsideTheModelsGearOrPlanAreRefused) {
+  // The reference gear has 24 teeth and a 10 × 5 grid (i 0…9, j 0…4).
+  const Readings good = master_readings(reference_scenario());
+  auto refused = [&](auto change, const std::string& expect) {
+    Readings r = good;
+    change(r.rows[3]);
+    try {
+      diagnose(baseline(), r);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("row 4"), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << expect;
+  };
+  refused([](ReadingRow& row) { row.tooth = 1000; }, "a tooth in 1 … 24");
+  refused([](ReadingRow& row) { row.i = 10; }, "i in 0 … 9");
+  refused([](ReadingRow& row) { row.j = 7; }, "j in 0 … 4");
+  refused([](ReadingRow& row) { row.c += 1e8 * row.n; }, "within ±1e+09 µm");
+  refused([](ReadingRow& row) { row.c += 1e300 * row.n; }, "within ±1e+09 µm");
+  // A nominal point 5·10¹⁷ mm off the gear (and its stylus centre with it, so the deviation is
+  // fine): the effects' columns would take it as a lever.
+  refused(
+      [](ReadingRow& row) {
+        row.p.z() += 5e17;
+        row.c.z() += 5e17;
+      },
+      "a nominal point on the model's gear");
+}
+
+// --- The selection's gates, each deciding alone -------------------------------------------------
+// Hand-made designs on n = 32 points with Walsh columns (±1 Rademacher functions of periods 2, 4,
+// 8, 16 and 32, mutually orthogonal), residual y = a·R1 + e with e = R1·R2 (a Walsh product,
+// orthogonal to every column): adding R1 leaves RSS = |e|² = 32 from |y|² = 32(1 + a²), so
+// F = 31 a² (1 and 31 degrees of freedom) and ΔBIC = 32 ln(1/(1 + a²)) + ln 32 (selection.h's
+// formulas), every other candidate adds nothing (F = 0). No null simulation (null_replicates 0),
+// so "significant" is the Holm-adjusted F test alone; the noise floor (0.01 µm) keeps the
+// practical size out of the way. α = 0.01.
+
+CandidateDesign walsh_candidate(const std::string& name, int period) {
+  CandidateDesign c;
+  c.name = name;
+  c.coefficients = {"c_um"};
+  c.units = {"µm"};
+  c.observable = {true};
+  c.x.resize(32, 1);
+  for (int k = 0; k < 32; ++k) c.x(k, 0) = (k % period) < period / 2 ? 1.0 : -1.0;
+  return c;
+}
+
+Eigen::VectorXd walsh_residual(double a) {
+  const CandidateDesign r1 = walsh_candidate("r1", 2), r2 = walsh_candidate("r2", 4);
+  return a * r1.x.col(0) + r1.x.col(0).cwiseProduct(r2.x.col(0));
+}
+
+SelectionOptions gate_options() {
+  SelectionOptions o;
+  o.alpha = 0.01;
+  o.null_replicates = 0;
+  o.max_effects = 1;
+  return o;
+}
+
+TEST(DiagnoseSelection, HolmDecidesWhenTheRawFTestPassesButTheAdjustedOneDoesNot) {
+  // a = 0.55: F = 31 · 0.3025 = 9.38, raw p ≈ 0.0045 < α; with 5 candidates Holm multiplies the
+  // smallest p by 5 (Holm 1979): ≈ 0.022 > α. ΔBIC = 32 ln(1/1.3025) + ln 32 = −5.0, so the
+  // BIC gate is set to 4 here and only Holm can refuse.
+  std::vector<CandidateDesign> five;
+  for (int period : {2, 4, 8, 16, 32}) {
+    five.push_back(walsh_candidate("w" + std::to_string(period), period));
+  }
+  SelectionOptions o = gate_options();
+  o.min_delta_bic = 4.0;
+  const Eigen::VectorXd y = walsh_residual(0.55);
+  const Selection s = forward_select(five, y, 0.01, o);
+  ASSERT_EQ(s.steps.size(), 1u);
+  const CandidateTest& t = s.steps[0].tests[0];
+  EXPECT_NEAR(t.f, 31.0 * 0.3025, 1e-9);
+  ASSERT_LT(t.p_f, o.alpha);  // the unadjusted test would pass
+  EXPECT_NEAR(t.p_holm, 5.0 * t.p_f, 1e-12);
+  EXPECT_GE(t.p_holm, o.alpha);
+  EXPECT_TRUE(t.bic_support);
+  EXPECT_TRUE(t.practical);
+  EXPECT_FALSE(t.significant);
+  EXPECT_TRUE(s.selected.empty());
+  // Control: the same residuals with R1 the only candidate (Holm over one test is the raw p):
+  // every gate passes and it is selected, so it was Holm that refused it above.
+  const Selection alone = forward_select({five[0]}, y, 0.01, o);
+  ASSERT_EQ(alone.selected.size(), 1u);
+  EXPECT_TRUE(alone.steps[0].tests[0].significant);
+}
+
+TEST(DiagnoseSelection, TheBicGateDecidesBetweenTwoSignificantEffects) {
+  // One candidate (Holm = raw p). a² = 0.344: F = 10.7 (p ≈ 0.003 < α), ΔBIC = 32 ln(1/1.344) +
+  // ln 32 = −6.0 > −10: significant and practical, refused by the BIC gate alone.
+  // a² = 0.78: F = 24.2, ΔBIC = 32 ln(1/1.78) + ln 32 = −15.0 ≤ −10: selected.
+  const std::vector<CandidateDesign> one = {walsh_candidate("r1", 2)};
+  const SelectionOptions o = gate_options();
+  const Selection weak = forward_select(one, walsh_residual(std::sqrt(0.344)), 0.01, o);
+  const CandidateTest& w = weak.steps.at(0).tests.at(0);
+  EXPECT_NEAR(w.delta_bic, 32.0 * std::log(1.0 / 1.344) + std::log(32.0), 1e-9);
+  EXPECT_TRUE(w.significant);
+  EXPECT_TRUE(w.practical);
+  EXPECT_FALSE(w.bic_support);
+  EXPECT_TRUE(weak.selected.empty());
+  const Selection strong = forward_select(one, walsh_residual(std::sqrt(0.78)), 0.01, o);
+  const CandidateTest& t = strong.steps.at(0).tests.at(0);
+  EXPECT_NEAR(t.delta_bic, 32.0 * std::log(1.0 / 1.78) + std::log(32.0), 1e-9);
+  EXPECT_TRUE(t.significant);
+  EXPECT_TRUE(t.bic_support);
+  ASSERT_EQ(strong.selected.size(), 1u);
+  // Between the two: a gate of 5 accepts the weak one, so the threshold's sign matters.
+  SelectionOptions loose = o;
+  loose.min_delta_bic = 5.0;
+  EXPECT_EQ(forward_select(one, walsh_residual(std::sqrt(0.344)), 0.01, loose).selected.size(), 1u);
 }
 
 // --- The diagnosis on readings with one hidden effect -----------------------------------------
@@ -577,7 +796,7 @@ TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
   EXPECT_DOUBLE_EQ(j.at("noise_floor_after_um").get<double>(), kNoiseUm);
   EXPECT_EQ(e.at("parameters_are"), "increments");
   EXPECT_TRUE(j.at("point_law").at("ran").get<bool>());
-  EXPECT_TRUE(j.at("point_law").at("chosen").is_null());
+  EXPECT_EQ(j.at("point_law").at("chosen"), "none");
   EXPECT_EQ(j.at("point_law").at("hypotheses").size(), 4u);
   for (const char* gap : {"gap_before", "gap_after"}) {
     EXPECT_TRUE(j.at(gap).at("energy_p").is_number());
