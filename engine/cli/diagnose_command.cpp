@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <vector>
 
@@ -39,12 +40,19 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out) {
   const Diagnosis diagnosis = diagnose_residuals(residuals, noise, options);
 
   const fs::path dir(o.out_dir);
-  const FittedScenario fitted = fitted_scenario(model, diagnosis, o.model_path, o.measured_path);
-  // fitted.yaml must load as a scenario (interface.md); a failure here is a bug, not bad input.
+  FittedScenario fitted = fitted_scenario(model, diagnosis, o.model_path, o.measured_path);
+  // fitted.yaml must load as a scenario. A fitted value beyond its parameter's physical range
+  // (e.g. a "noise" of 1 mm fitted to one gross outlier) is no explanation of the gap: then
+  // fitted.yaml is the model unchanged, and the outputs say why.
+  std::string fitted_problem;
   try {
     parse_scenario(fitted.yaml, (dir / "fitted.yaml").string());
   } catch (const InputError& e) {
-    throw std::runtime_error(std::string("fitted.yaml does not load: ") + e.what());
+    fitted_problem = e.what();
+    fitted.yaml =
+        "# gearmc diagnose: the fit is not added to this model, because it is outside\n"
+        "# the physical range of its effect:\n# " +
+        shown_input(fitted_problem, 400) + "\n" + model.source_text;
   }
   const DiagnosisReportInput report{model,     o.model_path, o.measured_path,
                                     residuals, diagnosis,    fitted};
@@ -57,12 +65,25 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out) {
                                                (ec ? ": " + ec.message() : std::string()));
   }
   OutputFiles files(dir);
-  files.write("diagnosis.json", diagnosis_json(diagnosis));
+  std::string json = diagnosis_json(diagnosis);
+  if (!fitted_problem.empty()) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(json);
+    j["fitted_yaml"] = {{"fit_added", false},
+                        {"reason", "the fitted value is outside its parameter's physical range: " +
+                                       shown_input(fitted_problem, 400)}};
+    json = j.dump(2) + "\n";
+  }
+  files.write("diagnosis.json", json);
   files.write("fitted.yaml", fitted.yaml);
   files.write("report.html", html);
   files.commit();
 
   for (const std::string& line : diagnosis_summary_lines(report)) out << line << "\n";
+  if (!fitted_problem.empty()) {
+    out << "warning: the fit is outside its effect's physical range, so fitted.yaml is the model "
+           "unchanged: "
+        << shown_input(fitted_problem, 400) << "\n";
+  }
   out << "report: " << (dir / "report.html").string() << " (also diagnosis.json, fitted.yaml)\n";
   return 0;
 }

@@ -200,8 +200,19 @@ TEST_F(DiagnoseCli, BadReadingsGiveExitTwoWithTheCsvLineAndWriteNothing) {
        "j in 0 … 4"},
       // A stylus centre 10⁸ mm away: not a reading of a gear (and no histogram of 10¹¹ bins).
       {"moved_1e8_mm", 24, [](const std::string& l) { return replace_field(l, 12, "1e8"); },
-       "within ±1e+09 µm"},
-      {"point_off_gear", 25, [](const std::string& l) { return replace_field(l, 6, "5e17"); },
+       "cx: got '1e8'"},
+      {"point_5e17_mm", 25, [](const std::string& l) { return replace_field(l, 6, "5e17"); },
+       "px: got '5e17'"},
+      // p and c both moved 5 m along x: a plausible reading (same deviation) of a point 5 m from
+      // the model's gear, within the readings' coordinate range (±1e5 mm).
+      {"point_off_gear", 26,
+       [](const std::string& l) {
+         std::vector<std::string> f;
+         std::stringstream row(l);
+         for (std::string x; std::getline(row, x, ',');) f.push_back(x);
+         const std::string moved = replace_field(l, 6, std::to_string(std::stod(f.at(6)) + 5000));
+         return replace_field(moved, 12, std::to_string(std::stod(f.at(12)) + 5000));
+       },
        "a nominal point on the model's gear"},
       // A stylus radius no model can probe with: bad input, never an internal error.
       {"radius_1e308", 2,
@@ -251,6 +262,17 @@ TEST_F(DiagnoseCli, AReadingHundredMillimetresOffIsAGapWithABoundedReport) {
   const std::string html = read_text(*dir_ / "out_moved" / "report.html");
   EXPECT_LT(html.size(), 3'000'000u);
   EXPECT_NE(html.find("Outside the plotted range"), std::string::npos);
+  // The fit to one gross outlier (a "noise" of about 1 mm) is beyond the noise's physical range
+  // (0-100 µm): it is not added; fitted.yaml is the model unchanged and loads again, and the
+  // outputs say why.
+  const auto j = json_of("out_moved");
+  ASSERT_TRUE(j.contains("fitted_yaml")) << json;
+  EXPECT_FALSE(j["fitted_yaml"]["fit_added"].get<bool>());
+  EXPECT_NE(r.out.find("warning: the fit is outside"), std::string::npos) << r.out;
+  const auto again =
+      run_gearmc("diagnose --model " + (*dir_ / "out_moved" / "fitted.yaml").string() +
+                 " --measured " + path("lobing.csv") + " --out " + path("out_again"));
+  EXPECT_EQ(again.exit_code, 0) << again.err;
 }
 
 TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {
