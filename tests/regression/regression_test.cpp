@@ -162,7 +162,11 @@ int main(int argc, char** argv) {
       args.push_back(argv[i]);
     }
   }
+  // InitGoogleTest removes the flags it recognises by shifting the array down to and including
+  // argv[argc], which the C and C++ standards require to be a null pointer: keep that terminator
+  // (without it every --gtest_* flag read one element past the end of `args`).
   int count = static_cast<int>(args.size());
+  args.push_back(nullptr);
   ::testing::InitGoogleTest(&count, args.data());
   return RUN_ALL_TESTS();
 }

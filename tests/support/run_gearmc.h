@@ -1,5 +1,6 @@
 // Runs the gearmc executable as a user would (GEARMC_BINARY, set by tests/CMakeLists.txt) and
-// returns its exit code, standard output and standard error.
+// returns its exit code, standard output and standard error; a sanitizer report on its standard
+// error fails the calling test.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -35,6 +36,17 @@ inline CommandResult run_gearmc(const std::string& args) {
   std::ifstream e(err_file);
   std::string err((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
   std::remove(err_file.c_str());
+  // A sanitizer report from the child (scripts/test --sanitize builds gearmc with ASan, LSan and
+  // UBSan) fails the calling test even when that test expects a non-zero exit code.
+  if (err.find("ERROR: AddressSanitizer") != std::string::npos ||
+      err.find("ERROR: LeakSanitizer") != std::string::npos ||
+      err.find("SUMMARY: UndefinedBehaviorSanitizer") != std::string::npos) {
+    ADD_FAILURE() << "sanitizer report from `gearmc " << args << "`:\n" << err;
+  }
+  // Killed by a signal (a crash, an abort): report it as a shell does, 128 + signal number, never
+  // as the 0 that WEXITSTATUS would give.
+  if (status == -1) return {-1, out, err};
+  if (WIFSIGNALED(status)) return {128 + WTERMSIG(status), out, err};
   return {WEXITSTATUS(status), out, err};
 }
 
