@@ -156,7 +156,8 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
   // The certificate (contact_certificate.h): restart from a higher point until none is left.
   while (s.status == ContactResult::Status::kOk) {
     const ContactCertificate c =
-        certify_contact(flank, p, n, R, L0, start, s.x, s.height, s.gradient_bound);
+        certify_contact(flank, p, n, R, L0, start, s.x, s.height, s.gradient_bound,
+                        extent.roll_length_min, extent.roll_length_max);
     if (c.verdict == ContactCertificate::Verdict::kCertified) break;
     if (c.verdict == ContactCertificate::Verdict::kUnproven) {
       s.status = ContactResult::Status::kUncertified;

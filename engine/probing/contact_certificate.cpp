@@ -40,7 +40,7 @@ struct ExactBound {
 // box symmetric about L0, so the sign of t0 does not matter.
 ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                        const Eigen::Vector3d& n, double R, double L0,
-                       const FlankSurfacePoint& start) {
+                       const FlankSurfacePoint& start, double L_min, double L_max) {
   ExactBound out;
   if (flank.expression() != nullptr) return out;  // no exact derivative bounds
   // The closed form needs p = P(L0, p_z) + 0 on the nominal flank and n = n(L0), transverse;
@@ -61,21 +61,28 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   // with |phi| (beyond the box it keeps growing: the footprint cannot come back). Trigonometry
   // by rigorous Taylor bounds: sin x >= x - x^3/6, x sin x + cos x - 1 <= x^2/2 + x^4/24.
   // |delta| over the box <= |delta(L0, p_z)| + max|delta_L| half + max|delta_z| R.
-  double half = 1.2 * (R + c_tau) * r_b / L0, Phi = 0.0, D = 0.0;
+  // The box is cut at the flank's extent [L_min, L_max]: an end that is cut is the flank's edge
+  // and needs no bound of the footprint there. On the upper side |N| >= L0 sin(Phi) (the r_b
+  // term is >= 0 there), on the lower side the full expression below.
+  double half = 1.2 * (R + c_tau) * r_b / L0, Phi = 0.0, D = 0.0, L_lo = 0.0, L_hi = 0.0;
   bool bounded = false;
   for (int attempt = 0; attempt < 4 && !bounded; ++attempt) {
     if (attempt > 0) half *= 1.5;
-    if (L0 - half <= 0.0) return out;
+    L_lo = std::max(L0 - half, L_min);
+    L_hi = std::min(L0 + half, L_max);
+    if (L_lo <= 0.0) return out;
     Phi = half / r_b;
     D = std::abs(delta0) + dL.magnitude() * half + dz.magnitude() * R;
-    const double N =
-        L0 * (Phi - Phi * Phi * Phi / 6.0) - r_b * (0.5 * Phi * Phi + Phi * Phi * Phi * Phi / 24.0);
-    bounded = N - c_tau - D * Phi >= R;
+    const double N_up = L0 * (Phi - Phi * Phi * Phi / 6.0);
+    const double N_down = N_up - r_b * (0.5 * Phi * Phi + Phi * Phi * Phi * Phi / 24.0);
+    const bool lower_cut = L0 - half<L_min, upper_cut = L0 + half> L_max;
+    bounded =
+        (lower_cut || N_down - c_tau - D * Phi >= R) && (upper_cut || N_up - c_tau - D * Phi >= R);
   }
   if (!bounded) return out;
   // Bounds with the signs known (a > 0, u_L > 0, |sin phi| <= Phi, cos phi >= 1 - Phi^2/2):
   // ub = upper bound, mag = bound of the modulus.
-  const double a_lo = (L0 - half - D) / r_b, a_hi = (L0 + half + D) / r_b;
+  const double a_lo = (L_lo - D) / r_b, a_hi = (L_hi + D) / r_b;
   const double uL_lo = a_lo * (1.0 - 0.5 * Phi * Phi) - dL.magnitude() * Phi;
   if (a_lo <= 0.0 || uL_lo <= 0.0) return out;
   const double dL_mag = dL.magnitude(), dz_mag = dz.magnitude();
@@ -248,7 +255,8 @@ struct CellProver {
 
 ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                        const Eigen::Vector3d& n, double R, double L0,
-                                       const Eigen::Vector2d& x_star, double t_star) {
+                                       const Eigen::Vector2d& x_star, double t_star, double L_min,
+                                       double L_max) {
   ContactCertificate out;
   out.sampled = true;
   if (std::abs(n.z()) > 1e-9) {
@@ -262,10 +270,15 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
   // The L half-width: grow until both end columns lie outside the footprint (sampled).
   const double L_ref = std::max(x_star.x(), 1e-3);
   double half = 1.2 * (R + flank.eccentricity().norm()) * r_b / L_ref;
+  // The grid is cut at the flank's extent: a cut end is the flank's edge, not a footprint bound.
   bool bounded = false;
+  double L_lo = 0.0, L_hi = 0.0;
   for (int attempt = 0; attempt < 6 && !bounded; ++attempt) {
     bounded = true;
+    L_lo = std::max(L0 - half, L_min);
+    L_hi = std::min(L0 + half, L_max);
     for (double L : {L0 - half, L0 + half}) {
+      if (L < L_min || L > L_max) continue;  // cut: the edge of the flank
       for (int j = 0; j <= kSampledCellsAcross && bounded; ++j) {
         const Eigen::Vector3d w = flank.point(L, p.z() - R + j * dz) - p;
         bounded = std::abs(w.dot(fr.tau)) >= R + dz;
@@ -273,16 +286,16 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
     }
     if (!bounded) half *= 1.3;
   }
-  if (!bounded) {
+  if (!bounded || !(L_hi > L_lo)) {
     out.reason = "footprint_not_bounded";
     return out;
   }
   Grid grid;
   grid.cells_z = kSampledCellsAcross;
-  grid.cells_L = std::max(2, static_cast<int>(std::ceil(2.0 * half / (dz * r_b / L_ref))));
-  grid.L0 = L0 - half;
+  grid.cells_L = std::max(2, static_cast<int>(std::ceil((L_hi - L_lo) / (dz * r_b / L_ref))));
+  grid.L0 = L_lo;
   grid.z0 = p.z() - R;
-  grid.dL = 2.0 * half / grid.cells_L;
+  grid.dL = (L_hi - L_lo) / grid.cells_L;
   grid.dz = dz;
   grid.nodes.reserve(static_cast<std::size_t>((grid.cells_L + 1) * (grid.cells_z + 1)));
   const Node* best = nullptr;
@@ -364,15 +377,17 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
 }  // namespace
 
 double exact_curvature_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                             const Eigen::Vector3d& n, double R, double L0, double z0) {
-  return exact_bound(flank, p, n, R, L0, flank.evaluate(L0, z0)).kappa;
+                             const Eigen::Vector3d& n, double R, double L0, double z0, double L_min,
+                             double L_max) {
+  return exact_bound(flank, p, n, R, L0, flank.evaluate(L0, z0), L_min, L_max).kappa;
 }
 
 ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                    const Eigen::Vector3d& n, double R, double L0,
                                    const FlankSurfacePoint& start, const Eigen::Vector2d& x_star,
-                                   double t_star, double gradient_bound) {
-  const ExactBound b = exact_bound(flank, p, n, R, L0, start);
+                                   double t_star, double gradient_bound, double L_min,
+                                   double L_max) {
+  const ExactBound b = exact_bound(flank, p, n, R, L0, start, L_min, L_max);
   const double mu = 1.0 / R - b.kappa;
   if (mu > 0.0) {
     const double g = gradient_bound * b.inverse_jacobian;
@@ -382,7 +397,7 @@ ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vect
       return out;
     }
   }
-  return sampled_certificate(flank, p, n, R, L0, x_star, t_star);
+  return sampled_certificate(flank, p, n, R, L0, x_star, t_star, L_min, L_max);
 }
 
 }  // namespace gearmc

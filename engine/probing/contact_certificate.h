@@ -38,6 +38,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 
 #include "surfaces/analytic_flank.h"
 
@@ -67,15 +68,22 @@ struct ContactCertificate {
 // length and `start` = flank.evaluate(L0, p_z) (stage 1 needs p = P(L0, p_z) on the nominal
 // flank and n = n(L0); it checks that with `start` and otherwise leaves the point to stage 2);
 // x_star = (L*, z*), t_star = f(x_star) the found maximum; gradient_bound >=
-// |grad_(L,z) f(x_star)| (mm/mm).
+// |grad_(L,z) f(x_star)| (mm/mm). [L_min, L_max] is the flank's roll-length extent (form to
+// tip circle): the flank exists only there, so only that part of the footprint is searched (a
+// contact beyond it is the flank's edge or the root, which the solver and the tooth-space check
+// handle); without it, near the start of the involute the footprint reaches L <= 0 and no bound
+// exists.
 ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                    const Eigen::Vector3d& n, double R, double L0,
                                    const FlankSurfacePoint& start, const Eigen::Vector2d& x_star,
-                                   double t_star, double gradient_bound);
+                                   double t_star, double gradient_bound, double L_min = 0.0,
+                                   double L_max = std::numeric_limits<double>::infinity());
 
 // Stage 1 alone (exposed for tests): kappa, the proven upper bound of the largest eigenvalue of
 // H_uu over the footprint (1/mm), or +infinity where stage 1 does not apply.
 double exact_curvature_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                             const Eigen::Vector3d& n, double R, double L0, double z0);
+                             const Eigen::Vector3d& n, double R, double L0, double z0,
+                             double L_min = 0.0,
+                             double L_max = std::numeric_limits<double>::infinity());
 
 }  // namespace gearmc

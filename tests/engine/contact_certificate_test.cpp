@@ -79,6 +79,49 @@ TEST(ContactCertificate, TwoBumpsTheFarHigherOneIsTheFirstContact) {
   }
 }
 
+TEST(ContactCertificate, NearTheFormCircleOnlyTheFlanksExtentIsSearched) {
+  // P1's gear without profile shift at ISO 1328-1 class 5: the first profile points lie near the
+  // form circle, where the stylus's footprint reaches below the start of the involute (L <= 0,
+  // where no bound exists). Before the certificate was cut at the flank's extent, 140 of 7200
+  // points of 3 gears were "footprint_not_bounded" and a run spent ~1 ms a point in stage 2.
+  // Every point must now be certified, and the contacts of the first profile column must match a
+  // brute-force maximisation over the flank's extent [L_form, L0 + half].
+  const std::string yaml =
+      "gear: {teeth: 24, module_mm: 5.6, face_width_mm: 78.89}\n"
+      "tolerances: {standard: iso_1328_1_2013, grade: 5}\n"
+      "run: {gears: 3}\n";
+  const Scenario s = parse_scenario(yaml, "x0_class5.yaml");
+  const MonteCarloRun mc(s);
+  RunOptions options;
+  options.gears = 3;
+  const RunResults r = mc.run(options);
+  EXPECT_EQ(r.failed_contacts, 0u);
+  EXPECT_EQ(r.edge_contacts, 0u);
+  const InvoluteGear& gear = mc.gear();
+  const GearSampler sampler(gear, mc.tolerances(), s.deviations, s.seed);
+  const PerturbedGear g = sampler.draw(0);
+  const ProbingGridCoordinates grid = probing_grid_coordinates(gear, s.probing.grid);
+  const double L0 = grid.roll_lengths.front(), L_min = gear.form_roll_length_mm();
+  const double half = footprint_half_L(gear, L0, 0.5);
+  ASSERT_LT(L0 - half, L_min);  // the footprint does reach beyond the flank's start
+  for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+    const AnalyticFlank flank(gear, 1, side, g.flank(1, side), g.eccentricity_mm, nullptr);
+    for (double z : grid.heights) {
+      const FlankPoint fp = gear.flank_point(1, side, L0, z);
+      const ContactResult c =
+          solve_contact(flank, extent_of(gear), fp.point, fp.normal, 0.5, L0, z);
+      ASSERT_EQ(c.status, ContactResult::Status::kOk) << c.failure;
+      // Brute force over [L_min, L0 + half] x [z - R, z + R] (its box is centred on its L0).
+      const double centre = 0.5 * (L_min + L0 + half), half_box = 0.5 * (L0 + half - L_min);
+      const testing_support::BruteForceMaximum brute = testing_support::brute_force_global_contact(
+          flank, fp.point, fp.normal, 0.5, centre, z, half_box);
+      const double height = (c.centre - fp.point).dot(fp.normal);
+      EXPECT_GE(height, brute.height - kCertificateToleranceMm) << "z " << z;
+      EXPECT_LE(height, brute.height + 1e-9) << "z " << z;
+    }
+  }
+}
+
 // A groove along L, 20 µm deep, sigma 0.05 mm, centred on the planned z: the sphere (R 0.5 mm)
 // rests on both of its shoulders at equal height. The certificate cannot prove either shoulder
 // the first contact to 1e-2 nm (the other is as high): the point is kUncertified.
