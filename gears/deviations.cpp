@@ -603,6 +603,7 @@ PerturbedGear GearSampler::draw(int gear_index) const {
       runout = radial_runout_um(gear_, g);
     }
     if (runout <= *F_r * (1.0 - kSafety)) break;
+    g.runout_redraws = attempt + 1;
     if (attempt + 1 == kRunoutAttempts) {
       throw ToleranceError("runout tolerance F_r = " + std::to_string(*F_r) +
                            " µm is smaller than the runout the profile and helix tolerances "

@@ -113,6 +113,9 @@ struct PerturbedGear {
   Eigen::Vector2d eccentricity_mm = Eigen::Vector2d::Zero();  // gear centre off the datum axis
   double rack_shift_um = 0.0;          // thickness: each flank moves by rack_shift * sin(alpha)
   std::vector<FlankDeviation> flanks;  // 2 per tooth: index 2*(tooth-1) + (R ? 1 : 0)
+  // How many times the profile and helix shapes were drawn again because they alone broke F_r
+  // (0 for almost every gear; see GearSampler::draw).
+  int runout_redraws = 0;
 
   const FlankDeviation& flank(int tooth, FlankSide side) const {
     return flanks[2 * (tooth - 1) + (side == FlankSide::kRight ? 1 : 0)];

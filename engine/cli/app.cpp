@@ -200,13 +200,15 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
   try {
     if (geometry->parsed()) {
-      write_geometry_json(load_or_reference(geometry_scenario), out);
+      const Scenario scenario = load_or_reference(geometry_scenario);
+      for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
+      write_geometry_json(scenario, out);
       return 0;
     }
     if (run->parsed()) return run_command(run_options, out, err);
-    if (export_mesh->parsed()) return export_mesh_command(mesh_options, out);
-    if (simulate->parsed()) return simulate_command(simulate_options, out);
-    if (diagnose->parsed()) return diagnose_command(diagnose_options, out);
+    if (export_mesh->parsed()) return export_mesh_command(mesh_options, out, err);
+    if (simulate->parsed()) return simulate_command(simulate_options, out, err);
+    if (diagnose->parsed()) return diagnose_command(diagnose_options, out, err);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

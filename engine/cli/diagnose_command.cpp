@@ -22,10 +22,12 @@ namespace gearmc {
 
 namespace fs = std::filesystem;
 
-int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out) {
+int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::ostream& err) {
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
   auto readings = std::make_unique<Readings>(read_readings(o.measured_path));
+  for (const std::string& w : model.warnings) err << "gearmc: warning: " << w << "\n";
+  for (const std::string& w : readings->warnings) err << "gearmc: warning: " << w << "\n";
 
   DiagnoseOptions options;
   options.prediction.artefact =

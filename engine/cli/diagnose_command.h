@@ -25,6 +25,6 @@ struct DiagnoseCommandOptions {
 
 // Runs the command and prints a 3–5 line summary and the report's path to `out`; returns the
 // exit code. Throws InputError for bad input.
-int diagnose_command(const DiagnoseCommandOptions& options, std::ostream& out);
+int diagnose_command(const DiagnoseCommandOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace gearmc

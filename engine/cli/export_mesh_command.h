@@ -16,6 +16,6 @@ struct ExportMeshOptions {
 };
 
 // Throws InputError for bad input (unknown extension, unwritable file, bad gear index).
-int export_mesh_command(const ExportMeshOptions& options, std::ostream& out);
+int export_mesh_command(const ExportMeshOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace gearmc

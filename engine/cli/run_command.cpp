@@ -110,6 +110,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
   if (o.seed) scenario.seed = *o.seed;
   if (o.gears) scenario.gears = *o.gears;
+  for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   const MonteCarloRun mc(scenario);
   if (o.only_gear && (*o.only_gear < 0 || *o.only_gear >= scenario.gears)) {
     throw InputError({}, "--only-gear", std::to_string(*o.only_gear),
@@ -191,7 +192,17 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   RunResults r;
   {
     InterruptGuard guard;
-    r = mc.run(run);
+    try {
+      r = mc.run(run);
+    } catch (const ToleranceError& e) {
+      // A gear whose profile and helix shapes cannot meet F_r in any of the sampler's draws:
+      // the scenario's tolerances contradict each other for this gear (the load-time check
+      // draws only the first gears).
+      throw InputError(
+          {scenario.source_path, 0, 0},
+          (scenario.source_path.empty() ? std::string("the scenario") : scenario.source_path) +
+              ": tolerances: " + e.what());
+    }
   }
   if (r.cancelled) {
     // The partial files go with `files`, the folder with `folder` (if this run made it).

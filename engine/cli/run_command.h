@@ -22,7 +22,7 @@ struct RunCommandOptions {
   bool points = false;
   std::optional<int> only_gear;
   bool quiet = false;
-  bool force = false;  // write points.csv even above the size limit
+  bool force = false;        // write points.csv even above the size limit
   std::string command_line;  // as typed, for the outputs' provenance
 };
 

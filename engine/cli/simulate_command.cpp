@@ -9,9 +9,10 @@
 
 namespace gearmc {
 
-int simulate_command(const SimulateCommandOptions& o, std::ostream& out) {
+int simulate_command(const SimulateCommandOptions& o, std::ostream& out, std::ostream& err) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   check_output_file(o.out, "--out");
   SimulateOptions options;
   options.gears = o.gears;

@@ -19,6 +19,6 @@ struct SimulateCommandOptions {
 };
 
 // Returns the exit code; throws InputError for bad input.
-int simulate_command(const SimulateCommandOptions& options, std::ostream& out);
+int simulate_command(const SimulateCommandOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace gearmc

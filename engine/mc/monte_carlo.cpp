@@ -118,6 +118,7 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
   GearOutcome out;
   out.gear = k;
   const PerturbedGear g = sampler_->draw(k);
+  out.runout_redraws = g.runout_redraws;
   const NormalExpression* expression = expressions_ ? &expressions_->per_thread.local() : nullptr;
   const double R = scenario_.stylus_radius_mm;
   const ProbingGridCoordinates grid = probing_grid_coordinates(*gear_, scenario_.probing.grid);
@@ -245,6 +246,8 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
       results.failed_contacts += o.failed;
       results.edge_contacts += o.edge;
       results.collisions += o.collisions;
+      results.runout_redrawn_gears += o.runout_redraws > 0 ? 1 : 0;
+      results.runout_redraws += static_cast<std::uint64_t>(o.runout_redraws);
       ++results.gears;
       if (options.on_gear) options.on_gear(o);
     }

@@ -65,6 +65,7 @@ struct GearOutcome {
   std::vector<double> point_total_abs[2];  // |total point error| with effects (when any), µm
   EffectTotals effects;
   std::uint64_t contacts = 0, failed = 0, edge = 0, collisions = 0;
+  int runout_redraws = 0;           // PerturbedGear::runout_redraws
   std::vector<ProbedPoint> points;  // only when asked for
 };
 
@@ -89,6 +90,8 @@ struct RunResults {
   ErrorStatistics total_abs[2];  // |total point error| with the effects on (when there are any)
   EffectTotals effects;
   std::uint64_t contacts = 0, failed_contacts = 0, edge_contacts = 0, collisions = 0;
+  // Gears whose profile and helix shapes were drawn again to meet F_r, and the redraws in all.
+  std::uint64_t runout_redrawn_gears = 0, runout_redraws = 0;
   int gears = 0;
   double wall_s = 0.0;
   bool cancelled = false;

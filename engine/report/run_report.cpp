@@ -218,6 +218,14 @@ std::vector<std::string> contact_warnings(const RunResults& r) {
          "the tooth space and any normal_um expression";
     warnings.push_back(w.str());
   }
+  if (r.runout_redrawn_gears > 0) {
+    warnings.push_back(
+        "F_r constrains the profile and helix shapes: " + std::to_string(r.runout_redrawn_gears) +
+        " of " + std::to_string(r.gears) +
+        " gears had shapes that alone broke F_r and were drawn again (" +
+        std::to_string(r.runout_redraws) +
+        " redraws in all), so the shapes follow the scenario's law conditioned on meeting F_r");
+  }
   std::uint64_t non_finite = 0;
   for (int q = 0; q < kRunQuantities; ++q) {
     for (int s = 0; s < 2; ++s)
@@ -256,9 +264,11 @@ nlohmann::ordered_json run_summary_json(const Scenario& scenario, const MonteCar
   summary["failed_contacts"] = r.failed_contacts;
   summary["edge_contacts"] = r.edge_contacts;
   summary["collisions"] = r.collisions;
+  summary["runout_redrawn_gears"] = r.runout_redrawn_gears;
   summary["wall_s"] = r.wall_s;
   summary["contacts_per_s"] = r.wall_s > 0 ? static_cast<double>(r.contacts) / r.wall_s : 0.0;
   summary["warnings"] = view.warnings;
+  summary["input_warnings"] = scenario.warnings;
   // Flanks probed on a mesh instead of the analytic perturbed flank (`surfaces:`).
   nlohmann::ordered_json mesh_surfaces = nlohmann::ordered_json::array();
   for (const FlankMeshSurface& surface : scenario.surfaces) {

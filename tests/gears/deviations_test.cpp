@@ -135,5 +135,36 @@ TEST(GearSampler, GearKDependsOnlyOnSeedAndK) {
   for (const auto& f : nominal.flanks) EXPECT_EQ(f.normal_um(30.0, 20.0), 0.0);
 }
 
+TEST(GearSampler, ShapesThatAloneBreakTheRunoutAreDrawnAgain) {
+  // P1's tolerances with F_r = 8 µm: the profile (8 µm) and helix (10 µm) shapes alone often
+  // give more runout than that. Such a gear's shapes are drawn again from further streams, so
+  // every drawn gear meets F_r (radial_runout_um, the sampler's own measure, includes the
+  // eccentricity drawn within what is left of F_r), and a gear that fits at once is the plain
+  // draw (same shapes as with F_r 50, which never needs a redraw on these gears).
+  const InvoluteGear gear(p1_gear_parameters());
+  ToleranceSet tight = testing_support::p1_tolerance_set();
+  tight.values[ToleranceKind::kRunout] = {8, "test", true};
+  const GearSampler sampler(gear, tight, DeviationModel{}, 3);
+  const GearSampler loose(gear, testing_support::p1_tolerance_set(), DeviationModel{}, 3);
+  int redrawn = 0, plain = 0;
+  for (int k = 0; k < 40; ++k) {
+    const PerturbedGear g = sampler.draw(k);
+    EXPECT_LE(radial_runout_um(gear, g), 8.0) << "gear " << k;
+    const PerturbedGear l = loose.draw(k);
+    ASSERT_EQ(l.runout_redraws, 0);
+    if (g.runout_redraws > 0) {
+      ++redrawn;
+      EXPECT_NE(g.flanks[0].profile_form.coefficients(), l.flanks[0].profile_form.coefficients());
+    } else {
+      ++plain;
+      for (int i = 0; i < 48; ++i) {
+        EXPECT_EQ(g.flanks[i].profile_form.coefficients(), l.flanks[i].profile_form.coefficients());
+      }
+    }
+  }
+  EXPECT_GT(redrawn, 0);  // the case is exercised
+  EXPECT_GT(plain, 0);
+}
+
 }  // namespace
 }  // namespace gearmc
