@@ -176,6 +176,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                      "master (only for readings simulated from the same gear model)");
 
   run_options.command_line = command_line_text(argc, argv);
+  simulate_options.command_line = run_options.command_line;
+  diagnose_options.command_line = run_options.command_line;
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

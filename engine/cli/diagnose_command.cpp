@@ -15,6 +15,8 @@
 #include "engine/diagnose/readings_check.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/report/output_files.h"
+#include "engine/report/provenance.h"
+#include "engine/report/svg_plot.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
@@ -67,7 +69,17 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
                                                (ec ? ": " + ec.message() : std::string()));
   }
   OutputFiles files(dir);
+  // What made these outputs: the model file is the input fingerprinted; the readings file is
+  // named in the command line.
+  const Provenance made = make_provenance(o.command_line, model.source_path, model.source_text);
   std::string json = diagnosis_json(diagnosis);
+  {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(json);
+    nlohmann::ordered_json with;
+    with["provenance"] = provenance_json(made);
+    for (auto& [key, value] : j.items()) with[key] = value;
+    json = with.dump(2) + "\n";
+  }
   if (!fitted_problem.empty()) {
     nlohmann::ordered_json j = nlohmann::ordered_json::parse(json);
     j["fitted_yaml"] = {{"fit_added", false},
@@ -76,8 +88,13 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
     json = j.dump(2) + "\n";
   }
   files.write("diagnosis.json", json);
-  files.write("fitted.yaml", fitted.yaml);
-  files.write("report.html", html);
+  files.write("fitted.yaml", fitted.yaml + "# made by " + provenance_line(made) + "\n");
+  const std::string footer = "<p>Made by " + escape_xml(provenance_line(made)) + ".</p>\n</body>";
+  std::string page = html;
+  if (const std::size_t end = page.rfind("</body>"); end != std::string::npos) {
+    page.replace(end, 7, footer);
+  }
+  files.write("report.html", page);
   files.commit();
 
   for (const std::string& line : diagnosis_summary_lines(report)) out << line << "\n";

@@ -21,6 +21,7 @@ struct DiagnoseCommandOptions {
   std::optional<std::uint64_t> seed;   // seed of the null simulations (default 1)
   std::optional<int> null_replicates;  // K (default 200; 0: no null simulation)
   bool model_gears = false;  // predict on the model's perturbed gears, not its nominal master
+  std::string command_line;  // as typed, for the outputs' provenance
 };
 
 // Runs the command and prints a 3–5 line summary and the report's path to `out`; returns the

@@ -5,6 +5,7 @@
 
 #include "engine/mc/simulate.h"
 #include "engine/report/output_files.h"
+#include "engine/report/provenance.h"
 #include "engine/scenario/input_error.h"
 
 namespace gearmc {
@@ -19,7 +20,10 @@ int simulate_command(const SimulateCommandOptions& o, std::ostream& out, std::os
   options.seed = o.seed;
   options.master = o.master;
   options.reference_deviations = o.reference_deviations;
-  const SimulatedReadings simulated = simulate_readings(scenario, options);
+  SimulatedReadings simulated = simulate_readings(scenario, options);
+  simulated.readings.comments.push_back(
+      "made by " +
+      provenance_line(make_provenance(o.command_line, scenario.source_path, scenario.source_text)));
   write_readings(o.out, simulated.readings);
   out << "gearmc simulate: " << scenario.name << ", " << o.gears
       << (o.gears == 1 ? " gear" : " gears") << (o.master ? " (nominal master)" : "") << ", "

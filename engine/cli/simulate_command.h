@@ -16,6 +16,7 @@ struct SimulateCommandOptions {
   std::optional<std::uint64_t> seed;
   bool master = false;
   bool reference_deviations = false;
+  std::string command_line;  // as typed, for the outputs' provenance
 };
 
 // Returns the exit code; throws InputError for bad input.

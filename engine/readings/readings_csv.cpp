@@ -83,6 +83,15 @@ std::string format_readings(const Readings& readings) {
   std::ostringstream out;
   out << "# gearmc readings v1\n# stylus_radius_mm=" << number_text(readings.stylus_radius_mm)
       << "\n";
+  for (const std::string& comment : readings.comments) {
+    // One line each, and never a key line: '=' and line breaks are replaced.
+    std::string text = comment;
+    for (char& c : text) {
+      if (c == '\n' || c == '\r') c = ' ';
+      if (c == '=') c = ':';
+    }
+    out << "# " << text << "\n";
+  }
   for (std::size_t k = 0; k < kColumns.size(); ++k) out << (k ? "," : "") << kColumns[k];
   if (readings.has_ref_dev) out << ",ref_dev_um";
   out << "\n";

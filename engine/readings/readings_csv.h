@@ -36,6 +36,9 @@ struct Readings {
   std::vector<ReadingRow> rows;
   // Values valid but outside their usual range (parameter_ranges.h), whole located messages.
   std::vector<std::string> warnings;
+  // Free comment lines written after the header's key lines (e.g. what made the file); the
+  // reader skips free comments, so they are not read back.
+  std::vector<std::string> comments;
 };
 
 // e = ((c − p)·n − R)·1000 µm, less ref_dev_um when given: the measurement error of the point
