@@ -214,6 +214,39 @@ std::string warning_text(double value, const ParameterRange& range) {
 
 }  // namespace
 
+std::string range_reference_markdown() {
+  std::string md =
+      "# Scenario and readings numbers: units and ranges\n\n"
+      "Generated from `engine/scenario/parameter_ranges.cpp` (the tables the readers check "
+      "against) by `scripts/update-docs`; a test fails when this page and the tables differ. "
+      "A value outside the **valid** range is an error (exit 2, with file:line:column, the key, "
+      "the value and the range); a value outside the **usual** range is accepted with a "
+      "warning (`gearmc: warning: …`, also in summary.json `input_warnings`). Keys in "
+      "`effects.<effect>.<parameter>` may also be given as a per-gear law "
+      "(`{uniform: [lo, hi]}` or `{normal: [mean, sd]}`), whose bounds are checked the same "
+      "way. The structure of a scenario file, with every key and its default, is in "
+      "[scenarios.md](scenarios.md).\n";
+  auto cell = [](std::string text) {
+    std::string out;
+    for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+    return out;
+  };
+  for (const RangeTable* table : all_range_tables()) {
+    md += "\n## " + table->section + "\n\n";
+    md += "| key | unit | valid | usual | why | a value outside the usual range may be |\n";
+    md += "|---|---|---|---|---|---|\n";
+    for (const ParameterRange& r : table->entries) {
+      const std::string valid = r.integer
+                                    ? "integer " + number(r.valid.min) + " … " + number(r.valid.max)
+                                    : r.valid.describe();
+      md += "| `" + r.key + "` | " + cell(r.unit) + " | " + cell(valid) + " | " +
+            number(r.usual_min) + " … " + number(r.usual_max) + " | " + cell(r.why) + " | " +
+            cell(r.slip) + " |\n";
+    }
+  }
+  return md;
+}
+
 double read_ranged(const YamlValue& value, const ParameterRange& range, InputWarnings* warnings) {
   std::string expected = describe_range(range);
   double x = 0.0;

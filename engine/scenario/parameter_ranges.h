@@ -40,6 +40,11 @@ const RangeTable& effect_ranges();   // "effects.<effect>.<parameter>"
 const RangeTable& readings_ranges();
 std::vector<const RangeTable*> all_range_tables();
 
+// The reference of every ranged number as Markdown (docs/scenario-keys.md is this text; a test
+// keeps the two equal): one table per section with the key, unit, valid range, usual range,
+// the reason and the unit-slip hint.
+std::string range_reference_markdown();
+
 // Collected warnings: each a whole located message ("file:line:col: key: …").
 using InputWarnings = std::vector<std::string>;
 

@@ -635,7 +635,9 @@ TEST(DiagnosePointLaw, ResidualLawIntegratesToItsMomentsAndCdf) {
     second += 0.5 * h * (x * x * f + (x - h) * (x - h) * previous);
     running += slice;
     previous = f;
-    if (k % 1500 == 0) EXPECT_NEAR(law.cdf(x), running, 1e-6) << "x = " << x;
+    if (k % 1500 == 0) {
+      EXPECT_NEAR(law.cdf(x), running, 1e-6) << "x = " << x;
+    }
   }
   EXPECT_NEAR(mass, 1.0, 1e-6);
   EXPECT_NEAR(mean, law.mean_um(), 1e-6);

@@ -24,8 +24,7 @@ inline CommandResult run_gearmc(const std::string& args) {
   // One file per process and call: ctest runs test processes in parallel.
   static int calls = 0;
   const std::string err_file = ::testing::TempDir() + "gearmc_command_err_" +
-                               std::to_string(::getpid()) + "_" + std::to_string(calls++) +
-                               ".txt";
+                               std::to_string(::getpid()) + "_" + std::to_string(calls++) + ".txt";
   const std::string cmd = std::string(GEARMC_BINARY) + " " + args + " 2>" + err_file;
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
