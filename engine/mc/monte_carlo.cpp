@@ -4,6 +4,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -209,11 +210,23 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
 
 RunResults MonteCarloRun::run(const RunOptions& options) const {
   const auto start = std::chrono::steady_clock::now();
+  // threads > 0: exactly that many threads, also above the machine's core count (the global
+  // limit allows them, the arena asks for them), so a thread-independence check with 2 threads
+  // really runs 2 threads on a 1-CPU machine. 0: oneTBB's default (all cores).
   std::optional<tbb::global_control> limit;
+  std::optional<tbb::task_arena> arena;
   if (options.threads > 0) {
     limit.emplace(tbb::global_control::max_allowed_parallelism,
                   static_cast<std::size_t>(options.threads));
+    arena.emplace(options.threads);
   }
+  const auto parallel = [&](const std::function<void()>& work) {
+    if (arena) {
+      arena->execute(work);
+    } else {
+      work();
+    }
+  };
   std::vector<int> indices;
   if (options.only_gear) {
     indices.push_back(*options.only_gear);
@@ -226,9 +239,11 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
     const int count = std::min(kChunk, total - first);
     std::vector<GearOutcome> outcomes(count);
     const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
-    tbb::parallel_for(0, count, [&](int c) {
-      if (cancelled()) return;
-      outcomes[c] = measure_gear(indices[first + c], options.record_points);
+    parallel([&] {
+      tbb::parallel_for(0, count, [&](int c) {
+        if (cancelled()) return;
+        outcomes[c] = measure_gear(indices[first + c], options.record_points);
+      });
     });
     if (cancelled()) {
       results.cancelled = true;
