@@ -1,6 +1,6 @@
 // Nominal involute spur-gear geometry: the dimensions of a gear cut by a basic rack (ISO 21771,
 // ISO 53 profile A by default) and closed-form flank points, outward unit normals and profile
-// curvature for both flanks of every tooth, in the conventions of interface.md:
+// curvature for both flanks of every tooth, in the conventions of docs/formats.md:
 // gear axis +Z, z = 0 on the lower face, tooth 1 centred on +X, teeth numbered counter-clockwise
 // seen from +Z, flank R = outward normal with a positive counter-clockwise tangential component,
 // profile position = roll length L = sqrt(r^2 - r_b^2) in mm. All lengths in mm, angles in rad.
@@ -15,7 +15,7 @@ namespace gearmc {
 // Which flank of a tooth. R: outward normal turns counter-clockwise (the +Y flank of tooth 1).
 enum class FlankSide { kLeft, kRight };
 
-// +1 for R, -1 for L (the `side` variable of deviation expressions, interface.md).
+// +1 for R, -1 for L (the `side` variable of deviation expressions, docs/formats.md).
 constexpr double side_sign(FlankSide side) { return side == FlankSide::kRight ? 1.0 : -1.0; }
 constexpr char side_letter(FlankSide side) { return side == FlankSide::kRight ? 'R' : 'L'; }
 

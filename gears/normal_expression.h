@@ -1,6 +1,6 @@
 // A deterministic normal deviation written by the user as a muParser expression of
 // L (roll length, mm), z (mm), tooth (1..z) and side (+1 R, -1 L), giving µm along the
-// outward normal (interface.md, "Deterministic deviations"). For what-if studies and
+// outward normal (docs/formats.md, "Deterministic deviations"). For what-if studies and
 // cross-checks; it is added to the random deviations of a flank.
 #pragma once
 

@@ -1,7 +1,7 @@
 // Counter-based random streams (Random123 Philox4x32-10). A stream is named by
 // (seed, gear index, purpose, sub-index) and its n-th draw is a pure function of that name
 // and n, so results never depend on thread count, scheduling or the order gears are drawn,
-// and any single gear can be re-drawn alone (design.md, principle 2).
+// and any single gear can be re-drawn alone (docs/architecture.md, principle 2).
 #pragma once
 
 #include <Random123/philox.h>

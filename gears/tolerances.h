@@ -77,7 +77,7 @@ class ToleranceSet {
   std::optional<double> get_um(ToleranceKind kind) const;
 };
 
-// ISO 1328-1:2013 class-A flank tolerances (references.md): class-5 formulas scaled by
+// ISO 1328-1:2013 class-A flank tolerances (docs/reference-values.md): class-5 formulas scaled by
 // sqrt(2)^(A-5), rounded (> 10 µm to 1 µm, 5–10 µm to 0.5 µm, < 5 µm to 0.1 µm); totals from
 // unrounded components. Scope: 5 <= z <= 1000, 5 <= d <= 15000 mm, 0.5 <= m_n <= 70 mm,
 // 4 <= b <= 1200 mm; outside it throws ToleranceError (no extrapolation). d, m_n, b in mm.

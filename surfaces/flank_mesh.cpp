@@ -25,7 +25,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Broken invariant of this file's own construction: abort (design.md, error tier 2).
+// Broken invariant of this file's own construction: abort (docs/architecture.md, error tier 2).
 void require(bool condition, const char* what) {
   if (!condition) {
     std::fprintf(stderr, "gearmc: internal error in flank_mesh.cpp: %s\n", what);

@@ -4,7 +4,7 @@
 // piecewise-linear interpolant; a gear mesh adds tip lands, simplified roots and the two end
 // faces so that the gear is a closed, outward-oriented surface a user can look at in MeshLab or
 // ParaView (`gearmc export-mesh`) or probe like a scanned part. Every point is in the datum
-// (CMM) frame of interface.md (gear axis +Z, z = 0 on the lower face, tooth 1 on +X, the gear's
+// (CMM) frame of docs/formats.md (gear axis +Z, z = 0 on the lower face, tooth 1 on +X, the gear's
 // eccentricity included), in mm. Files: STL (binary / ASCII), PLY (binary / ASCII), OBJ, OFF,
 // read and written by OpenMesh, written to a temporary name and renamed when complete.
 #pragma once

@@ -1,5 +1,5 @@
 // The gearmc command line: CLI11 parsing, dispatch, and the exit-code contract of
-// interface.md (0 ok, 2 bad input; nothing half-written).
+// docs/formats.md (0 ok, 2 bad input; nothing half-written).
 #include "engine/cli/app.h"
 
 #include <CLI/CLI.hpp>

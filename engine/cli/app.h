@@ -1,4 +1,4 @@
-// The gearmc command line (interface.md, "Subcommands"): parses the arguments with CLI11 and
+// The gearmc command line (docs/formats.md, "Subcommands"): parses the arguments with CLI11 and
 // dispatches to the commands. Bad input of any kind ends with one message on stderr and exit
 // code 2; run_cli never throws.
 #pragma once

@@ -1,5 +1,5 @@
 // `gearmc diagnose --model SCENARIO --measured READINGS.csv --out DIR [--seed S]
-// [--null-replicates K] [--model-gears]` (interface.md, issue 6): compares the model scenario's
+// [--null-replicates K] [--model-gears]` (docs/diagnosis.md): compares the model scenario's
 // prediction with measured readings, names the missing effect (engine/diagnose), and writes
 // diagnosis.json, fitted.yaml (the model plus the fitted effect) and report.html into DIR — all
 // three under temporary names, renamed when all are complete. Bad input (scenario, readings CSV,

@@ -1,4 +1,4 @@
-// `gearmc export-mesh SCENARIO --gear K --out FILE.{stl,ply,obj,off}` (interface.md): writes
+// `gearmc export-mesh SCENARIO --gear K --out FILE.{stl,ply,obj,off}` (docs/formats.md): writes
 // perturbed gear K of the scenario (the same gear `gearmc run --only-gear K` probes) as a
 // closed triangle mesh, in the datum frame, mm, for MeshLab or ParaView.
 #pragma once

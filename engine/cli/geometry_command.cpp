@@ -1,4 +1,4 @@
-// `gearmc geometry`: nominal gear geometry and resolved tolerances as JSON (interface.md).
+// `gearmc geometry`: nominal gear geometry and resolved tolerances as JSON (docs/formats.md).
 #include "engine/cli/geometry_command.h"
 
 #include <nlohmann/json.hpp>

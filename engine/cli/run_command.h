@@ -1,5 +1,5 @@
 // `gearmc run [SCENARIO] [--out DIR] [--gears N] [--seed S] [--threads T] [--points]
-// [--only-gear K] [--quiet]` (interface.md): the Monte-Carlo batch and its outputs —
+// [--only-gear K] [--quiet]` (docs/formats.md): the Monte-Carlo batch and its outputs —
 // summary.json, histogram counts (CSV), histogram pictures (SVG), report.html and, with
 // --points, points.csv — written under temporary names and renamed when complete.
 #pragma once

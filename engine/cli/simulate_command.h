@@ -1,4 +1,4 @@
-// `gearmc simulate SCENARIO --out READINGS.csv` (interface.md): what a CMM would record
+// `gearmc simulate SCENARIO --out READINGS.csv` (docs/formats.md): what a CMM would record
 // measuring the scenario's gears with its effects on, as the readings CSV.
 #pragma once
 

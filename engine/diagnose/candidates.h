@@ -1,5 +1,5 @@
-// Step 2 of the discrepancy diagnosis (issue 6): the candidate effects' design matrices. Each
-// candidate of interface.md's library is a group of columns, one per linear parameter, whose
+// Step 2 of the discrepancy diagnosis: the candidate effects' design matrices. Each
+// candidate of docs/formats.md's library is a group of columns, one per linear parameter, whose
 // entry at a point is the first-order change of the reading along n (µm) per unit of that
 // parameter — taken from the effect's own signature() (engine/effects), evaluated on a freshly
 // constructed effect with zero parameters (thermal expansion: workpiece CTE 11.5 ppm/K for steel,
@@ -40,7 +40,7 @@
 namespace gearmc {
 
 struct CandidateDesign {
-  std::string name;                       // interface.md's effect name
+  std::string name;                       // docs/formats.md's effect name
   std::vector<std::string> coefficients;  // one per column, e.g. "x_ppm", "cos_6_um"
   std::vector<std::string> units;         // unit of each coefficient
   Eigen::MatrixXd x;                      // points × columns, µm of reading per unit
@@ -54,7 +54,7 @@ struct CandidateOptions {
   std::vector<int> lobing_orders = {3, 6};  // harmonic orders of the probe_lobing candidate
 };
 
-// The library's order of candidates (interface.md): probe_lobing, stylus_radius, scale,
+// The library's order of candidates (docs/formats.md): probe_lobing, stylus_radius, scale,
 // thermal_expansion, drift, squareness, eccentricity, step_quantization (ties in the selection
 // are broken in this order).
 const std::vector<std::string>& candidate_effect_names();

@@ -1,4 +1,4 @@
-// The statistical core of `gearmc diagnose` (interface.md, issue 6): compares a model scenario's
+// The statistical core of `gearmc diagnose` (docs/diagnosis.md): compares a model scenario's
 // prediction with measured readings, decides whether they disagree beyond the noise floor, names
 // the missing effect from the library (or says none / unexplained), fits its physical parameters
 // with standard errors, and shows the gap before and after, with a held-out check and the

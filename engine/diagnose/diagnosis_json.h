@@ -1,4 +1,4 @@
-// diagnosis.json (interface.md, `diagnose` outputs): the Diagnosis as JSON. The keys interface.md
+// diagnosis.json (docs/formats.md, `diagnose` outputs): the Diagnosis as JSON. The keys docs/formats.md
 // requires — gap_detected, named_effect, ambiguous_with, effects[{name, parameters, std_errors,
 // evidence}], gap_before {rms_um, ks}, gap_after {rms_um, ks}, noise_floor_um — come first; the
 // rest (selection table, spectrum, noise-floor provenance, held-out RMS, explained fraction) is

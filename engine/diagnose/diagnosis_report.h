@@ -1,4 +1,4 @@
-// report.html and the terminal summary of `gearmc diagnose` (interface.md, issue 6): a page a
+// report.html and the terminal summary of `gearmc diagnose` (docs/diagnosis.md): a page a
 // metrologist can read in a minute. It opens with the verdict — what disagreed (the residual
 // RMS against the noise floor and the gap tests), where (the effect's own pattern and the axis
 // along which the residuals' bin means vary most beyond noise: approach azimuth, measurement

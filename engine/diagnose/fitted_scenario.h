@@ -1,4 +1,4 @@
-// fitted.yaml of `gearmc diagnose` (interface.md): the model scenario with the effect(s) the
+// fitted.yaml of `gearmc diagnose` (docs/formats.md): the model scenario with the effect(s) the
 // diagnosis named added to its `effects:` section, or updated there, with their fitted physical
 // parameters — so that the model now predicts what was measured, and a second `diagnose` with
 // fitted.yaml as the model finds no further gap.

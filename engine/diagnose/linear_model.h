@@ -1,4 +1,4 @@
-// The numerical tools of the discrepancy diagnosis (issue 6): orthonormal bases of design
+// The numerical tools of the discrepancy diagnosis: orthonormal bases of design
 // matrices with a column-by-column rank decision, least-squares fits with covariances, the
 // F-distribution tail for nested-model tests, Holm's step-down adjustment, canonical
 // correlations between column spaces, scaled condition numbers, the Kolmogorov–Smirnov

@@ -1,4 +1,4 @@
-// The point-law stage of the discrepancy diagnosis (issue 6): effects that change the law of
+// The point-law stage of the discrepancy diagnosis: effects that change the law of
 // each single reading rather than its expected value. Step quantisation (engine/effects) adds a
 // latch delay −U(0, q) at every point: its mean −q/2 is a constant shift along n, exactly the
 // first-order signature of a stylus radius error, so the linear selection (selection.h) cannot

@@ -1,4 +1,4 @@
-// Step 1 of the discrepancy diagnosis (issue 6): what the model predicts at each measured point
+// Step 1 of the discrepancy diagnosis: what the model predicts at each measured point
 // and the residual r = measured − predicted along the nominal normal n (µm), plus the noise
 // floor the gap is judged against.
 //

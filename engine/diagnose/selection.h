@@ -1,4 +1,4 @@
-// Step 3 of the discrepancy diagnosis (issue 6): which candidate effects the residuals ask for.
+// Step 3 of the discrepancy diagnosis: which candidate effects the residuals ask for.
 // Forward selection of at most `max_effects` candidates by nested least-squares tests: at each
 // step every candidate not yet selected is tested as an addition to the selected ones
 // (intercept-free; see candidates.h), with

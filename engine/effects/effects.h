@@ -1,4 +1,4 @@
-// The library of measurement effects besides probe lobing (issue 5; names from interface.md):
+// The library of measurement effects besides probe lobing (names from docs/formats.md):
 // what each models, its parameters with units, and the closed-form signature where it is
 // linear. All act on the recorded stylus centre c (CMM frame = gear frame, mm). Workpiece
 // effects (eccentricity, thermal expansion) move the real surface; they are applied to the

@@ -1,6 +1,6 @@
-// Measurement effects (design.md principle 6, issue 5): everything between the stylus touching
+// Measurement effects (docs/architecture.md, principle 6): everything between the stylus touching
 // the real flank and the coordinates the CMM records. One effect is one class with a name from
-// interface.md, parameters with units (fixed, or drawn per gear from a law), `apply` — which
+// docs/formats.md, parameters with units (fixed, or drawn per gear from a law), `apply` — which
 // moves the recorded stylus centre the way the physical effect does — and `signature`, the
 // first-order change of the reading along the nominal normal per unit of each parameter (used
 // by the discrepancy diagnosis). An EffectChain holds a scenario's effects in physical order
@@ -8,7 +8,7 @@
 //
 // Frames and units: gear frame = CMM frame (gear axis +Z, centre at the origin), mm for
 // positions; effect parameters in the units their names say (µm, ppm, µrad, K, deg).
-// The reading of a point is its measured deviation along n (interface.md, readings CSV):
+// The reading of a point is its measured deviation along n (docs/formats.md, readings CSV):
 //   e = ((c − p)·n − R)·1000 µm,  c = recorded stylus centre, p, n = nominal point and normal.
 // An effect that moves c by Δ (mm) changes the reading by 1000 Δ·n µm.
 #pragma once
@@ -31,7 +31,7 @@ struct PointContext {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();   // nominal point, mm
   Eigen::Vector3d n = Eigen::Vector3d::UnitX();  // nominal outward unit normal
   Eigen::Vector3d contact_normal = n;            // real surface's outward normal at contact
-  double azimuth_rad = 0.0;  // approach azimuth φ = atan2(−n_y, −n_x) (interface.md)
+  double azimuth_rad = 0.0;  // approach azimuth φ = atan2(−n_y, −n_x) (docs/formats.md)
   int order = 0;             // position in the probing sequence (0-based)
   int sequence_length = 1;   // points in the whole sequence (drift runs over it)
   int tooth = 1;
@@ -83,7 +83,7 @@ class MeasurementEffect {
   MeasurementEffect(const MeasurementEffect&) = delete;
   MeasurementEffect& operator=(const MeasurementEffect&) = delete;
 
-  // The name from interface.md's candidate library (e.g. "probe_lobing", "scale").
+  // The name from docs/formats.md's candidate library (e.g. "probe_lobing", "scale").
   virtual std::string_view name() const = 0;
   virtual EffectStage stage() const = 0;
   const std::vector<EffectParameter>& parameters() const { return parameters_; }
@@ -163,7 +163,7 @@ inline RandomStream point_effect_stream(std::uint64_t seed, int gear, int order)
                       static_cast<std::uint32_t>(order));
 }
 
-// The reading of a point along n, µm: ((c − p)·n − R)·1000 (interface.md).
+// The reading of a point along n, µm: ((c − p)·n − R)·1000 (docs/formats.md).
 inline double reading_um(const PointContext& point, const Eigen::Vector3d& recorded_centre) {
   return ((recorded_centre - point.p).dot(point.n) - point.stylus_radius_mm) * 1000.0;
 }

@@ -1,10 +1,10 @@
-// Physical model of a kinematic touch-trigger probe (issue 5): why the pre-travel of a
+// Physical model of a kinematic touch-trigger probe: why the pre-travel of a
 // Renishaw TP-type probe depends on the approach direction and the approach speed. The stylus
 // is an Euler–Bernoulli cantilever (bending spring k_b = 3EI/ℓ³) carrying the effective tip
 // mass, the ball touches the flank through a Hertzian ball-on-plane contact, and the stylus
 // carrier sits on a three-leg kinematic seat held by a spring preload; the probe triggers when
 // one leg of the seat unloads, so the lateral trigger force depends on the approach azimuth
-// with period 2π/3 (three lobes, P2 and references.md). The CMM drives the probe body at a
+// with period 2π/3 (three lobes, P2 and docs/reference-values.md). The CMM drives the probe body at a
 // constant speed; SUNDIALS CVODE (BDF, dense Newton) integrates the tip dynamics from the
 // instant of touch to the trigger, located by CVODE's root finding: the trigger is the instant
 // the force the stylus transmits to the seat (bending + damping force; it equals the contact
@@ -22,7 +22,7 @@
 //
 // Frames and units. Probe frame = CMM frame with the stylus along −Z; the approach azimuth φ
 // (rad) is the direction of the probe's motion in the XY plane, φ = atan2(−n_y, −n_x) for a
-// point with outward normal n (interface.md). Lengths mm, forces N, moduli GPa, densities
+// point with outward normal n (docs/formats.md). Lengths mm, forces N, moduli GPa, densities
 // kg/m³, times s, speeds mm/s, pre-travel µm.
 #pragma once
 
@@ -57,12 +57,12 @@ inline constexpr ElasticMaterial kRuby{373.0, 0.28, 3900.0};
 
 // Parameters of the probe model. Defaults: a TP20-like kinematic probe (standard-force module)
 // with a 20 mm tungsten-carbide stylus and P1's Ø1 mm ball. Each value says its standing:
-// [P1]/[P2] = sources.md, [read] = a page actually read, [recalled] = believed but not
+// [P1]/[P2] = docs/sources.md, [read] = a page actually read, [recalled] = believed but not
 // re-checked against the data sheet, [assumed] = a plausible number without a source,
 // [derived] = computed from the others. Plausibility check (not a calibration): with a 10 mm
 // steel stylus (Ø1 mm stem, Ø2 mm ball) at 8 mm/s the model's pre-travel varies by 2.6 µm
 // peak to peak (±1.3 µm) over the directions, against the TP20's 2-D form ±0.6 … ±1.0 µm with
-// a 10 mm stylus [recalled, references.md]; a 50 mm steel stylus (Ø1.5 mm) gives 20 µm peak to
+// a 10 mm stylus [recalled, docs/reference-values.md]; a 50 mm steel stylus (Ø1.5 mm) gives 20 µm peak to
 // peak, against 16 µm measured by Shen & Springer (1998) with a 50 mm stylus on their probe.
 struct ProbeDynamicsParameters {
   // --- stylus (a straight, uniform stem with a ball at its end) ---

@@ -1,5 +1,5 @@
-// Probe pre-travel and lobing with P2's qualification strategies (sources.md [P2],
-// references.md "Probe pre-travel and lobing").
+// Probe pre-travel and lobing with P2's qualification strategies (docs/sources.md [P2],
+// docs/reference-values.md "Probe pre-travel and lobing").
 //
 // A touch-trigger probe signals only after travelling a direction-dependent pre-travel
 //   p(φ) = p0 + Σ_k a_k cos(k (φ − φ_k))   [µm]

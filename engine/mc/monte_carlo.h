@@ -1,4 +1,4 @@
-// The Monte-Carlo batch (interface.md `run`, design.md "What flows through the engine"):
+// The Monte-Carlo batch (docs/formats.md `run`, docs/architecture.md "What flows through the engine"):
 // gear k is drawn from its own random streams, every planned point of every probed flank is
 // probed with the exact contact solver, and the errors are reduced into streaming statistics.
 // A flank the scenario replaces by a mesh (`surfaces:`) is probed on that mesh, with the same
@@ -35,7 +35,7 @@ struct ErrorStatistics {
   std::uint64_t non_finite = 0;
 };
 
-// One probed point (interface.md points.csv): the plan, the contact and its errors.
+// One probed point (docs/formats.md points.csv): the plan, the contact and its errors.
 struct ProbedPoint {
   int gear, tooth;
   FlankSide side;

@@ -1,4 +1,4 @@
-// Simulated CMM readings (`gearmc simulate`, interface.md): the scenario's gears — or a nominal
+// Simulated CMM readings (`gearmc simulate`, docs/formats.md): the scenario's gears — or a nominal
 // master gear — probed along the scenario's plan in its probing order, each point's stylus
 // centre at the exact contact moved by the scenario's measurement effects (the "truth" model),
 // written as the readings CSV. Gear k is the same gear as `gearmc run --only-gear k`, and the

@@ -1,4 +1,4 @@
-// Exact first contact of a spherical stylus tip with a real flank (P1's model, sources.md):
+// Exact first contact of a spherical stylus tip with a real flank (P1's model, docs/sources.md):
 // the tip centre moves along the nominal normal n towards the flank, O(t) = p + t n, and the
 // first contact is the largest t at which the sphere of radius R touches the surface:
 //   t* = max over (L, z) of  f(L, z) = w.n + sqrt(R^2 - |w_perp|^2),  w = S(L, z) - p,

@@ -1,6 +1,6 @@
 // Probing plan: where on each flank the CMM probes. Per flank an N x M grid, N points along
 // the profile (equal steps in roll length) and M sections across the face width, kept a
-// margin away from each edge of the flank (P1: N = 10, M = 5, 5 % margins, sources.md).
+// margin away from each edge of the flank (P1: N = 10, M = 5, 5 % margins, docs/sources.md).
 // The flank extent is the active involute: roll length from the form circle to the tip
 // circle, z from 0 to b. Lengths mm.
 #pragma once

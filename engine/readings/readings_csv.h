@@ -1,4 +1,4 @@
-// The readings CSV of interface.md: what a CMM recorded when probing a gear, one row per point
+// The readings CSV of docs/formats.md: what a CMM recorded when probing a gear, one row per point
 // (the nominal point p and outward normal n, the recorded stylus centre c at trigger, the
 // probing order), written by `gearmc simulate` and read by `gearmc diagnose`. Real CMM data
 // exported to this format is read the same way.
@@ -7,7 +7,7 @@
 //   # stylus_radius_mm=0.5
 //   gear,tooth,flank,i,j,order,px,py,pz,nx,ny,nz,cx,cy,cz[,ref_dev_um]
 //
-// Lengths in mm, ref_dev_um in µm, gear frame = CMM frame (interface.md conventions).
+// Lengths in mm, ref_dev_um in µm, gear frame = CMM frame (docs/formats.md conventions).
 // The measured deviation of a point is e = ((c − p)·n − R)·1000 µm (measured_deviation_um).
 #pragma once
 

@@ -1,9 +1,9 @@
-// A small builder for the self-contained report.html pages (interface.md: `run` and `diagnose`
+// A small builder for the self-contained report.html pages (docs/formats.md: `run` and `diagnose`
 // outputs): a title, headings, paragraphs, tables with optional highlighted rows, inline SVG
 // figures with captions and preformatted blocks (e.g. the scenario YAML). The page needs nothing
 // from outside: no external CSS, JS, fonts or images; a little inline CSS for readability. All
 // text is HTML-escaped; only the SVG of a figure is inserted as is (it must come from
-// svg_plot.h, which escapes its own text). Files are written atomically (interface.md: "nothing
+// svg_plot.h, which escapes its own text). Files are written atomically (docs/formats.md: "nothing
 // is half-written"): to FILE.tmp, then renamed to FILE.
 #pragma once
 

@@ -1,4 +1,4 @@
-// A set of output files of one command written all-or-nothing (interface.md: nothing is
+// A set of output files of one command written all-or-nothing (docs/formats.md: nothing is
 // half-written): each file is written as "<name>.partial" in the output folder and all are
 // renamed to their names together by commit(); if the object is destroyed before commit()
 // (an exception), the partial files are removed. Used by `run` and `diagnose`.

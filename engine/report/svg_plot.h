@@ -1,5 +1,5 @@
 // Plots as standalone SVG text, with no dependency beyond the standard library: the δRcomp
-// histogram of the `run` report (P1's Fig. 5, sources.md) with an optional fitted-density overlay
+// histogram of the `run` report (P1's Fig. 5, docs/sources.md) with an optional fitted-density overlay
 // and labelled vertical markers (quantiles, P1's claim), a generic XY line/scatter plot and a
 // polar scatter plot (value against approach azimuth) for the diagnosis report. All three share
 // one look: white background, a header with the title and one legend row (outside the plot
@@ -89,7 +89,7 @@ struct XYPlotOptions {
 std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& options);
 
 // Points at (angle, radius): angle in radians, counter-clockwise from +X (the approach azimuth
-// φ of interface.md), radius in data units.
+// φ of docs/formats.md), radius in data units.
 struct PolarSeries {
   std::string label;
   std::vector<double> angle_rad, radius;

@@ -1,4 +1,4 @@
-// The one error type for bad user input (design.md, principle 4): it names the place
+// The one error type for bad user input (docs/architecture.md, principle 4): it names the place
 // (file:line:column, or file:line for CSV), the key, the offending value and what was expected.
 // main() catches it, prints what() and exits with code 2.
 #pragma once

@@ -1,5 +1,5 @@
 // A scenario: everything one gearmc study is made of, read from a YAML file into typed,
-// validated values (design.md, principle 5). Unknown keys, wrong types and out-of-range values
+// validated values (docs/architecture.md, principle 5). Unknown keys, wrong types and out-of-range values
 // are InputErrors with file:line:column. Units: mm, degrees, µm as the key names say.
 #pragma once
 
@@ -41,7 +41,7 @@ struct Scenario {
   ToleranceSpec tolerances;
   DeviationModel deviations;
   // Deterministic normal deviation, muParser syntax in L, z, tooth, side (µm), added to the
-  // random deviations (interface.md, "Deterministic deviations"). Empty = none.
+  // random deviations (docs/formats.md, "Deterministic deviations"). Empty = none.
   std::string normal_expression_um;
   ProbingPlanSpec probing;        // `probing:` (P1: N 10, M 5, 5 % margins, all teeth, both)
   double stylus_radius_mm = 0.5;  // `stylus: radius_mm` (P1: 0.5 mm)

@@ -1,5 +1,5 @@
 // Reading a YAML document into typed, validated values, with file:line:column in every error
-// (design.md, principles 4 and 5). A YamlValue is one node of the document together with its
+// (docs/architecture.md, principles 4 and 5). A YamlValue is one node of the document together with its
 // dotted key path ("gear.teeth") and file; it converts itself strictly (integers are digits,
 // numbers are finite, booleans are true/false, quoted text is never a number). A YamlMap is a
 // mapping whose allowed keys are declared when it is opened, so unknown keys (with a "did you

@@ -1,8 +1,8 @@
-// Which named law do the values follow? P1 (sources.md) reports that its per-flank δRcomp values
+// Which named law do the values follow? P1 (docs/sources.md) reports that its per-flank δRcomp values
 // follow a named law (right-skewed, non-negative). This file fits five two-parameter laws —
 // normal, lognormal, gamma, Weibull and Gumbel (largest extreme value) — to the values held in a
 // fine Histogram, by binned maximum likelihood (so memory does not depend on the number of
-// values, design.md principle 3), and ranks them by AIC, with two goodness-of-fit figures on the
+// values, docs/architecture.md principle 3), and ranks them by AIC, with two goodness-of-fit figures on the
 // binned data: the Kolmogorov-Smirnov distance at the bin edges and Pearson's chi-square on
 // display-width cells pooled to an expected count >= 5.
 //

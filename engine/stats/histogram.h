@@ -1,8 +1,8 @@
-// A fixed-width histogram for streaming quantiles (design.md, principle 3): bins of width w from
+// A fixed-width histogram for streaming quantiles (docs/architecture.md, principle 3): bins of width w from
 // lo, integer counts, underflow/overflow counters with the exact min and max of the values that
 // fell outside, and the exact overall min and max. Merging adds integer counts, so it is exact
 // and independent of the merge order. Quantiles are returned at bin resolution with a stated,
-// one-sided error (see quantile()); the "most probable value" of P1 (sources.md, Table 2) is the
+// one-sided error (see quantile()); the "most probable value" of P1 (docs/sources.md, Table 2) is the
 // centre of the fullest bin of a coarser display histogram (see mode()). Units: µm for δRcomp,
 // but nothing here depends on the unit.
 #pragma once
@@ -83,7 +83,7 @@ class Histogram {
   // unless the ratio is an integer (to 1e-9 relative) that divides bin_count().
   std::size_t rebin_factor(double display_width_um) const;
 
-  // P1's "E (most probable)" (sources.md, Table 2): the centre (µm) of the fullest bin of the
+  // P1's "E (most probable)" (docs/sources.md, Table 2): the centre (µm) of the fullest bin of the
   // display histogram rebin(rebin_factor(display_width_um)); ties go to the lower bin. It is a
   // property of the display width, not of the data alone: a narrower width gives a noisier,
   // a wider one a coarser answer (P1's Fig. 5 uses bins of about 0.2 µm; default 0.1 µm).

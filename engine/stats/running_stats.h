@@ -1,4 +1,4 @@
-// Streaming moments of a stream of values (design.md, principle 3): count, mean, sample standard
+// Streaming moments of a stream of values (docs/architecture.md, principle 3): count, mean, sample standard
 // deviation, exact min and max, in O(1) memory. Values are added one at a time with Welford's
 // update and partial results (e.g. one per gear) are combined with the pairwise update of Chan,
 // Golub & LeVeque (1979). Floating-point addition is not associative, so the result depends on

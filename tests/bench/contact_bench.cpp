@@ -1,4 +1,4 @@
-// Contact solves per second (issue 3 speed goals), single thread:
+// Contact solves per second (the goals in docs/performance.md), single thread:
 //  * BM_AnalyticContact: the Newton solver on random-field flanks of P1's reference scenario
 //    (8/6 control values, P1's tolerances), P1's 10 x 5 grid on every flank of a gear;
 //  * BM_AnalyticContactOneFlank / BM_MeshContact: the same flank (tooth 1 R of gear 3) probed

@@ -25,7 +25,7 @@ TEST(Cli, GeometryOfTheReferenceScenarioIsP1Table1) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto doc = nlohmann::json::parse(r.out);
   const auto& g = doc["geometry_mm"];
-  // P1 Table 1 (sources.md), to 0.001 mm.
+  // P1 Table 1 (docs/sources.md), to 0.001 mm.
   EXPECT_NEAR(g["reference_diameter_d"].get<double>(), 134.4, 1e-3);
   EXPECT_NEAR(g["tip_diameter_d_a"].get<double>(), 155.693, 1e-3);
   EXPECT_NEAR(g["root_diameter_d_f"].get<double>(), 130.493, 1e-3);

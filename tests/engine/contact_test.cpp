@@ -1,6 +1,6 @@
 // Stylus–flank contact against analytic answers and an independent brute-force search:
 //  * pure offset / rotation of an involute flank: delta < 1e-6 µm (all involutes of one base
-//    circle share their normals, sources.md);
+//    circle share their normals, docs/sources.md);
 //  * a helix slope k tilts the flank about the profile tangent; in the transverse plane the
 //    contact stays on the same normal line, so delta = 2 R sin(theta/2), theta = atan(k 1e-3)
 //    exactly (the tilted-plane case);

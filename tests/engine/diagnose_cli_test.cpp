@@ -1,4 +1,4 @@
-// Tests of `gearmc diagnose` as a user runs it (interface.md, issue 6): readings simulated with
+// Tests of `gearmc diagnose` as a user runs it (docs/diagnosis.md): readings simulated with
 // `gearmc simulate --master` from a truth scenario = scenarios/p1_reference.yaml + probe_lobing
 // 6-fold ±0.75 µm (P2's probe) + noise 0.3 µm, diagnosed with the model = p1_reference + noise
 // 0.3 µm. The truth reaches `diagnose` only through the readings file. Checked: exit code 0,
@@ -56,7 +56,7 @@ class DiagnoseCli : public ::testing::Test {
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     const std::string reference = scenario_text("p1_reference");
-    // Truth: P2's probe lobing, 6 lobes ±0.75 µm (issue 6's battery, 1×), and noise 0.3 µm.
+    // Truth: P2's probe lobing, 6 lobes ±0.75 µm (the battery's size at 1×), and noise 0.3 µm.
     write_text(*dir_ / "truth.yaml",
                reference +
                    "\neffects:\n"

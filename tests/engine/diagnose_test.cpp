@@ -1,11 +1,11 @@
-// Tests of the diagnosis core (engine/diagnose, issue 6): the numerical tools against closed
+// Tests of the diagnosis core (engine/diagnose, docs/diagnosis.md): the numerical tools against closed
 // forms and textbook values, the candidates' columns against the effects' closed-form
 // signatures, the prediction against simulate_readings, and the whole diagnosis on readings in
 // which one effect is hidden: readings simulated with simulate_readings from a truth scenario =
 // the built-in reference (P1's gear and 10 × 5 grid on every flank, nominal master) + ONE effect
 // + probing noise σ 0.3 µm, diagnosed against the baseline model (the reference with noise
 // 0.3 µm only). The truth reaches the diagnosis only through the readings. Reference values are
-// the truth's own parameters (issue 6's battery sizes at 1×); every test uses fixed seeds, so
+// the truth's own parameters (the battery's sizes at 1×, docs/diagnosis.md); every test uses fixed seeds, so
 // each assertion is deterministic (seed 1 of the simulation, seed 1 of the null simulation).
 #include <gtest/gtest.h>
 
@@ -33,7 +33,7 @@ namespace gearmc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kNoiseUm = 0.3;  // issue 6: probing noise σ 0.3 µm
+constexpr double kNoiseUm = 0.3;  // the battery's probing noise σ 0.3 µm (docs/diagnosis.md)
 
 Scenario with_effects(const std::string& effects_yaml) {
   Scenario s = reference_scenario();
@@ -674,7 +674,7 @@ TEST(DiagnosePointLaw, ResidualLawIntegratesToItsMomentsAndCdf) {
 }
 
 TEST(DiagnosePointLaw, StepQuantizationIsNamedByTheSpreadOfSingleReadings) {
-  // Hidden: step_quantization q = 1 µm (issue 6's size at 1×) on the master: every reading gets
+  // Hidden: step_quantization q = 1 µm (the battery's size at 1×) on the master: every reading gets
   // −U(0, 1) µm, mean −0.5 µm, exactly a stylus radius error of +0.5 µm in the mean; the spread
   // √(0.3² + 1/12) = 0.416 µm (not 0.3) and its flat top name the step. The fitted model (q̂ in
   // the model) then has no gap.
@@ -778,7 +778,7 @@ TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
   text << in.rdbuf();
   EXPECT_EQ(text.str(), first);
   const nlohmann::json j = nlohmann::json::parse(first);
-  // interface.md: the keys diagnosis.json has at least.
+  // docs/formats.md: the keys diagnosis.json has at least.
   EXPECT_TRUE(j.at("gap_detected").get<bool>());
   EXPECT_EQ(j.at("named_effect"), "probe_lobing");
   EXPECT_TRUE(j.at("ambiguous_with").is_array());
@@ -793,7 +793,7 @@ TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
   }
   EXPECT_DOUBLE_EQ(j.at("noise_floor_um").get<double>(), kNoiseUm);
   EXPECT_EQ(j.at("spectrum").at("before_um").size(), 13u);
-  // Beyond interface.md: the fitted floor, how parameters are meant, the point-law stage and the
+  // Beyond docs/formats.md: the fitted floor, how parameters are meant, the point-law stage and the
   // cluster-aware evidence.
   EXPECT_DOUBLE_EQ(j.at("noise_floor_after_um").get<double>(), kNoiseUm);
   EXPECT_EQ(e.at("parameters_are"), "increments");

@@ -1,4 +1,4 @@
-// A flank whose real surface is a mesh file (scenario `surfaces:`, issue 3): the probe's
+// A flank whose real surface is a mesh file (scenario `surfaces:`): the probe's
 // result semantics on hand-made situations (contact, border = edge, miss = failed, touching at
 // the start of the approach = collision) and the nominal-flank coordinates it reports; a
 // scenario whose mesh is the analytic perturbed flank, meshed finely, reproduces the analytic

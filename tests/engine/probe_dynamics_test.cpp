@@ -182,7 +182,7 @@ TEST(ProbeDynamics, LobingHarmonicsMatchTheSeatLaw) {
 }
 
 TEST(ProbeDynamics, OppositeDirectionsDifferUpToOneToTwo) {
-  // P2 (sources.md): kinematic probes show up to about 1:2 between opposite directions. Here
+  // P2 (docs/sources.md): kinematic probes show up to about 1:2 between opposite directions. Here
   // towards a leg the trigger force is exactly twice the one opposite; the Hertz term
   // (∝ F^(2/3)) keeps the pre-travel ratio just below 2.
   const ProbeDynamics probe{ProbeDynamicsParameters{}};

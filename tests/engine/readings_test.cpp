@@ -1,5 +1,5 @@
 // Tests of the readings CSV (engine/readings): exact round trip of every field, the measured
-// deviation formula of interface.md, and one clear message with the CSV line for each kind of
+// deviation formula of docs/formats.md, and one clear message with the CSV line for each kind of
 // bad input.
 #include <gtest/gtest.h>
 
@@ -55,7 +55,7 @@ TEST(ReadingsCsv, RoundTripIsExact) {
 }
 
 TEST(ReadingsCsv, MeasuredDeviationIsCentreOffsetAlongNormalLessRadius) {
-  // interface.md: e = ((c − p)·n − R)·1000 µm; the sample puts c at (R + (0.1 + k) µm) along n,
+  // docs/formats.md: e = ((c − p)·n − R)·1000 µm; the sample puts c at (R + (0.1 + k) µm) along n,
   // and ref_dev_um (0.25 k) is subtracted when present.
   const Readings r = sample(true);
   for (int k = 0; k < 3; ++k) {

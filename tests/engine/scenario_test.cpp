@@ -699,7 +699,7 @@ namespace {
 
 TEST(ScenarioTest, ProbingStylusAndRunSections) {
   const Scenario d = parse_scenario(kGear, "t.yaml");
-  // Defaults are P1's set-up (sources.md): N 10, M 5, 5 % margins, all teeth, both flanks,
+  // Defaults are P1's set-up (docs/sources.md): N 10, M 5, 5 % margins, all teeth, both flanks,
   // R 0.5 mm, 50 gears.
   EXPECT_EQ(d.probing.grid.points_along_profile, 10);
   EXPECT_EQ(d.probing.grid.sections_across_face, 5);

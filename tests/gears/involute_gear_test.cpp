@@ -107,7 +107,7 @@ TEST(InvoluteGear, NormalsAreUnitPerpendicularAndOutward) {
           return std::abs(std::remainder(std::atan2(p.y(), p.x()) - centre, 2 * std::numbers::pi));
         };
         EXPECT_GT(off_centre(out), off_centre(same_radius));
-        // interface.md: R has a positive counter-clockwise tangential component, L negative.
+        // docs/formats.md: R has a positive counter-clockwise tangential component, L negative.
         const Eigen::Vector3d ccw = Eigen::Vector3d::UnitZ().cross(fp.point).normalized();
         EXPECT_GT(side_sign(side) * fp.normal.dot(ccw), 0.0);
       }
@@ -134,7 +134,7 @@ TEST(InvoluteGear, CurvatureIsOneOverRollLength) {
 }
 
 TEST(InvoluteGear, OffsetAlongNormalAndRotationKeepEveryNormal) {
-  // sources.md: all involutes of one base circle share their normals. (1) A point moved by a
+  // docs/sources.md: all involutes of one base circle share their normals. (1) A point moved by a
   // along its normal is the point at roll length L + a of the involute offset by a: its normal
   // equals the original one. (2) Rotating the flank about the axis by beta equals an offset of
   // r_b beta along the normal: the rotated point is on the normal line of the original point.

@@ -1,4 +1,4 @@
-// Deterministic normal deviations written as muParser expressions (interface.md).
+// Deterministic normal deviations written as muParser expressions (docs/formats.md).
 #include "gears/normal_expression.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@ namespace gearmc {
 namespace {
 
 TEST(NormalExpression, EvaluatesTheInterfaceExample) {
-  // interface.md's example: 2 sin(2 pi L / 5) + 0.1 (z - 39.445).
+  // docs/formats.md's example: 2 sin(2 pi L / 5) + 0.1 (z - 39.445).
   const NormalExpression e("2*sin(2*_pi*L/5) + 0.1*(z-39.445)");
   const double L = 30.3, z = 12.0;
   EXPECT_NEAR(e.value_um(L, z, 1, 1.0),

@@ -1,7 +1,7 @@
 // Tests of gears/tolerances: ISO 1328-1:2013 formulas, class scaling, rounding and scope; the
 // GOST 1643-81 table for P1's gear; symbols; and resolve_tolerances with and without scenario
-// overrides. Reference values come from /work/shared/docs/references.md ("references.md") and
-// P1 Table 1 (sources.md); every expected number below says which one, or shows its arithmetic.
+// overrides. Reference values come from docs/reference-values.md and
+// P1 Table 1 (docs/sources.md); every expected number below says which one, or shows its arithmetic.
 #include "gears/tolerances.h"
 #include "tests/support/p1_fixtures.h"
 
@@ -16,7 +16,7 @@
 namespace gearmc {
 namespace {
 
-// P1 Table 1 (sources.md): z 24, m 5.6 mm, alpha 20 deg, x 0.90116, b 78.89 mm -> d 134.4 mm.
+// P1 Table 1 (docs/sources.md): z 24, m 5.6 mm, alpha 20 deg, x 0.90116, b 78.89 mm -> d 134.4 mm.
 GearParameters p1_parameters() { return testing_support::p1_gear_parameters(); }
 
 GearParameters parameters(int teeth, double module_mm, double face_width_mm) {
@@ -43,7 +43,7 @@ std::string tolerance_error(const std::function<void()>& action) {
   return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
 }
 
-// The unrounded class-5 values of ISO 1328-1:2013 (references.md table), written out again here
+// The unrounded class-5 values of ISO 1328-1:2013 (docs/reference-values.md table), written out again here
 // independently of the implementation.
 struct IsoClass5 {
   double f_p, F_p, f_H_alpha, f_f_alpha, f_H_beta, f_f_beta;
@@ -61,7 +61,7 @@ IsoClass5 iso_class5(double d, double m, double b) {
 // ISO 1328-1:2013
 
 TEST(Iso1328Tolerances, P1GearClass5MatchesReferences) {
-  // references.md: "For P1's gear (d 134.4, m 5.6, b 78.89) class 5 gives f_pT 7.5, F_pT 23,
+  // docs/reference-values.md: "For P1's gear (d 134.4, m 5.6, b 78.89) class 5 gives f_pT 7.5, F_pT 23,
   // F_rT 20, f_HαT 6.5, f_fαT 8.0, F_αT 10, f_HβT 7.5, f_fβT 9.0, F_βT 12."
   const Iso1328Tolerances t = iso1328_tolerances(5, 134.4, 5.6, 78.89, 24);
   EXPECT_DOUBLE_EQ(t.single_pitch, 7.5);
@@ -78,7 +78,7 @@ TEST(Iso1328Tolerances, P1GearClass5MatchesReferences) {
 }
 
 TEST(Iso1328Tolerances, Class7IsClass5TimesTwoBeforeRounding) {
-  // references.md: class A = class-5 value * sqrt(2)^(A-5); A = 7 -> factor 2.
+  // docs/reference-values.md: class A = class-5 value * sqrt(2)^(A-5); A = 7 -> factor 2.
   const IsoClass5 c5 = iso_class5(134.4, 5.6, 78.89);
   // Unrounded class-7 values of P1's gear (2 * class 5):
   //   f_p   2 * (0.1344 + 2.24 + 5)                    = 14.7488 -> 15
@@ -109,7 +109,7 @@ TEST(Iso1328Tolerances, Class7IsClass5TimesTwoBeforeRounding) {
 }
 
 TEST(Iso1328Tolerances, Class1UsesTheTenthMicrometreStep) {
-  // Class 1 = class 5 * sqrt(2)^-4 = class 5 / 4 (references.md); P1's gear:
+  // Class 1 = class 5 * sqrt(2)^-4 = class 5 / 4 (docs/reference-values.md); P1's gear:
   //   f_p 7.3744/4 = 1.8436 -> 1.8;  F_p 22.5650/4 = 5.6413 -> 5.5 (0.5 µm band);
   //   F_r 0.9*5.6413 = 5.0771 -> 5.0; f_Ha 6.3744/4 = 1.5936 -> 1.6; f_fa 8.08/4 = 2.02 -> 2.0;
   //   F_a hypot(1.5936, 2.02) = 2.5729 -> 2.6; f_Hb 7.6884/4 = 1.9221 -> 1.9;
@@ -129,7 +129,7 @@ TEST(Iso1328Tolerances, Class1UsesTheTenthMicrometreStep) {
 }
 
 TEST(Iso1328Tolerances, TotalsComeFromUnroundedComponents) {
-  // references.md: "Totals are computed from unrounded components, then rounded."
+  // docs/reference-values.md: "Totals are computed from unrounded components, then rounded."
   // Class 6 (factor sqrt(2)) of P1's gear: f_Hb 7.688357*sqrt(2) = 10.8730 -> 11,
   // f_fb 8.808419*sqrt(2) = 12.4570 -> 12; F_b = hypot(10.8730, 12.4570) = 16.5348 -> 17, whereas
   // hypot(11, 12) = 16.28 would give 16. Also f_p 7.3744*sqrt(2) = 10.4290 -> 10 (1 µm band; the
@@ -155,7 +155,7 @@ TEST(Iso1328Tolerances, TotalsComeFromUnroundedComponents) {
 }
 
 TEST(Iso1328Round, StepDependsOnTheUnroundedValue) {
-  // references.md: > 10 µm -> 1 µm; 5-10 µm -> 0.5 µm; < 5 µm -> 0.1 µm.
+  // docs/reference-values.md: > 10 µm -> 1 µm; 5-10 µm -> 0.5 µm; < 5 µm -> 0.1 µm.
   EXPECT_DOUBLE_EQ(iso1328_round(22.565), 23.0);
   EXPECT_DOUBLE_EQ(iso1328_round(10.3), 10.0);  // 1 µm band (0.5 µm would give 10.5)
   EXPECT_DOUBLE_EQ(iso1328_round(10.6), 11.0);
@@ -176,7 +176,7 @@ TEST(Iso1328Round, StepDependsOnTheUnroundedValue) {
 }
 
 TEST(Iso1328Tolerances, ScopeLimitsAreInclusive) {
-  // references.md scope: 5 <= z <= 1000, 5 <= d <= 15000, 0.5 <= m_n <= 70, 4 <= b <= 1200.
+  // docs/reference-values.md scope: 5 <= z <= 1000, 5 <= d <= 15000, 0.5 <= m_n <= 70, 4 <= b <= 1200.
   EXPECT_NO_THROW(iso1328_tolerances(5, 5.0, 0.5, 4.0, 5));
   EXPECT_NO_THROW(iso1328_tolerances(5, 15000.0, 70.0, 1200.0, 1000));
   EXPECT_NO_THROW(iso1328_tolerances(1, 134.4, 5.6, 78.89, 24));
@@ -306,7 +306,7 @@ TEST_F(GostResolve, P1GearFromTheTable) {
   EXPECT_TRUE(set.values.at(ToleranceKind::kProfileTotal).confirmed);
   EXPECT_EQ(set.values.at(ToleranceKind::kProfileTotal).source, "P1 Table 1");
 
-  // Recalled (references.md), hence unconfirmed: F_r grade 6 = 40 (P1 itself uses 50, so the
+  // Recalled (docs/reference-values.md), hence unconfirmed: F_r grade 6 = 40 (P1 itself uses 50, so the
   // source flags the mismatch), ±f_pt grade 5 = 10, F_beta grade 5 (b 40-100 mm) = 10.
   EXPECT_EQ(set.get_um(ToleranceKind::kRunout), 40.0);
   EXPECT_FALSE(set.values.at(ToleranceKind::kRunout).confirmed);
@@ -315,7 +315,7 @@ TEST_F(GostResolve, P1GearFromTheTable) {
   EXPECT_EQ(set.get_um(ToleranceKind::kSinglePitch), 10.0);
   EXPECT_FALSE(set.values.at(ToleranceKind::kSinglePitch).confirmed);
   EXPECT_EQ(set.values.at(ToleranceKind::kSinglePitch).source,
-            "recalled (references.md), not checked against the standard");
+            "recalled (docs/reference-values.md), not checked against the standard");
   EXPECT_EQ(set.get_um(ToleranceKind::kHelixTotal), 10.0);
   EXPECT_FALSE(set.values.at(ToleranceKind::kHelixTotal).confirmed);
 
@@ -345,14 +345,14 @@ TEST_F(GostResolve, P1GearWithP1Overrides) {
     EXPECT_EQ(set.values.at(kind).source, "scenario override");
     EXPECT_TRUE(set.values.at(kind).confirmed);
   }
-  // Not overridden: still from the table (references.md, recalled).
+  // Not overridden: still from the table (docs/reference-values.md, recalled).
   EXPECT_EQ(set.get_um(ToleranceKind::kSinglePitch), 10.0);
   EXPECT_EQ(set.get_um(ToleranceKind::kHelixTotal), 10.0);
   EXPECT_EQ(set.values.size(), 7u);
 }
 
 TEST_F(GostResolve, SingleGradeMeansAllThree) {
-  // Grade 7 everywhere (references.md: F_r 56, ±f_pt 20, f_f 16, F_beta 16, all recalled);
+  // Grade 7 everywhere (docs/reference-values.md: F_r 56, ±f_pt 20, f_f 16, F_beta 16, all recalled);
   // ±f_pb grade 7 derived: 9 (P1) * 1.4 = 12.6 -> 13 (grade 6), 13 * 1.4 = 18.2 -> 18.
   ToleranceSpec spec;
   spec.grade = "7";
@@ -369,7 +369,7 @@ TEST_F(GostResolve, SingleGradeMeansAllThree) {
 }
 
 TEST_F(GostResolve, GradesGoToTheirNormGroups) {
-  // "K-S-C": F_r uses K, f_pt/f_pb/f_f use S, F_beta uses C. "8-6-5" (references.md values):
+  // "K-S-C": F_r uses K, f_pt/f_pb/f_f use S, F_beta uses C. "8-6-5" (docs/reference-values.md values):
   // F_r grade 8 = 71, ±f_pt grade 6 = 14, f_f grade 6 = 11, F_beta grade 5 = 10;
   // ±f_pb grade 6 derived 9 * 1.4 = 12.6 -> 13.
   ToleranceSpec spec;
@@ -383,7 +383,7 @@ TEST_F(GostResolve, GradesGoToTheirNormGroups) {
 }
 
 TEST_F(GostResolve, DerivedGrades4And8) {
-  // Grade 4 is not in references.md: grade-5 value / 1.4, rounded to 1 µm (unconfirmed):
+  // Grade 4 is not in docs/reference-values.md: grade-5 value / 1.4, rounded to 1 µm (unconfirmed):
   //   F_r 25/1.4 = 17.9 -> 18; ±f_pt 10/1.4 = 7.1 -> 7; ±f_pb 9/1.4 = 6.4 -> 6;
   //   f_f 8/1.4 = 5.7 -> 6; F_beta 10/1.4 = 7.1 -> 7.
   ToleranceSpec spec;
@@ -399,7 +399,7 @@ TEST_F(GostResolve, DerivedGrades4And8) {
     EXPECT_TRUE(Contains(tolerance.source, "derived")) << tolerance.source;
     EXPECT_TRUE(Contains(tolerance.source, "1.4")) << tolerance.source;
   }
-  // Grade 8: references.md F_r 71, ±f_pt 28, f_f 22, F_beta 25; ±f_pb derived 18 * 1.4 = 25.2
+  // Grade 8: docs/reference-values.md F_r 71, ±f_pt 28, f_f 22, F_beta 25; ±f_pb derived 18 * 1.4 = 25.2
   // -> 25.
   spec.grade = "8";
   set = resolve_tolerances(spec, p1_gear_);
@@ -445,7 +445,7 @@ TEST(GostResolveOutsideTable, OnlyNeededNormsAreLookedUp) {
   const ToleranceSet set = resolve_tolerances(spec, gear);
   EXPECT_EQ(set.get_um(ToleranceKind::kSinglePitch), 14.0);
   EXPECT_EQ(set.values.at(ToleranceKind::kSinglePitch).source, "scenario override");
-  EXPECT_EQ(set.get_um(ToleranceKind::kHelixTotal), 10.0);  // b = 50 mm: references.md grade 5
+  EXPECT_EQ(set.get_um(ToleranceKind::kHelixTotal), 10.0);  // b = 50 mm: docs/reference-values.md grade 5
   EXPECT_EQ(set.values.size(), 5u);
 }
 
@@ -531,7 +531,7 @@ TEST_F(GostResolve, IsoClass5ForP1Gear) {
   spec.overrides_um = {{ToleranceKind::kThicknessUpper, 110.0}};
   const ToleranceSet set = resolve_tolerances(spec, p1_gear_);
   EXPECT_EQ(set.standard, ToleranceStandard::kIso1328_1_2013);
-  // references.md, P1's gear class 5.
+  // docs/reference-values.md, P1's gear class 5.
   EXPECT_EQ(set.get_um(ToleranceKind::kSinglePitch), 7.5);
   EXPECT_EQ(set.get_um(ToleranceKind::kCumulativePitch), 23.0);
   EXPECT_EQ(set.get_um(ToleranceKind::kRunout), 20.0);
@@ -571,7 +571,7 @@ TEST_F(GostResolve, IsoClassStringAndScaledSource) {
 }
 
 TEST(IsoResolveOutsideScope, ThrowsUnlessEveryFormulaValueIsOverridden) {
-  // m = 0.4 mm is below ISO 1328-1:2013's 0.5 mm (references.md scope).
+  // m = 0.4 mm is below ISO 1328-1:2013's 0.5 mm (docs/reference-values.md scope).
   const GearParameters p = parameters(24, 0.4, 5.0);
   ASSERT_EQ(validate_gear_parameters(p), "");
   const InvoluteGear gear(p);

@@ -1,4 +1,4 @@
-// Regression tests on the scenarios (the OpenMC pattern, design.md principle 7): every
+// Regression tests on the scenarios (the OpenMC pattern, docs/architecture.md principle 7): every
 // scenarios/NAME.yaml is run through the gearmc executable with a small fixed number of gears
 // and its own seed, and the run's summary.json — without the timing fields — is compared with
 // the stored reference scenarios/NAME.ref.json.

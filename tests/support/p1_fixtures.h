@@ -1,4 +1,4 @@
-// Shared test fixtures: P1's gear (sources.md, Table 1) and an independent brute-force answer
+// Shared test fixtures: P1's gear (docs/sources.md, Table 1) and an independent brute-force answer
 // to the stylus contact problem, used by the gears, surfaces and engine test suites.
 #pragma once
 
@@ -29,19 +29,19 @@ inline GearParameters p1_gear_parameters() {
 inline InvoluteGear p1_gear() { return InvoluteGear(p1_gear_parameters()); }
 
 // P1 Table 1 tolerances (F_r 50, f_pb 9, f_f 8, E_Hs 110, T_H 100 µm) plus GOST grade-5
-// F_beta 10 µm (references.md, recalled: P1 gives no helix tolerance).
+// F_beta 10 µm (docs/reference-values.md, recalled: P1 gives no helix tolerance).
 inline ToleranceSet p1_tolerance_set() {
   ToleranceSet tol;
   tol.values[ToleranceKind::kRunout] = {50, "P1", true};
   tol.values[ToleranceKind::kBasePitch] = {9, "P1", true};
   tol.values[ToleranceKind::kProfileTotal] = {8, "P1", true};
-  tol.values[ToleranceKind::kHelixTotal] = {10, "references.md (recalled)", false};
+  tol.values[ToleranceKind::kHelixTotal] = {10, "docs/reference-values.md (recalled)", false};
   tol.values[ToleranceKind::kThicknessUpper] = {110, "P1", true};
   tol.values[ToleranceKind::kThicknessTolerance] = {100, "P1", true};
   return tol;
 }
 
-// ISO 1328-1:2013 class 5 for P1's gear (references.md, verified).
+// ISO 1328-1:2013 class 5 for P1's gear (docs/reference-values.md, verified).
 inline ToleranceSet iso_class5_tolerance_set() {
   ToleranceSet tol;
   tol.standard = ToleranceStandard::kIso1328_1_2013;

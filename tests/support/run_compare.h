@@ -1,5 +1,5 @@
 // Exact comparison of two Monte-Carlo runs' statistics, shared by the tests that check that
-// results do not depend on the thread count (design.md principle 2).
+// results do not depend on the thread count (docs/architecture.md principle 2).
 #pragma once
 
 #include <gtest/gtest.h>

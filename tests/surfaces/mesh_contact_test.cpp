@@ -2,7 +2,7 @@
 // answers:
 //  * a tilted plane: the sphere moving along n touches a plane of normal m (angle theta to n)
 //    at t = (R - (p - q).m) / (n.m), C = O - R m, and the compensation error of the reported
-//    point E = O - R n is |C - E| = R |m - n| = 2 R sin(theta/2) (sources.md, P1);
+//    point E = O - R n is |C - E| = R |m - n| = 2 R sin(theta/2) (docs/sources.md, P1);
 //  * an edge contact and a vertex contact whose t solves |O(t) - X|^2 = R^2 by hand;
 //  * the search window [t_min, t_max] and a sphere already touching at t_max;
 //  * the AABB-tree traversal gives exactly the answer of testing every triangle;
