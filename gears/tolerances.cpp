@@ -1,12 +1,12 @@
 // Tolerance systems for spur gears. ISO 1328-1:2013 tolerances are computed from the standard's
 // closed-form class-5 formulas, scaled to class A by sqrt(2)^(A-5) and rounded as the standard
-// prescribes (docs/reference-values.md, "ISO 1328-1:2013 flank tolerances [verified]"). GOST 1643-81 has no
-// formulas, only tables; this file holds the part of those tables around P1's gear (reference
-// diameter over 125 up to 400 mm, module over 3.5 up to 6.3 mm, face width over 40 up to 100 mm,
-// grades 4-8) as one constant table whose every row says where its number comes from and
-// whether it is confirmed (P1 Table 1) or only recalled / derived (docs/reference-values.md). A scenario's
-// explicit values (overrides) always win, and a kind that is overridden is never looked up, so a
-// gear outside the table works when the scenario gives every norm itself.
+// prescribes (docs/reference-values.md, "ISO 1328-1:2013 flank tolerances [verified]"). GOST
+// 1643-81 has no formulas, only tables; this file holds the part of those tables around P1's gear
+// (reference diameter over 125 up to 400 mm, module over 3.5 up to 6.3 mm, face width over 40 up to
+// 100 mm, grades 4-8) as one constant table whose every row says where its number comes from and
+// whether it is confirmed (P1 Table 1) or only recalled / derived (docs/reference-values.md). A
+// scenario's explicit values (overrides) always win, and a kind that is overridden is never looked
+// up, so a gear outside the table works when the scenario gives every norm itself.
 //
 // Convention for the tooth thickness norms (GOST 1643-81; ISO kinds use the same storage):
 // E_Hs (kThicknessUpper) is stored as the positive magnitude GOST tabulates (P1: 110 µm), T_H
@@ -184,13 +184,15 @@ struct GostNormRow {
   bool confirmed;
 };
 
-constexpr const char* kRecalled = "recalled (docs/reference-values.md), not checked against the standard";
+constexpr const char* kRecalled =
+    "recalled (docs/reference-values.md), not checked against the standard";
 constexpr const char* kP1 = "P1 Table 1";
 
 // GOST 1643-81 norms around P1's gear (d 134.4 mm, m 5.6 mm, b 78.89 mm). Values from
-// docs/reference-values.md ("GOST 1643-81 [recalled, except where P1 states it]"); P1 states f_pb and f_f of
-// grade 5. Where docs/reference-values.md gives no value, the value is derived from the neighbouring grade
-// with GOST's grade-to-grade ratio of about 1.4 and rounded to 1 µm (unconfirmed).
+// docs/reference-values.md ("GOST 1643-81 [recalled, except where P1 states it]"); P1 states f_pb
+// and f_f of grade 5. Where docs/reference-values.md gives no value, the value is derived from the
+// neighbouring grade with GOST's grade-to-grade ratio of about 1.4 and rounded to 1 µm
+// (unconfirmed).
 constexpr GostNormRow kGostTable[] = {
     // Kinematic norm: radial runout F_r (depends on d and m).
     {ToleranceKind::kRunout, 4, kDiameter125To400, kModule3p5To6p3, kAnySize, 18.0,
@@ -198,7 +200,8 @@ constexpr GostNormRow kGostTable[] = {
     {ToleranceKind::kRunout, 5, kDiameter125To400, kModule3p5To6p3, kAnySize, 25.0, kRecalled,
      false},
     {ToleranceKind::kRunout, 6, kDiameter125To400, kModule3p5To6p3, kAnySize, 40.0,
-     "recalled (docs/reference-values.md), not checked against the standard; P1 Table 1 uses F_r = 50 µm "
+     "recalled (docs/reference-values.md), not checked against the standard; P1 Table 1 uses F_r = "
+     "50 µm "
      "for its grade-6 gear: give F_r explicitly to follow P1",
      false},
     {ToleranceKind::kRunout, 7, kDiameter125To400, kModule3p5To6p3, kAnySize, 56.0, kRecalled,
@@ -457,12 +460,12 @@ std::optional<double> ToleranceSet::get_um(ToleranceKind kind) const {
   return it->second.value_um;
 }
 
-// ISO 1328-1:2013 rounding (docs/reference-values.md): values > 10 µm to 1 µm, 5 ... 10 µm to 0.5 µm,
-// < 5 µm to 0.1 µm. The step is chosen from the unrounded value; exactly 5 and exactly 10 fall in
-// the 0.5 µm band, which leaves them unchanged, so the boundary values themselves are not
+// ISO 1328-1:2013 rounding (docs/reference-values.md): values > 10 µm to 1 µm, 5 ... 10 µm to 0.5
+// µm, < 5 µm to 0.1 µm. The step is chosen from the unrounded value; exactly 5 and exactly 10 fall
+// in the 0.5 µm band, which leaves them unchanged, so the boundary values themselves are not
 // ambiguous; what the rule decides is e.g. 10.3 -> 10 (1 µm step) but 9.8 -> 10.0 and 4.97 -> 5.0
-// (0.1 µm step). Halves round away from zero (std::round); docs/reference-values.md states no tie rule.
-// Negative inputs use the band of their magnitude.
+// (0.1 µm step). Halves round away from zero (std::round); docs/reference-values.md states no tie
+// rule. Negative inputs use the band of their magnitude.
 double iso1328_round(double value_um) {
   const double magnitude = std::abs(value_um);
   if (magnitude > 10.0) return std::round(value_um);
@@ -470,9 +473,10 @@ double iso1328_round(double value_um) {
   return std::round(value_um * 10.0) / 10.0;
 }
 
-// ISO 1328-1:2013 (docs/reference-values.md, verified): class-5 formulas with the gear's actual d, m_n, b,
-// times sqrt(2)^(A-5); totals and the runout from the unrounded components, each value rounded
-// last. The helix angle limit (beta <= 45 deg) always holds for the spur gears modelled here.
+// ISO 1328-1:2013 (docs/reference-values.md, verified): class-5 formulas with the gear's actual d,
+// m_n, b, times sqrt(2)^(A-5); totals and the runout from the unrounded components, each value
+// rounded last. The helix angle limit (beta <= 45 deg) always holds for the spur gears modelled
+// here.
 Iso1328Tolerances iso1328_tolerances(int tolerance_class, double d_mm, double m_n_mm, double b_mm,
                                      int z) {
   if (tolerance_class < kIsoLowestClass || tolerance_class > kIsoHighestClass) {
@@ -496,7 +500,8 @@ Iso1328Tolerances iso1328_tolerances(int tolerance_class, double d_mm, double m_
   Iso1328Tolerances t;
   t.single_pitch = iso1328_round(f_p);
   t.cumulative_pitch = iso1328_round(cumulative);
-  t.runout = iso1328_round(0.9 * cumulative);  // ISO 1328-2 / later editions (docs/reference-values.md)
+  t.runout =
+      iso1328_round(0.9 * cumulative);  // ISO 1328-2 / later editions (docs/reference-values.md)
   t.profile_slope = iso1328_round(f_h_alpha);
   t.profile_form = iso1328_round(f_f_alpha);
   t.profile_total = iso1328_round(std::hypot(f_h_alpha, f_f_alpha));

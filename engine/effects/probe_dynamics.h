@@ -4,21 +4,20 @@
 // mass, the ball touches the flank through a Hertzian ball-on-plane contact, and the stylus
 // carrier sits on a three-leg kinematic seat held by a spring preload; the probe triggers when
 // one leg of the seat unloads, so the lateral trigger force depends on the approach azimuth
-// with period 2π/3 (three lobes, P2 and docs/reference-values.md). The CMM drives the probe body at a
-// constant speed; SUNDIALS CVODE (BDF, dense Newton) integrates the tip dynamics from the
-// instant of touch to the trigger, located by CVODE's root finding: the trigger is the instant
-// the force the stylus transmits to the seat (bending + damping force; it equals the contact
-// force minus the tip's inertia force, the same in the quasi-static limit) reaches the
-// direction-dependent seat trigger force F_trig(φ). The result is the pre-travel p(φ, v) — how
-// far the CMM has moved beyond the touch when it latches the position — its closed-form
-// quasi-static limit, and its harmonics p(φ) = p0 + Σ a_k cos(k(φ − φ_k)), which feed the
-// `probe_lobing` effect. Lineage of the model (abstracts read, volume/pages recalled): Estler et
-// al., "Error compensation for CMM touch trigger probes", Precision Engineering 19 (1996)
-// 85–97 (kinematic seat + stylus bending); Woźniak & Dobosz, "Metrological feasibilities of CMM
-// touch trigger probes. Part I: 3D theoretical model of probe pretravel", Measurement 34 (2003)
-// 273–286. Not modelled: friction at the flank, gravity on a horizontal stylus, seat-contact
-// compliance, approaches out of the XY plane. Parameter values and their standing are listed
-// with ProbeDynamicsParameters below.
+// with period 2π/3 (three lobes, P2 and docs/reference-values.md). The CMM drives the probe body at
+// a constant speed; SUNDIALS CVODE (BDF, dense Newton) integrates the tip dynamics from the instant
+// of touch to the trigger, located by CVODE's root finding: the trigger is the instant the force
+// the stylus transmits to the seat (bending + damping force; it equals the contact force minus the
+// tip's inertia force, the same in the quasi-static limit) reaches the direction-dependent seat
+// trigger force F_trig(φ). The result is the pre-travel p(φ, v) — how far the CMM has moved beyond
+// the touch when it latches the position — its closed-form quasi-static limit, and its harmonics
+// p(φ) = p0 + Σ a_k cos(k(φ − φ_k)), which feed the `probe_lobing` effect. Lineage of the model
+// (abstracts read, volume/pages recalled): Estler et al., "Error compensation for CMM touch trigger
+// probes", Precision Engineering 19 (1996) 85–97 (kinematic seat + stylus bending); Woźniak &
+// Dobosz, "Metrological feasibilities of CMM touch trigger probes. Part I: 3D theoretical model of
+// probe pretravel", Measurement 34 (2003) 273–286. Not modelled: friction at the flank, gravity on
+// a horizontal stylus, seat-contact compliance, approaches out of the XY plane. Parameter values
+// and their standing are listed with ProbeDynamicsParameters below.
 //
 // Frames and units. Probe frame = CMM frame with the stylus along −Z; the approach azimuth φ
 // (rad) is the direction of the probe's motion in the XY plane, φ = atan2(−n_y, −n_x) for a
@@ -62,8 +61,9 @@ inline constexpr ElasticMaterial kRuby{373.0, 0.28, 3900.0};
 // [derived] = computed from the others. Plausibility check (not a calibration): with a 10 mm
 // steel stylus (Ø1 mm stem, Ø2 mm ball) at 8 mm/s the model's pre-travel varies by 2.6 µm
 // peak to peak (±1.3 µm) over the directions, against the TP20's 2-D form ±0.6 … ±1.0 µm with
-// a 10 mm stylus [recalled, docs/reference-values.md]; a 50 mm steel stylus (Ø1.5 mm) gives 20 µm peak to
-// peak, against 16 µm measured by Shen & Springer (1998) with a 50 mm stylus on their probe.
+// a 10 mm stylus [recalled, docs/reference-values.md]; a 50 mm steel stylus (Ø1.5 mm) gives 20 µm
+// peak to peak, against 16 µm measured by Shen & Springer (1998) with a 50 mm stylus on their
+// probe.
 struct ProbeDynamicsParameters {
   // --- stylus (a straight, uniform stem with a ball at its end) ---
   // ℓ: free length from the stylus mounting face to the ball centre, mm. [assumed: within the

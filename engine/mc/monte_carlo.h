@@ -1,8 +1,8 @@
-// The Monte-Carlo batch (docs/formats.md `run`, docs/architecture.md "What flows through the engine"):
-// gear k is drawn from its own random streams, every planned point of every probed flank is
-// probed with the exact contact solver, and the errors are reduced into streaming statistics.
-// A flank the scenario replaces by a mesh (`surfaces:`) is probed on that mesh, with the same
-// plan and result semantics, in every gear. Gears run in parallel (oneTBB) in chunks; each chunk's
+// The Monte-Carlo batch (docs/formats.md `run`, docs/architecture.md "What flows through the
+// engine"): gear k is drawn from its own random streams, every planned point of every probed flank
+// is probed with the exact contact solver, and the errors are reduced into streaming statistics. A
+// flank the scenario replaces by a mesh (`surfaces:`) is probed on that mesh, with the same plan
+// and result semantics, in every gear. Gears run in parallel (oneTBB) in chunks; each chunk's
 // per-gear outcomes are merged in gear order, so the results are bit-identical for any thread count
 // and memory does not grow with the number of gears. Errors in µm, lengths in mm.
 #pragma once

@@ -1,7 +1,7 @@
 // Plots as standalone SVG text, with no dependency beyond the standard library: the δRcomp
-// histogram of the `run` report (P1's Fig. 5, docs/sources.md) with an optional fitted-density overlay
-// and labelled vertical markers (quantiles, P1's claim), a generic XY line/scatter plot and a
-// polar scatter plot (value against approach azimuth) for the diagnosis report. All three share
+// histogram of the `run` report (P1's Fig. 5, docs/sources.md) with an optional fitted-density
+// overlay and labelled vertical markers (quantiles, P1's claim), a generic XY line/scatter plot and
+// a polar scatter plot (value against approach azimuth) for the diagnosis report. All three share
 // one look: white background, a header with the title and one legend row (outside the plot
 // area, so it never hides data), axes with "nice" ticks (Heckbert, "Nice numbers for graph
 // labels", Graphics Gems, 1990), light grid, the colour-blind-safe Okabe-Ito palette (Okabe &

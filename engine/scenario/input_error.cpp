@@ -1,5 +1,5 @@
-// The one error type for bad user input (docs/architecture.md, principle 4): composes its message from the
-// place (file:line:column), the dotted key, the offending value, what was expected and an
+// The one error type for bad user input (docs/architecture.md, principle 4): composes its message
+// from the place (file:line:column), the dotted key, the offending value, what was expected and an
 // optional "did you mean" hint; and the edit-distance search behind those hints.
 #include "engine/scenario/input_error.h"
 

@@ -1,7 +1,7 @@
 // Scenario files: the YAML text is read section by section (gear, tolerances, deviations) into
-// the typed, validated Scenario struct (docs/architecture.md, principle 5), so that constructors downstream
-// only ever see good values. Unknown keys, wrong types, out-of-range values, missing required
-// keys, YAML syntax errors and unreadable files all become one InputError naming
+// the typed, validated Scenario struct (docs/architecture.md, principle 5), so that constructors
+// downstream only ever see good values. Unknown keys, wrong types, out-of-range values, missing
+// required keys, YAML syntax errors and unreadable files all become one InputError naming
 // file:line:column, the dotted key, the value and what was expected (principle 4).
 // The schema is documented with each section reader below.
 #include "engine/scenario/scenario.h"

@@ -1,6 +1,6 @@
 // A scenario: everything one gearmc study is made of, read from a YAML file into typed,
-// validated values (docs/architecture.md, principle 5). Unknown keys, wrong types and out-of-range values
-// are InputErrors with file:line:column. Units: mm, degrees, µm as the key names say.
+// validated values (docs/architecture.md, principle 5). Unknown keys, wrong types and out-of-range
+// values are InputErrors with file:line:column. Units: mm, degrees, µm as the key names say.
 #pragma once
 
 #include <cstdint>

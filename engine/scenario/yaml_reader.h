@@ -1,6 +1,6 @@
 // Reading a YAML document into typed, validated values, with file:line:column in every error
-// (docs/architecture.md, principles 4 and 5). A YamlValue is one node of the document together with its
-// dotted key path ("gear.teeth") and file; it converts itself strictly (integers are digits,
+// (docs/architecture.md, principles 4 and 5). A YamlValue is one node of the document together with
+// its dotted key path ("gear.teeth") and file; it converts itself strictly (integers are digits,
 // numbers are finite, booleans are true/false, quoted text is never a number). A YamlMap is a
 // mapping whose allowed keys are declared when it is opened, so unknown keys (with a "did you
 // mean" hint), duplicate keys, wrong types, out-of-range values and missing required keys all

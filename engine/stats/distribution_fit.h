@@ -1,10 +1,10 @@
-// Which named law do the values follow? P1 (docs/sources.md) reports that its per-flank δRcomp values
-// follow a named law (right-skewed, non-negative). This file fits five two-parameter laws —
+// Which named law do the values follow? P1 (docs/sources.md) reports that its per-flank δRcomp
+// values follow a named law (right-skewed, non-negative). This file fits five two-parameter laws —
 // normal, lognormal, gamma, Weibull and Gumbel (largest extreme value) — to the values held in a
 // fine Histogram, by binned maximum likelihood (so memory does not depend on the number of
-// values, docs/architecture.md principle 3), and ranks them by AIC, with two goodness-of-fit figures on the
-// binned data: the Kolmogorov-Smirnov distance at the bin edges and Pearson's chi-square on
-// display-width cells pooled to an expected count >= 5.
+// values, docs/architecture.md principle 3), and ranks them by AIC, with two goodness-of-fit
+// figures on the binned data: the Kolmogorov-Smirnov distance at the bin edges and Pearson's
+// chi-square on display-width cells pooled to an expected count >= 5.
 //
 // Binned likelihood (the multinomial likelihood of grouped data; Kulldorff, "Contributions to
 // the theory of estimation from grouped and partially grouped samples", 1961):

@@ -1,10 +1,10 @@
-// A fixed-width histogram for streaming quantiles (docs/architecture.md, principle 3): bins of width w from
-// lo, integer counts, underflow/overflow counters with the exact min and max of the values that
-// fell outside, and the exact overall min and max. Merging adds integer counts, so it is exact
-// and independent of the merge order. Quantiles are returned at bin resolution with a stated,
-// one-sided error (see quantile()); the "most probable value" of P1 (docs/sources.md, Table 2) is the
-// centre of the fullest bin of a coarser display histogram (see mode()). Units: µm for δRcomp,
-// but nothing here depends on the unit.
+// A fixed-width histogram for streaming quantiles (docs/architecture.md, principle 3): bins of
+// width w from lo, integer counts, underflow/overflow counters with the exact min and max of the
+// values that fell outside, and the exact overall min and max. Merging adds integer counts, so it
+// is exact and independent of the merge order. Quantiles are returned at bin resolution with a
+// stated, one-sided error (see quantile()); the "most probable value" of P1 (docs/sources.md, Table
+// 2) is the centre of the fullest bin of a coarser display histogram (see mode()). Units: µm for
+// δRcomp, but nothing here depends on the unit.
 #pragma once
 
 #include <cstddef>

@@ -1,7 +1,8 @@
 // A streaming histogram with a stated RELATIVE resolution over the whole range of doubles, for
 // the error statistics of a run: a scenario can produce errors from 0.01 µm (P1's δRcomp on a
 // good gear) to millimetres (a coarse gear with a large stylus), and every quantile, mode and
-// law fit must be right at any of these scales (docs/architecture.md principle 3: streaming, exact merges).
+// law fit must be right at any of these scales (docs/architecture.md principle 3: streaming, exact
+// merges).
 //
 // Buckets are read off the bits of the IEEE 754 double: a positive x with biased exponent e and
 // mantissa bits m falls in bucket (e, top kMantissaBits bits of m), so each power-of-two interval

@@ -1,8 +1,8 @@
-// Streaming moments of a stream of values (docs/architecture.md, principle 3): count, mean, sample standard
-// deviation, exact min and max, in O(1) memory. Values are added one at a time with Welford's
-// update and partial results (e.g. one per gear) are combined with the pairwise update of Chan,
-// Golub & LeVeque (1979). Floating-point addition is not associative, so the result depends on
-// how the stream was split and in which order the parts were merged: the same split merged in
+// Streaming moments of a stream of values (docs/architecture.md, principle 3): count, mean, sample
+// standard deviation, exact min and max, in O(1) memory. Values are added one at a time with
+// Welford's update and partial results (e.g. one per gear) are combined with the pairwise update of
+// Chan, Golub & LeVeque (1979). Floating-point addition is not associative, so the result depends
+// on how the stream was split and in which order the parts were merged: the same split merged in
 // the same order is bit-identical (the Monte-Carlo runner splits per gear and merges in gear
 // order, so its result does not depend on the thread count); a different split agrees to a
 // relative ~1e-13 (rounding only). Units are those of the values (µm for δRcomp).

@@ -1,12 +1,13 @@
-// Tests of the diagnosis core (engine/diagnose, docs/diagnosis.md): the numerical tools against closed
-// forms and textbook values, the candidates' columns against the effects' closed-form
+// Tests of the diagnosis core (engine/diagnose, docs/diagnosis.md): the numerical tools against
+// closed forms and textbook values, the candidates' columns against the effects' closed-form
 // signatures, the prediction against simulate_readings, and the whole diagnosis on readings in
 // which one effect is hidden: readings simulated with simulate_readings from a truth scenario =
 // the built-in reference (P1's gear and 10 × 5 grid on every flank, nominal master) + ONE effect
 // + probing noise σ 0.3 µm, diagnosed against the baseline model (the reference with noise
 // 0.3 µm only). The truth reaches the diagnosis only through the readings. Reference values are
-// the truth's own parameters (the battery's sizes at 1×, docs/diagnosis.md); every test uses fixed seeds, so
-// each assertion is deterministic (seed 1 of the simulation, seed 1 of the null simulation).
+// the truth's own parameters (the battery's sizes at 1×, docs/diagnosis.md); every test uses fixed
+// seeds, so each assertion is deterministic (seed 1 of the simulation, seed 1 of the null
+// simulation).
 #include <gtest/gtest.h>
 
 #include <unistd.h>

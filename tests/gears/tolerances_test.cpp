@@ -1,7 +1,8 @@
 // Tests of gears/tolerances: ISO 1328-1:2013 formulas, class scaling, rounding and scope; the
 // GOST 1643-81 table for P1's gear; symbols; and resolve_tolerances with and without scenario
 // overrides. Reference values come from docs/reference-values.md and
-// P1 Table 1 (docs/sources.md); every expected number below says which one, or shows its arithmetic.
+// P1 Table 1 (docs/sources.md); every expected number below says which one, or shows its
+// arithmetic.
 #include "gears/tolerances.h"
 #include "tests/support/p1_fixtures.h"
 
@@ -43,8 +44,8 @@ std::string tolerance_error(const std::function<void()>& action) {
   return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
 }
 
-// The unrounded class-5 values of ISO 1328-1:2013 (docs/reference-values.md table), written out again here
-// independently of the implementation.
+// The unrounded class-5 values of ISO 1328-1:2013 (docs/reference-values.md table), written out
+// again here independently of the implementation.
 struct IsoClass5 {
   double f_p, F_p, f_H_alpha, f_f_alpha, f_H_beta, f_f_beta;
 };
@@ -61,8 +62,8 @@ IsoClass5 iso_class5(double d, double m, double b) {
 // ISO 1328-1:2013
 
 TEST(Iso1328Tolerances, P1GearClass5MatchesReferences) {
-  // docs/reference-values.md: "For P1's gear (d 134.4, m 5.6, b 78.89) class 5 gives f_pT 7.5, F_pT 23,
-  // F_rT 20, f_HαT 6.5, f_fαT 8.0, F_αT 10, f_HβT 7.5, f_fβT 9.0, F_βT 12."
+  // docs/reference-values.md: "For P1's gear (d 134.4, m 5.6, b 78.89) class 5 gives f_pT 7.5, F_pT
+  // 23, F_rT 20, f_HαT 6.5, f_fαT 8.0, F_αT 10, f_HβT 7.5, f_fβT 9.0, F_βT 12."
   const Iso1328Tolerances t = iso1328_tolerances(5, 134.4, 5.6, 78.89, 24);
   EXPECT_DOUBLE_EQ(t.single_pitch, 7.5);
   EXPECT_DOUBLE_EQ(t.cumulative_pitch, 23.0);
@@ -176,7 +177,8 @@ TEST(Iso1328Round, StepDependsOnTheUnroundedValue) {
 }
 
 TEST(Iso1328Tolerances, ScopeLimitsAreInclusive) {
-  // docs/reference-values.md scope: 5 <= z <= 1000, 5 <= d <= 15000, 0.5 <= m_n <= 70, 4 <= b <= 1200.
+  // docs/reference-values.md scope: 5 <= z <= 1000, 5 <= d <= 15000, 0.5 <= m_n <= 70, 4 <= b <=
+  // 1200.
   EXPECT_NO_THROW(iso1328_tolerances(5, 5.0, 0.5, 4.0, 5));
   EXPECT_NO_THROW(iso1328_tolerances(5, 15000.0, 70.0, 1200.0, 1000));
   EXPECT_NO_THROW(iso1328_tolerances(1, 134.4, 5.6, 78.89, 24));
@@ -306,8 +308,8 @@ TEST_F(GostResolve, P1GearFromTheTable) {
   EXPECT_TRUE(set.values.at(ToleranceKind::kProfileTotal).confirmed);
   EXPECT_EQ(set.values.at(ToleranceKind::kProfileTotal).source, "P1 Table 1");
 
-  // Recalled (docs/reference-values.md), hence unconfirmed: F_r grade 6 = 40 (P1 itself uses 50, so the
-  // source flags the mismatch), ±f_pt grade 5 = 10, F_beta grade 5 (b 40-100 mm) = 10.
+  // Recalled (docs/reference-values.md), hence unconfirmed: F_r grade 6 = 40 (P1 itself uses 50, so
+  // the source flags the mismatch), ±f_pt grade 5 = 10, F_beta grade 5 (b 40-100 mm) = 10.
   EXPECT_EQ(set.get_um(ToleranceKind::kRunout), 40.0);
   EXPECT_FALSE(set.values.at(ToleranceKind::kRunout).confirmed);
   EXPECT_TRUE(Contains(set.values.at(ToleranceKind::kRunout).source, "recalled"));
@@ -352,8 +354,8 @@ TEST_F(GostResolve, P1GearWithP1Overrides) {
 }
 
 TEST_F(GostResolve, SingleGradeMeansAllThree) {
-  // Grade 7 everywhere (docs/reference-values.md: F_r 56, ±f_pt 20, f_f 16, F_beta 16, all recalled);
-  // ±f_pb grade 7 derived: 9 (P1) * 1.4 = 12.6 -> 13 (grade 6), 13 * 1.4 = 18.2 -> 18.
+  // Grade 7 everywhere (docs/reference-values.md: F_r 56, ±f_pt 20, f_f 16, F_beta 16, all
+  // recalled); ±f_pb grade 7 derived: 9 (P1) * 1.4 = 12.6 -> 13 (grade 6), 13 * 1.4 = 18.2 -> 18.
   ToleranceSpec spec;
   spec.grade = "7";
   const ToleranceSet set = resolve_tolerances(spec, p1_gear_);
@@ -369,9 +371,9 @@ TEST_F(GostResolve, SingleGradeMeansAllThree) {
 }
 
 TEST_F(GostResolve, GradesGoToTheirNormGroups) {
-  // "K-S-C": F_r uses K, f_pt/f_pb/f_f use S, F_beta uses C. "8-6-5" (docs/reference-values.md values):
-  // F_r grade 8 = 71, ±f_pt grade 6 = 14, f_f grade 6 = 11, F_beta grade 5 = 10;
-  // ±f_pb grade 6 derived 9 * 1.4 = 12.6 -> 13.
+  // "K-S-C": F_r uses K, f_pt/f_pb/f_f use S, F_beta uses C. "8-6-5" (docs/reference-values.md
+  // values): F_r grade 8 = 71, ±f_pt grade 6 = 14, f_f grade 6 = 11, F_beta grade 5 = 10; ±f_pb
+  // grade 6 derived 9 * 1.4 = 12.6 -> 13.
   ToleranceSpec spec;
   spec.grade = "8-6-5";
   const ToleranceSet set = resolve_tolerances(spec, p1_gear_);
@@ -399,7 +401,8 @@ TEST_F(GostResolve, DerivedGrades4And8) {
     EXPECT_TRUE(Contains(tolerance.source, "derived")) << tolerance.source;
     EXPECT_TRUE(Contains(tolerance.source, "1.4")) << tolerance.source;
   }
-  // Grade 8: docs/reference-values.md F_r 71, ±f_pt 28, f_f 22, F_beta 25; ±f_pb derived 18 * 1.4 = 25.2
+  // Grade 8: docs/reference-values.md F_r 71, ±f_pt 28, f_f 22, F_beta 25; ±f_pb derived 18 * 1.4
+  // = 25.2
   // -> 25.
   spec.grade = "8";
   set = resolve_tolerances(spec, p1_gear_);
@@ -445,7 +448,8 @@ TEST(GostResolveOutsideTable, OnlyNeededNormsAreLookedUp) {
   const ToleranceSet set = resolve_tolerances(spec, gear);
   EXPECT_EQ(set.get_um(ToleranceKind::kSinglePitch), 14.0);
   EXPECT_EQ(set.values.at(ToleranceKind::kSinglePitch).source, "scenario override");
-  EXPECT_EQ(set.get_um(ToleranceKind::kHelixTotal), 10.0);  // b = 50 mm: docs/reference-values.md grade 5
+  EXPECT_EQ(set.get_um(ToleranceKind::kHelixTotal),
+            10.0);  // b = 50 mm: docs/reference-values.md grade 5
   EXPECT_EQ(set.values.size(), 5u);
 }
 

@@ -1,5 +1,6 @@
 // Property test: every drawn gear is within every tolerance, measured independently of the
-// sampler on the real flank surfaces, the ISO way (ISO 1328-1:2013 definitions, docs/reference-values.md):
+// sampler on the real flank surfaces, the ISO way (ISO 1328-1:2013 definitions,
+// docs/reference-values.md):
 //  * profile traces at both ends of the face and helix traces at both ends of the profile
 //    evaluation range, on a grid twice as dense as the sampler's: least-squares mean line, slope,
 //    form band, total band;
