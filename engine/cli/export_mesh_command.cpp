@@ -3,7 +3,6 @@
 
 #include <ostream>
 
-#include "engine/cli/geometry_command.h"
 #include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"

@@ -21,15 +21,6 @@ double deg(double value_rad) {
 
 }  // namespace
 
-ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const InvoluteGear& gear) {
-  try {
-    return resolve_tolerances(scenario.tolerances, gear);
-  } catch (const ToleranceError& e) {
-    throw InputError({scenario.source_path, 0, 0},
-                     scenario.source_path + ": tolerances: " + e.what());
-  }
-}
-
 void write_geometry_json(const Scenario& scenario, std::ostream& out) {
   using nlohmann::ordered_json;
   const InvoluteGear gear(scenario.gear);

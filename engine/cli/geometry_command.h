@@ -12,8 +12,4 @@ namespace gearmc {
 // tolerance standard cannot resolve a value the scenario needs.
 void write_geometry_json(const Scenario& scenario, std::ostream& out);
 
-// Resolves the scenario's tolerances for its gear; a ToleranceError becomes an InputError
-// naming the scenario file and the `tolerances` section.
-ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const InvoluteGear& gear);
-
 }  // namespace gearmc

@@ -10,7 +10,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "engine/cli/geometry_command.h"
+#include "engine/scenario/scenario.h"
 #include "gears/normal_expression.h"
 #include "surfaces/analytic_flank.h"
 

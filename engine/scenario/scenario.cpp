@@ -569,4 +569,13 @@ Scenario load_scenario_file(const std::string& path) {
   return parse_scenario(read_input_file(path, "scenario file", kMaxScenarioBytes), path);
 }
 
+ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const InvoluteGear& gear) {
+  try {
+    return resolve_tolerances(scenario.tolerances, gear);
+  } catch (const ToleranceError& e) {
+    throw InputError({scenario.source_path, 0, 0},
+                     scenario.source_path + ": tolerances: " + e.what());
+  }
+}
+
 }  // namespace gearmc

@@ -60,6 +60,11 @@ struct Scenario {
 Scenario load_scenario_file(const std::string& path);
 // Same, from text; `source_name` is used in error messages.
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name);
+// Resolves the scenario's tolerances for its gear; a ToleranceError becomes an InputError
+// naming the scenario file and the `tolerances` section. (A loaded scenario has already been
+// checked; this is for every command that needs the resolved set.)
+ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const InvoluteGear& gear);
+
 // The built-in reference scenario: P1's gear (Table 1) with P1's tolerances. Its text is the
 // same as scenarios/p1_reference.yaml.
 Scenario reference_scenario();

@@ -25,10 +25,10 @@
 #include <utility>
 #include <vector>
 
-#include "engine/cli/geometry_command.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/contact.h"
 #include "engine/probing/mesh_probe.h"
+#include "engine/scenario/scenario.h"
 #include "surfaces/flank_mesh.h"
 
 namespace gearmc {

@@ -21,7 +21,6 @@
 
 #include <unistd.h>
 
-#include "engine/cli/geometry_command.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/mesh_probe.h"
 #include "engine/scenario/input_error.h"
