@@ -3,6 +3,7 @@
 
 #include <ostream>
 
+#include "engine/measure/measurement_model.h"
 #include "engine/report/output_files.h"
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
@@ -24,16 +25,13 @@ int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostr
   if (o.gear < 0) {
     throw InputError({}, "--gear", std::to_string(o.gear), "a gear index >= 0");
   }
-  const InvoluteGear gear(scenario.gear);
-  const ToleranceSet tolerances = resolve_scenario_tolerances(scenario, gear);
-  const GearSampler sampler(gear, tolerances, scenario.deviations, scenario.seed);
-  const PerturbedGear perturbed = sampler.draw(o.gear);
-  std::optional<NormalExpression> expression;
-  if (!scenario.normal_expression_um.empty()) expression.emplace(scenario.normal_expression_um);
+  // Gear K as every command draws it (the measurement model, engine/measure).
+  const MeasurementModel model(scenario);
+  const PerturbedGear perturbed = model.draw_gear(o.gear);
   GearMeshSpec spec;
   spec.profile_samples = o.profile_samples;
   spec.face_samples = o.face_samples;
-  const GearMesh mesh = mesh_gear(gear, perturbed, spec, expression ? &*expression : nullptr);
+  const GearMesh mesh = mesh_gear(model.gear(), perturbed, spec, model.expression());
   try {
     write_mesh_file(mesh.mesh, o.out);
   } catch (const MeshIoError& e) {

@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "engine/diagnose/linear_model.h"
-#include "engine/mc/monte_carlo.h"
+#include "engine/measure/gear_measurement.h"
 #include "engine/scenario/input_error.h"
 
 namespace gearmc {
@@ -20,6 +20,12 @@ using PlanKey = std::tuple<int, int, int, int>;  // tooth, side (0 L, 1 R), i, j
 PlanKey plan_key(int tooth, FlankSide side, int i, int j) {
   return {tooth, side == FlankSide::kRight ? 1 : 0, i, j};
 }
+
+// The model's nominal point and contact at a planned point.
+struct ContactPrediction {
+  Eigen::Vector3d p;
+  ContactResult contact;
+};
 
 // A row's nominal point must equal the model plan's to this (mm) to use the model's contact.
 constexpr double kSamePointMm = 1e-4;
@@ -52,17 +58,19 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
     }
   }
 
-  // The model's contacts, per gear (one nominal gear serves every gear of a master).
-  const MonteCarloRun run(scenario);
-  std::map<int, GearOutcome> outcomes;
-  std::map<int, std::map<PlanKey, const ProbedPoint*>> by_plan;
-  auto model_points = [&](int gear) -> const std::map<PlanKey, const ProbedPoint*>& {
+  // The model's contacts, per gear (one nominal gear serves every gear of a master): the
+  // measurement pipeline without effects (gear_measurement.h).
+  const MeasurementModel pipeline(scenario);
+  std::map<int, std::map<PlanKey, ContactPrediction>> by_plan;
+  auto model_points = [&](int gear) -> const std::map<PlanKey, ContactPrediction>& {
     const int key = nominal ? 0 : gear;
     auto found = by_plan.find(key);
     if (found != by_plan.end()) return found->second;
-    const GearOutcome& outcome = outcomes.emplace(key, run.measure_gear(key, true)).first->second;
     auto& index = by_plan[key];
-    for (const ProbedPoint& q : outcome.points) index[plan_key(q.tooth, q.side, q.i, q.j)] = &q;
+    GearMeasurement(pipeline, key, EffectMode::kNone).measure([&](const PointMeasurement& m) {
+      const PlanPoint& q = *m.plan;
+      index[plan_key(q.tooth, q.side, q.i, q.j)] = {q.nominal.point, m.contact};
+    });
     return index;
   };
 
@@ -79,22 +87,15 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
     point.order = row.order;
     const auto [first, last] = gear_orders.at(row.gear);
     PointContext& context = point.context;
-    context.p = row.p;
-    context.n = row.n;
-    context.contact_normal = row.n;
-    context.azimuth_rad = std::atan2(-row.n.y(), -row.n.x());
-    context.order = row.order - first;
-    context.sequence_length = last - first + 1;
-    context.tooth = row.tooth;
-    context.side = row.side;
-    context.stylus_radius_mm = R;
+    context = point_context(row.p, row.n, row.n, row.order - first, last - first + 1, row.tooth,
+                            row.side, R);
 
     Eigen::Vector3d centre = row.p + R * row.n;  // nominal contact
     const auto& plan = model_points(row.gear);
     const auto found = plan.find(plan_key(row.tooth, row.side, row.i, row.j));
-    if (found != plan.end() && found->second->contact.status == ContactResult::Status::kOk &&
-        (found->second->p - row.p).norm() <= kSamePointMm) {
-      const ContactResult& contact = found->second->contact;
+    if (found != plan.end() && found->second.contact.status == ContactResult::Status::kOk &&
+        (found->second.p - row.p).norm() <= kSamePointMm) {
+      const ContactResult& contact = found->second.contact;
       centre = contact.centre;
       context.contact_normal = (contact.centre - contact.contact).normalized();
     } else {

@@ -3,7 +3,7 @@
 // floor the gap is judged against.
 //
 // Prediction of a reading row (gear, tooth, flank, i, j): the model scenario's stylus-centre
-// contact at that planned point (MonteCarloRun::measure_gear) moved by the model's measurement
+// contact at that planned point (the measurement pipeline, engine/measure) moved by the model's measurement
 // effects at their nominal parameter values, each averaged over its per-point random numbers
 // (MeasurementEffect::apply_mean: noise and probe repeatability add nothing, step quantisation
 // its mean latch delay q/2), read along n exactly as the CMM reading is (reading_um). Parameters

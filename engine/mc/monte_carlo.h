@@ -1,8 +1,8 @@
 // The Monte-Carlo batch (docs/formats.md `run`, docs/architecture.md "What flows through the
-// engine"): gear k is drawn from its own random streams, every planned point of every probed flank
-// is probed with the exact contact solver, and the errors are reduced into streaming statistics. A
-// flank the scenario replaces by a mesh (`surfaces:`) is probed on that mesh, with the same plan
-// and result semantics, in every gear. Gears run in parallel (oneTBB) in chunks; each chunk's
+// engine"): gear k is measured by the measurement pipeline (engine/measure: drawn from its own
+// random streams, every planned point of every probed flank probed with the exact contact solver
+// or on the scenario's mesh flank, the effects applied) and its errors are reduced into streaming
+// statistics. Gears run in parallel (oneTBB) in chunks; each chunk's
 // per-gear outcomes are merged in gear order, so the results are bit-identical for any thread count
 // and memory does not grow with the number of gears. Errors in µm, lengths in mm.
 #pragma once
@@ -11,13 +11,11 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
-#include <memory>
 #include <optional>
 #include <vector>
 
+#include "engine/measure/measurement_model.h"
 #include "engine/probing/contact.h"
-#include "engine/probing/mesh_probe.h"
-#include "engine/probing/probing_grid.h"
 #include "engine/scenario/scenario.h"
 #include "engine/stats/relative_histogram.h"
 #include "engine/stats/running_stats.h"
@@ -102,38 +100,20 @@ class MonteCarloRun {
   explicit MonteCarloRun(const Scenario& scenario);
   ~MonteCarloRun();
 
-  // Probes gear `k` (0-based). Thread-safe.
+  // Measures gear `k` (0-based) with the model's effects drawn (gear_measurement.h) and reduces
+  // its points into the gear's outcome. Thread-safe.
   GearOutcome measure_gear(int k, bool record_points) const;
   RunResults run(const RunOptions& options) const;
 
-  const InvoluteGear& gear() const { return *gear_; }
-  const ToleranceSet& tolerances() const { return tolerances_; }
-  const Scenario& scenario() const { return scenario_; }
-  int points_per_flank() const;
-  int probed_teeth() const { return static_cast<int>(teeth_.size()); }
+  const MeasurementModel& model() const { return model_; }
+  const InvoluteGear& gear() const { return model_.gear(); }
+  const ToleranceSet& tolerances() const { return model_.tolerances(); }
+  const Scenario& scenario() const { return model_.scenario(); }
+  int points_per_flank() const { return model_.points_per_flank(); }
+  int probed_teeth() const { return model_.probed_teeth(); }
 
  private:
-  Scenario scenario_;
-  std::unique_ptr<InvoluteGear> gear_;
-  ToleranceSet tolerances_;
-  std::unique_ptr<GearSampler> sampler_;
-  std::vector<int> teeth_;
-  std::vector<FlankSide> sides_;
-  FlankExtent extent_;
-  // The scenario's mesh flanks (`surfaces:`), index 2 (tooth - 1) + (R ? 1 : 0); null = the
-  // analytic perturbed flank. Built once per run (AABB trees), read-only across threads.
-  std::vector<std::unique_ptr<const MeshFlankProbe>> mesh_probes_;
-  // Probing order of each planned point, [flank index][j * N + i], and the sequence's length
-  // (the measurement effects' `order` within one gear's measurement).
-  std::vector<std::vector<int>> order_;
-  int sequence_length_ = 0;
-  // Per planned point, [flank index][j * N + i]: the nominal point and normal, and the nominal
-  // stylus path's tooth-space clearance (mm), computed once per run (they do not depend on the
-  // gear drawn).
-  std::vector<std::vector<FlankPoint>> nominal_;
-  std::vector<std::vector<double>> nominal_clearance_;
-  struct ThreadExpressions;
-  std::unique_ptr<ThreadExpressions> expressions_;
+  MeasurementModel model_;
 };
 
 }  // namespace gearmc
