@@ -1,0 +1,271 @@
+// The gap before and after, its null simulation, the spectrum, the cluster-aware evidence and
+// the verdict of a diagnosis (steps 5, 6 and 8 of diagnosis.h; see diagnosis_stages.h).
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "engine/diagnose/cluster_tests.h"
+#include "engine/diagnose/diagnosis_stages.h"
+#include "engine/diagnose/readings_check.h"
+#include "engine/stats/distribution_fit.h"
+
+namespace gearmc::diagnosis_stages {
+namespace {
+
+// Stream sub-index of the gap's null simulation (the selection steps use 0, 1, 2, …).
+constexpr std::uint32_t kGapNullSubIndex = 1000;
+// Stream sub-indices of the cluster-aware evidence (the point-law stage uses 2000).
+constexpr std::uint32_t kClusterSubIndex = 3000;
+constexpr int kBootstrapReplicates = 999;  // (R + 1) · 0.025 an integer (cluster_tests.h)
+
+}  // namespace
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+// Gap statistics of residual vector r (dof = points − fitted parameters) against the centred
+// residual law `law` (χ² with its variance, KS against its distribution function).
+GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, const ResidualLaw& law) {
+  GapStatistics g;
+  const double n = static_cast<double>(r.size());
+  const double ss = r.squaredNorm();
+  const double variance = law.variance_um2();
+  g.rms_um = std::sqrt(ss / n);
+  g.dof = dof;
+  if (dof > 0 && variance > 0.0) {
+    g.chi2_dof = ss / (dof * variance);
+    g.excess_rms_um = std::sqrt(std::max(0.0, ss / dof - variance));
+    g.ks = ks_distance(to_vector(r), law);
+  }
+  return g;
+}
+
+// The centred law of a residual under the noise floor: the model's per-point law, or a Gaussian
+// of the floor's σ when the floor carries none (given, or estimated from the residuals).
+ResidualLaw floor_law(const NoiseFloor& noise) {
+  if (noise.law.variance_um2() > 0.0) return residual_law(noise.law);
+  ResidualLaw law;
+  law.sigma_um = noise.sigma_um;
+  return law;
+}
+
+void measure_gap(const State& state, Diagnosis& out) {
+  const Residuals& residuals = state.residuals;
+  const int rows = state.rows;
+  const Eigen::VectorXd& r = state.r;
+  const Eigen::VectorXd& r_after_c = state.r_after;
+  const ResidualLaw& law_before = state.law_before;
+  const ResidualLaw& law_after = state.law_after;
+  const Eigen::MatrixXd& x_after = state.x_after;
+  const int p_after = state.p_after;
+  const double mean_after = state.mean_after;
+  // 5. Gap before / after and held-out check.
+  out.residual_before_um = to_vector(r);
+  out.residual_after_um = to_vector(r_after_c);
+  out.gap_before = gap_statistics(r, rows, law_before);
+  out.gap_after = gap_statistics(r_after_c, rows - p_after, law_after);
+  if (out.effects.empty()) {
+    out.held_out_rms_um = out.gap_before.rms_um;
+  } else {
+    double ss = 0.0;
+    // Fit on the odd teeth (half 0) or the even ones (half 1), evaluate on the other half.
+    for (int half = 0; half < 2; ++half) {
+      std::vector<int> train, test;
+      for (int k = 0; k < rows; ++k) {
+        (residuals.points[k].tooth % 2 == (half == 0 ? 1 : 0) ? train : test).push_back(k);
+      }
+      Eigen::MatrixXd xt(static_cast<int>(train.size()), x_after.cols());
+      Eigen::VectorXd yt(static_cast<int>(train.size()));
+      for (std::size_t k = 0; k < train.size(); ++k) {
+        xt.row(static_cast<int>(k)) = x_after.row(train[k]);
+        yt[static_cast<int>(k)] = r[train[k]] - mean_after;
+      }
+      const LeastSquaresFit half_fit = least_squares(xt, yt);
+      for (int k : test) {
+        const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
+        ss += e * e;
+      }
+    }
+    out.held_out_rms_um = std::sqrt(ss / rows);
+  }
+}
+
+void simulate_null(const State& state, Diagnosis& out) {
+  const Residuals& residuals = state.residuals;
+  const int rows = state.rows;
+  const Eigen::VectorXd& r = state.r;
+  const Eigen::VectorXd& r_after_c = state.r_after;
+  const ResidualLaw& law_before = state.law_before;
+  const ResidualLaw& law_after = state.law_after;
+  const Eigen::MatrixXd& x_after = state.x_after;
+  const int p_after = state.p_after;
+  const NoiseFloor& noise = state.noise;
+  const DiagnoseOptions& options = state.options;
+  const SelectionOptions& so = options.selection;
+  const PointLawStage& stage = out.point_law;
+  const std::vector<double>& azimuths = state.azimuths;
+  // 5–6. Null simulation of the gap statistics and the spectrum.
+  const HarmonicSpectrum spectrum(azimuths, options.spectrum_max_order);
+  out.spectrum_before_um = spectrum.amplitudes(r);
+  out.spectrum_after_um = spectrum.amplitudes(r_after_c);
+  const Eigen::MatrixXd q_after = orthonormal_basis(x_after).q;
+  const bool reestimate =
+      noise.source == "residual_second_differences" || noise.source == "residual_mad";
+  const std::vector<std::array<int, 3>> triplets =
+      reestimate ? scan_triplets(residuals.points) : std::vector<std::array<int, 3>>{};
+  std::vector<double> chi2_before, chi2_after, ks_before, ks_after;
+  const int orders = options.spectrum_max_order + 1;
+  std::vector<std::vector<double>> amp_before(orders), amp_after(orders);
+  Eigen::VectorXd eps(rows), eps_law_after(rows);
+  // With no spread at all (σ = 0) the null is simulated at unit σ and the bands scaled to 0.
+  const bool unit = !(law_before.variance_um2() > 0.0);
+  ResidualLaw sim_before = law_before, sim_after = law_after;
+  if (unit) sim_before = sim_after = ResidualLaw{1.0, 0.0, 0.0};
+  const double band_scale = unit ? 0.0 : 1.0;
+  for (int k = 0; k < out.null_replicates; ++k) {
+    RandomStream rng(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream, kGapNullSubIndex);
+    for (int i = 0; i < rows; ++i) eps[i] = sim_before.draw(rng);
+    ResidualLaw l_before = sim_before, l_after = sim_after;
+    if (reestimate) {
+      const std::vector<double> e = to_vector(eps);
+      const double estimate =
+          noise.source == "residual_mad" ? mad_sigma(e) : robust_noise_sigma(triplets, e);
+      // As the data's floor: never below the numerical floor.
+      l_before.sigma_um = l_after.sigma_um = std::max(estimate, noise.numerical_um);
+    }
+    if (stage.chosen > 0) {  // the fitted law: its own draws
+      RandomStream rng_after(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
+                             kGapNullSubIndex + 1);
+      for (int i = 0; i < rows; ++i) eps_law_after[i] = sim_after.draw(rng_after);
+    } else {
+      eps_law_after = eps;
+    }
+    const Eigen::VectorXd eps_after =
+        eps_law_after - q_after * (q_after.transpose() * eps_law_after);
+    const GapStatistics gb = gap_statistics(eps, rows, l_before);
+    const GapStatistics ga = gap_statistics(eps_after, rows - p_after, l_after);
+    chi2_before.push_back(gb.chi2_dof);
+    chi2_after.push_back(ga.chi2_dof);
+    ks_before.push_back(gb.ks);
+    ks_after.push_back(ga.ks);
+    const std::vector<double> sb = spectrum.amplitudes(eps), sa = spectrum.amplitudes(eps_after);
+    for (int o = 0; o < orders; ++o) {
+      amp_before[o].push_back(sb[o] * band_scale);
+      amp_after[o].push_back(sa[o] * band_scale);
+    }
+  }
+  if (out.null_replicates > 0) {
+    out.gap_before.chi2_p = empirical_p_value(out.gap_before.chi2_dof, chi2_before);
+    out.gap_before.ks_p = empirical_p_value(out.gap_before.ks, ks_before);
+    out.gap_after.chi2_p = empirical_p_value(out.gap_after.chi2_dof, chi2_after);
+    out.gap_after.ks_p = empirical_p_value(out.gap_after.ks, ks_after);
+    for (int o = 0; o < orders; ++o) {
+      out.spectrum_null95_before_um.push_back(sample_quantile(amp_before[o], 0.95));
+      out.spectrum_null95_after_um.push_back(sample_quantile(amp_after[o], 0.95));
+    }
+  } else {  // no null simulation: the χ² law of Σr²/σ² and Kolmogorov's asymptotic law
+    for (GapStatistics* g : {&out.gap_before, &out.gap_after}) {
+      g->chi2_p = regularized_gamma_q(0.5 * g->dof, 0.5 * g->dof * g->chi2_dof);
+      g->ks_p = ks_p_value(g->ks, rows);
+    }
+  }
+
+  // 5b. Cluster-aware evidence: flanks for the paired energy test, teeth for the bootstrap.
+  if (out.null_replicates > 0 && !unit) {
+    std::map<std::tuple<int, int, int>, int> flank_ids;
+    std::map<std::pair<int, int>, int> tooth_ids;
+    std::vector<int> flank(rows), tooth(rows);
+    for (int k = 0; k < rows; ++k) {
+      const ResidualPoint& pt = residuals.points[k];
+      const int side = pt.side == FlankSide::kRight ? 1 : 0;
+      flank[k] =
+          flank_ids.try_emplace({pt.gear, pt.tooth, side}, static_cast<int>(flank_ids.size()))
+              .first->second;
+      tooth[k] = tooth_ids.try_emplace({pt.gear, pt.tooth}, static_cast<int>(tooth_ids.size()))
+                     .first->second;
+    }
+    RandomStream rng(so.seed, 0, kDiagnoseNullStream, kClusterSubIndex);
+    Eigen::VectorXd y_before(rows), y_after(rows);
+    for (int i = 0; i < rows; ++i) y_before[i] = sim_before.draw(rng);
+    for (int i = 0; i < rows; ++i) y_after[i] = sim_after.draw(rng);
+    y_after -= q_after * (q_after.transpose() * y_after);
+    const std::vector<double> before = to_vector(r), after = to_vector(r_after_c);
+    const std::vector<double> yb = to_vector(y_before), ya = to_vector(y_after);
+    int sub = kClusterSubIndex + 1;
+    for (auto [g, x, y] :
+         {std::tuple{&out.gap_before, &before, &yb}, std::tuple{&out.gap_after, &after, &ya}}) {
+      const PermutationTest test =
+          cluster_swap_energy_test(*x, *y, flank, out.null_replicates, so.seed, sub++);
+      g->energy_um = test.statistic;
+      g->energy_p = test.p_value;
+      const BootstrapInterval ci =
+          cluster_bootstrap_rms(*x, tooth, kBootstrapReplicates, so.seed, sub++);
+      g->rms_lo_um = ci.lo;
+      g->rms_hi_um = ci.hi;
+    }
+  }
+}
+
+void make_verdict(const State& state, Diagnosis& out) {
+  const int rows = state.rows;
+  const Eigen::VectorXd& r = state.r;
+  const Eigen::VectorXd& r_after_c = state.r_after;
+  const ResidualLaw& law_before = state.law_before;
+  const ResidualLaw& law_after = state.law_after;
+  const NoiseFloor& noise = state.noise;
+  const DiagnoseOptions& options = state.options;
+  const SelectionOptions& so = options.selection;
+  const PointLawStage& stage = out.point_law;
+  const std::vector<int>& selected = out.selection.selected;
+  const double sigma = noise.sigma_um;
+  // 8. The verdict.
+  const double practical = so.min_effect_rms_fraction * sigma;
+  // At the numerical floor the floor is a bound on exactness, not a law of the residuals: only
+  // residuals beyond it (χ²) make a gap, not their shape (KS).
+  const bool shape_test = !noise.at_numerical_floor;
+  auto gap_rejects = [&](const GapStatistics& g) {
+    return (g.chi2_p < so.alpha && g.excess_rms_um >= practical) ||
+           (shape_test && g.ks_p < so.alpha);
+  };
+  out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
+  out.unexplained_structure = gap_rejects(out.gap_after);
+  const double v0 = law_before.variance_um2();
+  const double excess = r.squaredNorm() - rows * v0;
+  const double explained = stage.chosen > 0 ? r.squaredNorm() - r_after_c.squaredNorm() +
+                                                  rows * (law_after.variance_um2() - v0)
+                                            : r.squaredNorm() - state.fit.rss;
+  if (excess > 0.0) {
+    out.explained_fraction = std::clamp(explained / excess, 0.0, 1.0);
+  } else if (!out.effects.empty()) {
+    out.explained_fraction = 1.0;
+  }
+  if (out.nominal_fallback > 0) {
+    out.notes.push_back(std::to_string(out.nominal_fallback) +
+                        " points are not in the model's probing plan (or had no valid model "
+                        "contact) and were predicted with the nominal contact p + R n");
+  }
+  if (stage.chosen == 0 && noise.source == "model" && noise.robust_um > 0.0 &&
+      std::abs(noise.robust_um / noise.model_um - 1.0) > 0.2) {
+    std::ostringstream text;
+    text << "the residuals' own noise (robust estimate " << noise.robust_um
+         << " µm) differs by more than 20 % from the model's noise floor " << noise.model_um
+         << " µm";
+    out.notes.push_back(text.str());
+  }
+  if (!stage.ran && !stage.skipped_because.empty()) {
+    out.notes.push_back("the spread of single readings was not tested: " + stage.skipped_because);
+  }
+  if (!out.gap_detected) {
+    out.named_effect = "none";
+  } else if (!out.effects.empty() && out.explained_fraction >= options.min_explained_fraction) {
+    out.named_effect = out.effects.front().name;
+    for (const Ambiguity& a : out.effects.front().ambiguous) out.ambiguous_with.push_back(a.with);
+  } else {
+    out.named_effect = "unexplained";
+  }
+}
+
+}  // namespace gearmc::diagnosis_stages

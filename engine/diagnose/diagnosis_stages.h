@@ -1,0 +1,58 @@
+// The stages of one diagnosis (diagnosis.h, steps 3–8) and the state they hand on to each other:
+// diagnosis.cpp selects and fits the effects, judges their ambiguity and runs the point-law
+// stage; diagnosis_gap.cpp measures the gap before and after (with the held-out check, the null
+// simulation of its statistics, the spectrum and the cluster-aware evidence) and makes the
+// verdict. Internal to engine/diagnose. Residuals in µm.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "engine/diagnose/diagnosis.h"
+#include "engine/diagnose/linear_model.h"
+
+namespace gearmc::diagnosis_stages {
+
+struct State {
+  State(const Residuals& residuals_in, const NoiseFloor& noise_in,
+        const DiagnoseOptions& options_in)
+      : residuals(residuals_in), noise(noise_in), options(options_in) {}
+  const Residuals& residuals;
+  const NoiseFloor& noise;
+  const DiagnoseOptions& options;
+  int rows = 0;
+  Eigen::VectorXd r;             // residuals before (measured − predicted)
+  std::vector<double> azimuths;  // approach azimuth of each residual, rad
+  std::vector<CandidateDesign> candidates;
+  // Steps 3–4: the selected effects' joint columns and fit, each effect's first column.
+  Eigen::MatrixXd x_selected;
+  LeastSquaresFit fit;
+  std::vector<int> offsets;
+  // Step 4b: the laws of a residual before and after (the fitted point law, when one was
+  // accepted, centred by its mean), the columns fitted out after, their parameter count, the
+  // point law's mean (the shift a tied step explains) and the residuals after, centred.
+  ResidualLaw law_before, law_after;
+  Eigen::MatrixXd x_after;
+  int p_after = 0;
+  double mean_after = 0.0;
+  Eigen::VectorXd r_after;
+};
+
+// Gap statistics of residual vector r (dof = points − fitted parameters) against the centred
+// residual law `law` (χ² with its variance, KS against its distribution function).
+GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, const ResidualLaw& law);
+// The centred law of a residual under the noise floor: the model's per-point law, or a Gaussian
+// of the floor's σ when the floor carries none (given, or estimated from the residuals).
+ResidualLaw floor_law(const NoiseFloor& noise);
+
+// Step 5: the gap before and after and the held-out RMS.
+void measure_gap(const State& state, Diagnosis& out);
+// Steps 5–6: the null simulation of the gap statistics (their p-values), the spectrum and its
+// null bands; then the cluster-aware evidence.
+void simulate_null(const State& state, Diagnosis& out);
+// Step 8: the verdict and its notes.
+void make_verdict(const State& state, Diagnosis& out);
+
+std::vector<double> to_vector(const Eigen::VectorXd& v);
+
+}  // namespace gearmc::diagnosis_stages
