@@ -19,7 +19,9 @@
 //     out of the data, so the fit's own shrinkage is calibrated, and with σ re-estimated from each
 //     replicate when σ itself was estimated from the residuals; with null_replicates = 0 the χ²
 //     law of Σr²/σ² and Kolmogorov's asymptotic law instead); the held-out RMS: the selected
-//     effects fitted on odd teeth and evaluated on even ones, and the other way round;
+//     effects fitted on one half of the readings and evaluated on the other, and the other way
+//     round, the halves alternate measured teeth (or flanks, face sections, profile points: the
+//     first split the plan allows, diagnosis_stages.h; none: no held-out value and a note);
 //     the cluster-aware evidence of GapStatistics (energy test by flank swaps, RMS interval by a
 //     bootstrap over teeth), reported beside the gap tests;
 //  6. the harmonic spectrum of the residuals (orders 0–12, linear_model.h) before and after, with
@@ -140,7 +142,10 @@ struct Diagnosis {
   double explained_fraction = kNotAvailable;  // of the excess variance
   std::vector<FittedEffect> effects;          // selected effects, in selection order
   GapStatistics gap_before, gap_after;
+  // The RMS of the residuals after, each predicted by the selected effects fitted on the other
+  // fold (diagnosis_stages.h HeldOutSplit; "nothing_fitted": the RMS before).
   double held_out_rms_um = kNotAvailable;
+  std::string held_out_split;
   NoiseFloor noise;
   // The standard deviation of one reading under the fitted model: the model's noise floor, or the
   // accepted point law's (a fitted noise or step quantisation adds to the irreducible spread).

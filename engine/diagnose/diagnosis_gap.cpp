@@ -2,6 +2,7 @@
 // the verdict of a diagnosis (steps 5, 6 and 8 of diagnosis.h; see diagnosis_stages.h).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <tuple>
@@ -21,6 +22,58 @@ constexpr std::uint32_t kClusterSubIndex = 3000;
 constexpr int kBootstrapReplicates = 999;  // (R + 1) · 0.025 an integer (cluster_tests.h)
 
 }  // namespace
+
+HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns) {
+  // Candidate splits, coarsest first: each gives a group key per point; the groups, in sorted
+  // order, alternate between the two folds.
+  struct Candidate {
+    const char* name;
+    std::function<std::tuple<int, int, int>(const ResidualPoint&)> key;
+  };
+  const std::vector<Candidate> candidates = {
+      {"alternating_teeth",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.gear, p.tooth, 0};
+       }},
+      {"flanks",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.side == FlankSide::kRight ? 1 : 0, 0, 0};
+       }},
+      {"alternating_sections",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.j, 0, 0};
+       }},
+      {"alternating_profile_points",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.i, 0, 0};
+       }},
+  };
+  HeldOutSplit out;
+  for (const Candidate& c : candidates) {
+    std::map<std::tuple<int, int, int>, int> groups;
+    for (const ResidualPoint& p : points) groups.emplace(c.key(p), 0);
+    if (groups.size() < 2) continue;
+    int index = 0;
+    for (auto& [key, fold] : groups) fold = index++ % 2;
+    std::vector<int> fold(points.size());
+    int counts[2] = {0, 0};
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      fold[k] = groups.at(c.key(points[k]));
+      ++counts[fold[k]];
+    }
+    // Each fold must be able to fit the effects on its own (more points than columns).
+    if (counts[0] <= columns || counts[1] <= columns) continue;
+    out.name = c.name;
+    out.fold = std::move(fold);
+    return out;
+  }
+  out.name = "none";
+  out.why_none =
+      "the readings cannot be split into two halves (by teeth, flanks, face sections "
+      "or profile points) each with more points than the " +
+      std::to_string(columns) + " fitted parameters";
+  return out;
+}
 
 std::vector<double> to_vector(const Eigen::VectorXd& v) {
   return std::vector<double>(v.data(), v.data() + v.size());
@@ -68,29 +121,35 @@ void measure_gap(const State& state, Diagnosis& out) {
   out.gap_before = gap_statistics(r, rows, law_before);
   out.gap_after = gap_statistics(r_after_c, rows - p_after, law_after);
   if (out.effects.empty()) {
-    out.held_out_rms_um = out.gap_before.rms_um;
-  } else {
-    double ss = 0.0;
-    // Fit on the odd teeth (half 0) or the even ones (half 1), evaluate on the other half.
-    for (int half = 0; half < 2; ++half) {
-      std::vector<int> train, test;
-      for (int k = 0; k < rows; ++k) {
-        (residuals.points[k].tooth % 2 == (half == 0 ? 1 : 0) ? train : test).push_back(k);
-      }
-      Eigen::MatrixXd xt(static_cast<int>(train.size()), x_after.cols());
-      Eigen::VectorXd yt(static_cast<int>(train.size()));
-      for (std::size_t k = 0; k < train.size(); ++k) {
-        xt.row(static_cast<int>(k)) = x_after.row(train[k]);
-        yt[static_cast<int>(k)] = r[train[k]] - mean_after;
-      }
-      const LeastSquaresFit half_fit = least_squares(xt, yt);
-      for (int k : test) {
-        const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
-        ss += e * e;
-      }
-    }
-    out.held_out_rms_um = std::sqrt(ss / rows);
+    out.held_out_rms_um = out.gap_before.rms_um;  // nothing fitted: nothing to hold out
+    out.held_out_split = "nothing_fitted";
+    return;
   }
+  const HeldOutSplit split = held_out_split(residuals.points, static_cast<int>(x_after.cols()));
+  out.held_out_split = split.name;
+  if (split.fold.empty()) {
+    out.held_out_rms_um = kNotAvailable;
+    out.notes.push_back("no held-out check: " + split.why_none);
+    return;
+  }
+  double ss = 0.0;
+  // Fit on one fold, evaluate on the other, and the other way round.
+  for (int half = 0; half < 2; ++half) {
+    std::vector<int> train, test;
+    for (int k = 0; k < rows; ++k) (split.fold[k] == half ? train : test).push_back(k);
+    Eigen::MatrixXd xt(static_cast<int>(train.size()), x_after.cols());
+    Eigen::VectorXd yt(static_cast<int>(train.size()));
+    for (std::size_t k = 0; k < train.size(); ++k) {
+      xt.row(static_cast<int>(k)) = x_after.row(train[k]);
+      yt[static_cast<int>(k)] = r[train[k]] - mean_after;
+    }
+    const LeastSquaresFit half_fit = least_squares(xt, yt);
+    for (int k : test) {
+      const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
+      ss += e * e;
+    }
+  }
+  out.held_out_rms_um = std::sqrt(ss / rows);
 }
 
 void simulate_null(const State& state, Diagnosis& out) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "engine/diagnose/diagnosis.h"
@@ -54,5 +55,18 @@ void simulate_null(const State& state, Diagnosis& out);
 void make_verdict(const State& state, Diagnosis& out);
 
 std::vector<double> to_vector(const Eigen::VectorXd& v);
+
+// The two folds of the held-out check: the measured teeth alternately (sorted by gear and tooth
+// number, so a plan of only odd teeth still splits), or with a single tooth its two flanks, or
+// alternate face sections, or alternate profile points — the first of these that gives two
+// folds each with more points than `columns` (the fitted parameters). `fold` is empty when none
+// does; `why_none` then says so.
+struct HeldOutSplit {
+  std::string name;       // "alternating_teeth", "flanks", "alternating_sections",
+                          // "alternating_profile_points" or "none"
+  std::vector<int> fold;  // 0 or 1 per point
+  std::string why_none;
+};
+HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns);
 
 }  // namespace gearmc::diagnosis_stages

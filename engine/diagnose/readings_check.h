@@ -10,7 +10,13 @@
 //    the bound keeps the model's contact computations finite), and the nominal point p on the
 //    gear: √(px² + py²) ≤ tip radius + one module, −m ≤ pz ≤ b + m (face width b). A point far
 //    off the gear would enter the effects' columns (scale, squareness: c·n) with a lever of its
-//    distance and make every fitted number meaningless.
+//    distance and make every fitted number meaningless. The header's stylus radius must be the
+//    model's (stylus.radius_mm). Every nominal point must lie on the model gear's nominal flank
+//    of its tooth and side (at its own radius and height) within what the model's tolerances
+//    let the flank deviate (F_r + profile and helix total + thickness allowance and tolerance,
+//    at least 10 µm), with its normal within 1° of the flank's: readings of another gear are
+//    refused with the gear their points fit (base diameter, z and m from the line of action of
+//    each point and the start angles of the measured teeth).
 //  * check_residuals: every measured deviation, prediction and residual finite, and the
 //    measured deviation along n within ±kMaxDeviationUm (1 km): a reading farther than that
 //    from its nominal point is not a reading of a gear flank, and keeping |r| ≤ 10⁹ µm keeps

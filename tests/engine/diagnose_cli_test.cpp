@@ -294,6 +294,64 @@ TEST_F(DiagnoseCli, AReadingHundredMillimetresOffIsAGapWithABoundedReport) {
   EXPECT_EQ(again.exit_code, 0) << again.err;
 }
 
+// Replaces the first occurrence of `from` in `text` (which must hold it) by `to`.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST_F(DiagnoseCli, ReadingsOfAnotherGearAreRefusedWithTheGearTheirPointsFit) {
+  // A nominal master of another gear (z 40, m 3, x 0, b 30 mm: inside P1's tip cylinder, so
+  // only the flank check can tell) probed on P1's usual 4 teeth, diagnosed against P1's model:
+  // exit 2, nothing written, and the message names the gear the points fit, z 40 and m 3
+  // (base diameter 40·3·cos 20° = 112.76 mm).
+  std::string other = scenario_text("p1_reference");
+  other = replaced(other, "teeth: 24", "teeth: 40");
+  other = replaced(other, "module_mm: 5.6", "module_mm: 3");
+  other = replaced(other, "profile_shift: 0.90116", "profile_shift: 0");
+  other = replaced(other, "face_width_mm: 78.89", "face_width_mm: 30");
+  other = replaced(other, "teeth: all", "teeth: [1, 7, 13, 19]");
+  other = replaced(other, "    T_H: 100", "    f_pt: 10\n    F_beta: 12\n    T_H: 100");
+  write_text(*dir_ / "other_gear.yaml", other);
+  const auto sim = run_gearmc("simulate " + path("other_gear.yaml") + " --master --out " +
+                              path("other_gear.csv"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  write_text(*dir_ / "model_4teeth.yaml",
+             replaced(scenario_text("p1_reference"), "teeth: all", "teeth: [1, 7, 13, 19]"));
+  const auto r = run_gearmc("diagnose --model " + path("model_4teeth.yaml") + " --measured " +
+                            path("other_gear.csv") + " --out " + path("other_out"));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("off its nominal flanks"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("base diameter 112.8 mm, z 40, m 3 mm"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(path("other_gear.csv") + ":"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(*dir_ / "other_out"));
+
+  // The model's own readings pass the same check (every point on its flank).
+  const auto own =
+      run_gearmc("simulate " + path("model_4teeth.yaml") + " --master --out " + path("own.csv"));
+  ASSERT_EQ(own.exit_code, 0) << own.err;
+  const auto ok = run_gearmc("diagnose --model " + path("model_4teeth.yaml") + " --measured " +
+                             path("own.csv") + " --out " + path("own_out"));
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
+TEST_F(DiagnoseCli, ReadingsTakenWithAnotherBallAreRefused) {
+  // The header's stylus radius must be the model's (0.5 mm in p1_reference): 1 mm is refused at
+  // the header's line and column, nothing written.
+  std::string text = read_text(path("lobing.csv"));
+  text = replaced(text, "stylus_radius_mm=0.5", "stylus_radius_mm=1");
+  write_text(*dir_ / "ball1.csv", text);
+  const auto r = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                            path("ball1.csv") + " --out " + path("ball1_out"));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(path("ball1.csv") + ":2:20: stylus_radius_mm: got '1'"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("model scenario's stylus radius 0.5 mm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(*dir_ / "ball1_out"));
+}
+
 TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {
   const auto no_model = run_gearmc("diagnose --model " + path("nope.yaml") + " --measured " +
                                    path("lobing.csv") + " --out " + path("out_nope"));

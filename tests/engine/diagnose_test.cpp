@@ -22,6 +22,7 @@
 
 #include "engine/diagnose/diagnosis.h"
 #include "engine/diagnose/diagnosis_json.h"
+#include "engine/diagnose/diagnosis_stages.h"
 #include "engine/diagnose/linear_model.h"
 #include "engine/diagnose/point_law_stage.h"
 #include "engine/diagnose/report_plot_data.h"
@@ -326,7 +327,7 @@ TEST(DiagnoseReportData, HistogramBinsComeFromTheCentralQuantilesNotTheRange) {
   EXPECT_GT(same.width_um, 0.0);
   EXPECT_LE(same.bins, 62u);
   EXPECT_LE(same.lo_um, 0.0);
-  EXPECT_GE(same.lo_um + same.width_um * same.bins, 2.5);
+  EXPECT_GE(same.lo_um + same.width_um * static_cast<double>(same.bins), 2.5);
   const DisplayBins none = display_bins(std::vector<double>{}, 0.0);
   EXPECT_GE(none.bins, 1u);
   const DisplayBins wild =
@@ -582,6 +583,73 @@ INSTANTIATE_TEST_SUITE_P(
             "eccentricity: {x_um: 3, y_um: 4}\n", "eccentricity", {{"x_um", 3.0}, {"y_um", 4.0}}},
         HiddenEffect{"stylus_radius: {error_um: 0.5}\n", "stylus_radius", {{"error_um", 0.5}}}),
     [](const ::testing::TestParamInfo<HiddenEffect>& p) { return std::string(p.param.name); });
+
+// Residual points of a plan: the given teeth and sides, profile indices 0..n−1, sections 0..m−1.
+std::vector<ResidualPoint> plan_points(const std::vector<int>& teeth,
+                                       const std::vector<FlankSide>& sides, int n, int m) {
+  std::vector<ResidualPoint> out;
+  for (int tooth : teeth) {
+    for (FlankSide side : sides) {
+      for (int j = 0; j < m; ++j) {
+        for (int i = 0; i < n; ++i) {
+          ResidualPoint p;
+          p.tooth = tooth;
+          p.side = side;
+          p.i = i;
+          p.j = j;
+          out.push_back(p);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+TEST(DiagnoseHeldOut, EveryPlanSplitsIntoTwoHalvesThatCanEachBeFitted) {
+  using diagnosis_stages::held_out_split;
+  const std::vector<FlankSide> both = {FlankSide::kLeft, FlankSide::kRight};
+  // The usual 4-tooth plan has only odd teeth: the measured teeth alternate, 1 and 13 against 7
+  // and 19 (an odd/even split would leave one half empty).
+  const std::vector<ResidualPoint> four = plan_points({1, 7, 13, 19}, both, 10, 5);
+  const diagnosis_stages::HeldOutSplit a = held_out_split(four, 14);
+  EXPECT_EQ(a.name, "alternating_teeth");
+  ASSERT_EQ(a.fold.size(), four.size());
+  for (std::size_t k = 0; k < four.size(); ++k) {
+    EXPECT_EQ(a.fold[k], four[k].tooth == 1 || four[k].tooth == 13 ? 0 : 1) << k;
+  }
+  // One tooth: its two flanks; one flank: alternate face sections; one section: alternate
+  // profile points; one point, or halves too small for the parameters: none.
+  EXPECT_EQ(held_out_split(plan_points({5}, both, 10, 5), 14).name, "flanks");
+  EXPECT_EQ(held_out_split(plan_points({5}, {FlankSide::kLeft}, 10, 5), 14).name,
+            "alternating_sections");
+  EXPECT_EQ(held_out_split(plan_points({5}, {FlankSide::kLeft}, 10, 1), 2).name,
+            "alternating_profile_points");
+  const diagnosis_stages::HeldOutSplit none =
+      held_out_split(plan_points({5}, {FlankSide::kLeft}, 10, 1), 5);
+  EXPECT_EQ(none.name, "none");
+  EXPECT_TRUE(none.fold.empty());
+  EXPECT_FALSE(none.why_none.empty());
+  EXPECT_EQ(held_out_split(plan_points({5}, {FlankSide::kLeft}, 1, 1), 0).name, "none");
+}
+
+TEST(DiagnoseHeldOut, OnAPlanOfOddTeethTheHeldOutRmsIsTheNoiseNotTheGapBefore) {
+  // Lobing hidden (6 lobes ±0.75 µm) on P1's usual 4 teeth 1, 7, 13, 19 with noise σ 0.3 µm: the
+  // lobing fitted on two teeth predicts the other two, so the held-out RMS is the noise, 0.3 µm
+  // inflated by the half fit's own estimation error (√(1 + p/n) ≈ 1.03 for p = 14 of n = 200),
+  // far below the RMS before (≈ 0.6 µm). Seeds 1 (simulation and null).
+  Scenario truth = with_effects(
+      "probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}\n"
+      "noise: {sigma_um: 0.3}\n");
+  truth.probing.teeth = {1, 7, 13, 19};
+  Scenario model = baseline();
+  model.probing.teeth = {1, 7, 13, 19};
+  const Diagnosis d = diagnose(model, master_readings(truth));
+  ASSERT_EQ(d.named_effect, "probe_lobing");
+  EXPECT_EQ(d.held_out_split, "alternating_teeth");
+  EXPECT_GT(d.gap_before.rms_um, 0.5);
+  EXPECT_GT(d.held_out_rms_um, 0.27);
+  EXPECT_LT(d.held_out_rms_um, 0.36);
+}
 
 TEST(Diagnose, NullDatasetsNameNothing) {
   for (std::uint64_t seed : {1, 2}) {
