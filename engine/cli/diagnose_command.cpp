@@ -36,12 +36,10 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
       o.model_gears ? ArtefactModel::kModelGears : ArtefactModel::kNominalMaster;
   if (o.seed) options.selection.seed = *o.seed;
   if (o.null_replicates) options.selection.null_replicates = *o.null_replicates;
-  check_readings_against_model(model, *readings, o.measured_path);
-  const Residuals residuals = compute_residuals(model, *readings, options.prediction);
-  check_residuals(residuals, *readings, o.measured_path);
+  const PreparedResiduals prepared = prepare_residuals(model, *readings, o.measured_path, options);
   readings.reset();  // the residuals carry what the diagnosis needs (memory at 10⁶ readings)
-  const NoiseFloor noise = estimate_noise_floor(model, residuals);
-  const Diagnosis diagnosis = diagnose_residuals(residuals, noise, options);
+  const Residuals& residuals = prepared.residuals;
+  const Diagnosis diagnosis = diagnose_prepared(prepared, options);
 
   const fs::path dir(o.out_dir);
   FittedScenario fitted = fitted_scenario(model, diagnosis, o.model_path, o.measured_path);

@@ -353,18 +353,44 @@ void apply_point_law(State& state, Diagnosis& out) {
 
 }  // namespace
 
+PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readings,
+                                    const std::string& readings_path,
+                                    const DiagnoseOptions& options) {
+  check_readings_against_model(model, readings, readings_path);
+  const Residuals all = compute_residuals(model, readings, options.prediction);
+  check_residuals(all, readings, readings_path);
+  PreparedResiduals out;
+  out.outliers = screen_outliers(all);
+  out.residuals = without_excluded(all, out.outliers);
+  out.noise = estimate_noise_floor(model, out.residuals);
+  if (options.noise_floor_um) {
+    out.noise.sigma_um = *options.noise_floor_um;
+    out.noise.source = "given";
+    out.noise.law = PointLaw{out.noise.sigma_um * out.noise.sigma_um, {}};
+  }
+  return out;
+}
+
+Diagnosis diagnose_prepared(const PreparedResiduals& prepared, const DiagnoseOptions& options) {
+  Diagnosis d = diagnose_residuals(prepared.residuals, prepared.noise, options);
+  d.outliers = prepared.outliers;
+  const OutlierScreen& screen = d.outliers;
+  if (!screen.excluded.empty()) {
+    std::ostringstream text;
+    text << screen.excluded.size() << " reading"
+         << (screen.excluded.size() == 1 ? " was" : "s were")
+         << " excluded as gross outliers (|z| > " << screen.threshold_z
+         << " against their profile scan's neighbours, a 1 % false-alarm rate for the whole "
+            "file); the diagnosis is made without them";
+    d.notes.insert(d.notes.begin(), text.str());
+  }
+  if (!screen.not_applied.empty()) d.notes.push_back("outlier screen: " + screen.not_applied);
+  return d;
+}
+
 Diagnosis diagnose(const Scenario& model, const Readings& readings,
                    const DiagnoseOptions& options) {
-  check_readings_against_model(model, readings, "");
-  const Residuals residuals = compute_residuals(model, readings, options.prediction);
-  check_residuals(residuals, readings, "");
-  NoiseFloor noise = estimate_noise_floor(model, residuals);
-  if (options.noise_floor_um) {
-    noise.sigma_um = *options.noise_floor_um;
-    noise.source = "given";
-    noise.law = PointLaw{noise.sigma_um * noise.sigma_um, {}};
-  }
-  return diagnose_residuals(residuals, noise, options);
+  return diagnose_prepared(prepare_residuals(model, readings, "", options), options);
 }
 
 Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise,

@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "engine/diagnose/candidates.h"
+#include "engine/diagnose/outlier_screen.h"
 #include "engine/diagnose/point_law_stage.h"
 #include "engine/diagnose/prediction.h"
 #include "engine/diagnose/selection.h"
@@ -146,6 +147,9 @@ struct Diagnosis {
   // fold (diagnosis_stages.h HeldOutSplit; "nothing_fitted": the RMS before).
   double held_out_rms_um = kNotAvailable;
   std::string held_out_split;
+  // The readings excluded as gross outliers before the diagnosis (outlier_screen.h); every
+  // other field is computed without them.
+  OutlierScreen outliers;
   NoiseFloor noise;
   // The standard deviation of one reading under the fitted model: the model's noise floor, or the
   // accepted point law's (a fitted noise or step quantisation adds to the irreducible spread).
@@ -169,7 +173,23 @@ struct Diagnosis {
   std::vector<double> residual_before_um, residual_after_um;
 };
 
-// The whole diagnosis of `readings` against `model` (throws InputError on empty readings).
+// Step 1 as `gearmc diagnose` runs it: the readings checked against the model (readings_check.h,
+// InputError located in `readings_path`, "" for readings made in memory), the residuals, the
+// gross outliers excluded (outlier_screen.h) and the noise floor of the remaining residuals
+// (or the options' given floor).
+struct PreparedResiduals {
+  Residuals residuals;  // without the excluded readings
+  OutlierScreen outliers;
+  NoiseFloor noise;
+};
+PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readings,
+                                    const std::string& readings_path,
+                                    const DiagnoseOptions& options);
+// Steps 2–8 on prepared residuals (the excluded readings listed in Diagnosis::outliers).
+Diagnosis diagnose_prepared(const PreparedResiduals& prepared, const DiagnoseOptions& options);
+
+// The whole diagnosis of `readings` against `model` (throws InputError on empty readings):
+// prepare_residuals, then diagnose_prepared.
 Diagnosis diagnose(const Scenario& model, const Readings& readings,
                    const DiagnoseOptions& options = {});
 

@@ -174,6 +174,29 @@ std::string diagnosis_json(const Diagnosis& d) {
   }
   j["unexplained_structure"] = d.unexplained_structure;
   j["explained_fraction"] = number(d.explained_fraction);
+  {
+    const OutlierScreen& o = d.outliers;
+    Json excluded = Json::array();
+    for (const ExcludedReading& e : o.excluded) {
+      excluded.push_back({{"line", e.line},
+                          {"gear", e.gear},
+                          {"tooth", e.tooth},
+                          {"flank", e.side == FlankSide::kRight ? "R" : "L"},
+                          {"i", e.i},
+                          {"j", e.j},
+                          {"residual_um", number(e.residual_um)},
+                          {"z", number(e.z)}});
+    }
+    j["outliers"] = {{"rule",
+                      "prediction from the profile scan's neighbours, |z| > z* = "
+                      "Phi^-1(1 - alpha/(2n)), excluded one at a time"},
+                     {"family_false_alarm", number(o.family_false_alarm)},
+                     {"threshold_z", number(o.threshold_z)},
+                     {"sigma_um", number(o.sigma_um)},
+                     {"screened", o.screened},
+                     {"excluded", excluded},
+                     {"not_applied", o.not_applied}};
+  }
   j["notes"] = d.notes;
   j["points"] = d.points;
   j["nominal_fallback_points"] = d.nominal_fallback;

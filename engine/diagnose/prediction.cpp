@@ -85,6 +85,7 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
     point.i = row.i;
     point.j = row.j;
     point.order = row.order;
+    point.line = row.line;
     const auto [first, last] = gear_orders.at(row.gear);
     PointContext& context = point.context;
     context = point_context(row.p, row.n, row.n, row.order - first, last - first + 1, row.tooth,

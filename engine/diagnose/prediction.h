@@ -3,12 +3,12 @@
 // floor the gap is judged against.
 //
 // Prediction of a reading row (gear, tooth, flank, i, j): the model scenario's stylus-centre
-// contact at that planned point (the measurement pipeline, engine/measure) moved by the model's measurement
-// effects at their nominal parameter values, each averaged over its per-point random numbers
-// (MeasurementEffect::apply_mean: noise and probe repeatability add nothing, step quantisation
-// its mean latch delay q/2), read along n exactly as the CMM reading is (reading_um). Parameters
-// drawn per gear from a law enter at their central value (EffectParameter::nominal); their
-// spread is not part of the prediction.
+// contact at that planned point (the measurement pipeline, engine/measure) moved by the model's
+// measurement effects at their nominal parameter values, each averaged over its per-point random
+// numbers (MeasurementEffect::apply_mean: noise and probe repeatability add nothing, step
+// quantisation its mean latch delay q/2), read along n exactly as the CMM reading is (reading_um).
+// Parameters drawn per gear from a law enter at their central value (EffectParameter::nominal);
+// their spread is not part of the prediction.
 //
 // Which surface the model predicts on (ArtefactModel):
 //  * kNominalMaster (default, the one to use for real CMM data): the model's nominal gear
@@ -51,6 +51,7 @@ struct ResidualPoint {
   FlankSide side = FlankSide::kLeft;
   int i = 0, j = 0;
   int order = 0;              // the file's order column
+  int line = 0;               // the reading's line in the readings file (0: made in memory)
   PointContext context;       // as the effects see the point (see the file comment)
   double measured_um = 0.0;   // measured_deviation_um(row, R)
   double predicted_um = 0.0;  // the model's deterministic reading along n

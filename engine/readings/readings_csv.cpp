@@ -252,6 +252,7 @@ Readings parse_readings(const std::string& text, const std::string& source) {
     const double e = measured_deviation_um(r, readings.stylus_radius_mm);
     check_ranged(e, ranges.at("reading_um"), {source, line_no, cols[12]},
                  "(c - p)·n - R = " + number_text(e) + " µm", nullptr);
+    r.line = line_no;
     readings.rows.push_back(r);
   }
   if (readings.rows.empty()) {

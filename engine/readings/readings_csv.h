@@ -28,6 +28,7 @@ struct ReadingRow {
   Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitX();
   Eigen::Vector3d c = Eigen::Vector3d::Zero();  // recorded stylus centre at trigger, mm
   std::optional<double> ref_dev_um;             // calibrated deviation of the artefact at p along n
+  int line = 0;  // its line in the file (1-based; 0 for readings made in memory)
 };
 
 struct Readings {

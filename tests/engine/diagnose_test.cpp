@@ -18,6 +18,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <random>
 #include <sstream>
 
 #include "engine/diagnose/diagnosis.h"
@@ -649,6 +650,63 @@ TEST(DiagnoseHeldOut, OnAPlanOfOddTeethTheHeldOutRmsIsTheNoiseNotTheGapBefore) {
   EXPECT_GT(d.gap_before.rms_um, 0.5);
   EXPECT_GT(d.held_out_rms_um, 0.27);
   EXPECT_LT(d.held_out_rms_um, 0.36);
+}
+
+TEST(DiagnoseOutliers, TheScreenKeepsItsFalseAlarmRateAndFindsGrossOutliers) {
+  // Clean files: the 4-tooth plan (400 readings) with smooth structure along each scan
+  // (2 µm·sin(0.4 i + j), far above the noise) plus Gaussian noise σ 0.3 µm. The screen's stated
+  // false-alarm rate is 1 % per file (outlier_screen.h): over 300 files (std::mt19937_64 seed
+  // 20261122) the count of files with any exclusion is Binomial(300, ≤ 0.01); ≥ 9 has
+  // probability < 0.4 % (a test at the 0.4 % significance level). Then each file with a 6 µm
+  // reading added at a random place (≥ 8σ of the noise of the prediction from its neighbours,
+  // 0.3·√6 = 0.73 µm at a scan's end, where it is weakest): found, and only it.
+  std::mt19937_64 rng(20261122);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  const std::vector<ResidualPoint> plan =
+      plan_points({1, 7, 13, 19}, {FlankSide::kLeft, FlankSide::kRight}, 10, 5);
+  int false_alarms = 0, found = 0;
+  const int files = 300;
+  for (int f = 0; f < files; ++f) {
+    Residuals clean;
+    clean.points = plan;
+    for (ResidualPoint& p : clean.points) {
+      p.residual_um = 2.0 * std::sin(0.4 * p.i + p.j) + noise(rng);
+    }
+    if (!screen_outliers(clean).excluded.empty()) ++false_alarms;
+    const int at = static_cast<int>(rng() % clean.points.size());
+    clean.points[static_cast<std::size_t>(at)].residual_um += 6.0;
+    const OutlierScreen dirty = screen_outliers(clean);
+    if (dirty.excluded.size() == 1 && dirty.excluded[0].row == at) ++found;
+  }
+  EXPECT_LE(false_alarms, 8) << "of " << files;
+  // A clean file's own false alarm (≤ 1 %) may add a second exclusion: ≥ 97 % exact finds.
+  EXPECT_GE(found, 291) << "of " << files;
+  // The excluded reading is taken out of the residuals, everything else kept in order.
+  Residuals one;
+  one.points = plan;
+  for (ResidualPoint& p : one.points) p.residual_um = 2.0 * std::sin(0.4 * p.i + p.j);
+  one.points[17].residual_um += 4.0;
+  const OutlierScreen screen = screen_outliers(one);
+  ASSERT_EQ(screen.excluded.size(), 1u);
+  EXPECT_EQ(screen.excluded[0].row, 17);
+  const Residuals kept = without_excluded(one, screen);
+  ASSERT_EQ(kept.points.size(), plan.size() - 1);
+  EXPECT_EQ(kept.points[17].i, plan[18].i);
+}
+
+TEST(DiagnoseOutliers, OneDirtyReadingInANullDatasetNamesNothing) {
+  // A null dataset (the model's own noise σ 0.3 µm, seed 1) with one reading 6 µm off (a dirty
+  // ball): without the screen the point-law stage read the heavy tail as a larger noise and
+  // named "noise" (the code before the screen did so here at 6, 10, 30 and 100 µm). Now the
+  // reading is excluded (listed with its row) and the verdict on the rest is "none".
+  Readings readings = master_readings(baseline());
+  const std::size_t dirty = 1234;
+  readings.rows[dirty].c += 0.006 * readings.rows[dirty].n;
+  const Diagnosis d = diagnose(baseline(), readings);
+  ASSERT_EQ(d.outliers.excluded.size(), 1u);
+  EXPECT_EQ(d.outliers.excluded[0].row, static_cast<int>(dirty));
+  EXPECT_EQ(d.named_effect, "none");
+  EXPECT_TRUE(d.effects.empty());
 }
 
 TEST(Diagnose, NullDatasetsNameNothing) {
