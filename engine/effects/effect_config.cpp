@@ -1,8 +1,6 @@
 // Reading the `effects:` section of a scenario into an EffectChain (see effect_config.h).
 #include "engine/effects/effect_config.h"
 
-#include <numbers>
-
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
@@ -100,7 +98,7 @@ void read_probe_model(const YamlMap& m, EffectParameter* pretravel, std::vector<
     throw InputError(m.location(), m.path() + ": the probe model failed: " + e.what());
   }
   pretravel->value = h.p0_um;
-  for (const PretravelHarmonic& k : h.harmonics) {
+  for (const LobingHarmonic& k : h.harmonics) {
     if (k.order % 3 != 0) continue;  // the three-leg seat: only orders 3, 6, 9, … (2π/3)
     orders->push_back(k.order);
     EffectParameter a, phase;
@@ -109,7 +107,7 @@ void read_probe_model(const YamlMap& m, EffectParameter* pretravel, std::vector<
     a.value = k.amplitude_um;
     phase.name = "phase_" + std::to_string(k.order) + "_deg";
     phase.unit = "deg";
-    phase.value = k.phase_rad * 180.0 / std::numbers::pi;
+    phase.value = k.phase_deg;
     harmonic_parameters->push_back(a);
     harmonic_parameters->push_back(phase);
   }
