@@ -334,6 +334,7 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
   const ReportContext ctx{in, in.diagnosis, r, in.diagnosis.null_replicates,
                           !in.diagnosis.effects.empty()};
   HtmlReport report("gearmc diagnose: " + in.model.name + " vs " + in.readings_path);
+  report.contents();
   verdict_section(report, ctx);
   azimuth_section(report, ctx);
   spectrum_section(report, ctx);

@@ -143,6 +143,14 @@ TEST_F(DiagnoseCli, NamesTheHiddenLobingFitsItAndTheFittedModelClosesTheGap) {
         "Step 1: probe_lobing accepted", "Residuals after the fit", "fitted.yaml"}) {
     EXPECT_NE(html.find(part), std::string::npos) << part;
   }
+  // The table of contents comes first and links every section.
+  EXPECT_LT(html.find("<nav class=\"contents\">"), verdict);
+  for (const char* id : {"verdict", "where-residuals-against-the-approach-azimuth",
+                         "harmonic-spectrum-against-approach-azimuth", "gap-before-and-after",
+                         "selection", "ambiguity", "inputs"}) {
+    EXPECT_NE(html.find("<a href=\"#" + std::string(id) + "\">"), std::string::npos) << id;
+    EXPECT_NE(html.find(" id=\"" + std::string(id) + "\">"), std::string::npos) << id;
+  }
   const std::string html2 = read_text(*dir_ / "second" / "report.html");
   EXPECT_NE(html2.find("No gap"), std::string::npos);
   // The three outputs and nothing temporary.

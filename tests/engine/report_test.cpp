@@ -473,6 +473,38 @@ TEST(HtmlReport, StructureIsSelfContained) {
   }
 }
 
+TEST(HtmlReport, ContentsLinkEveryLaterHeadingToItsId) {
+  HtmlReport report("contents");
+  report.heading("Before the contents");  // not listed, no id
+  report.contents("On this page");
+  report.heading("Gap before & after").paragraph("text");
+  report.heading("Spectrum", 3);
+  report.heading("Order, tooth", 3);
+  report.heading("Gap before & after");  // the same text again: its own id
+  report.heading("Detail", 4);           // level 4: not listed
+  const std::string html = report.html();
+  const std::vector<Element> elements = parse_ok(html, /*html=*/true);
+  std::vector<std::string> links, ids;
+  int nested_lists = 0;
+  for (const Element& e : elements) {
+    if (e.name == "a") links.push_back(e.attributes.at("href"));
+    if (e.attributes.count("id")) ids.push_back("#" + e.attributes.at("id"));
+    if (e.name == "ol") ++nested_lists;
+  }
+  // Slugs: ASCII letters and digits, lower case, other runs one '-'; a repeat gets "-2".
+  EXPECT_EQ(links, (std::vector<std::string>{"#gap-before-after", "#spectrum", "#order-tooth",
+                                             "#gap-before-after-2"}));
+  // Every link has its target; the level-4 heading has an id but is not listed.
+  links.push_back("#detail");
+  EXPECT_EQ(ids, links);
+  EXPECT_EQ(nested_lists, 2);  // the list and the level-3 headings under the first entry
+  EXPECT_LT(html.find("<nav class=\"contents\">"), html.find("id=\"gap-before-after\""));
+  EXPECT_GT(html.find("<nav class=\"contents\">"), html.find("Before the contents"));
+  EXPECT_NE(html.find("On this page"), std::string::npos);
+  // Without contents(), headings are plain.
+  EXPECT_EQ(sample_report().html().find(" id="), std::string::npos);
+}
+
 // A new empty directory under the system's temporary directory, unique per process.
 std::filesystem::path fresh_directory(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() /
