@@ -103,15 +103,19 @@ void spectrum_section(HtmlReport& report, const ReportContext& ctx) {
     for (std::size_t o = 0; o < d.spectrum_before_um.size(); ++o) {
       orders.push_back(static_cast<double>(o));
     }
+    // One stem per order; with a fit, "before" stands just left of its order and "after" just
+    // right, so the two never hide each other.
+    const double shift = fitted_any ? 0.15 : 0.0;
+    std::vector<double> left = orders, right = orders;
+    for (std::size_t o = 0; o < orders.size(); ++o) left[o] -= shift, right[o] += shift;
     std::vector<Series> series;
-    series.push_back(
-        {"before", orders, d.spectrum_before_um, SeriesStyle::kLineAndPoints, kBefore});
+    series.push_back({"before", left, d.spectrum_before_um, SeriesStyle::kStems, kBefore});
     if (!d.spectrum_null95_before_um.empty()) {
       series.push_back({"95 % null band, before", orders, d.spectrum_null95_before_um,
                         SeriesStyle::kLine, kNullBefore});
     }
     if (fitted_any) {
-      series.push_back({"after", orders, d.spectrum_after_um, SeriesStyle::kLineAndPoints, kAfter});
+      series.push_back({"after", right, d.spectrum_after_um, SeriesStyle::kStems, kAfter});
       if (!d.spectrum_null95_after_um.empty()) {
         series.push_back({"95 % null band, after", orders, d.spectrum_null95_after_um,
                           SeriesStyle::kLine, kNullAfter});
@@ -122,14 +126,18 @@ void spectrum_section(HtmlReport& report, const ReportContext& ctx) {
     o.x_label = "order k (cycles per turn of the approach direction)";
     o.y_label = "amplitude, µm";
     o.y_from_zero = true;
-    o.x_min = 0.0;
-    o.x_max = orders.back();
+    o.x_min = -0.5;
+    o.x_max = orders.back() + 0.5;
+    const std::string stems =
+        fitted_any ? "Stems: the amplitude of each order, before (left) and after the fit (right). "
+                   : "Stems: the amplitude of each order. ";
     std::string caption =
+        stems +
         "Least-squares amplitude of cos kφ, sin kφ (order 0 = mean). The null band is the 95 % "
         "quantile of each order's amplitude in " +
         std::to_string(k) +
         " simulations of pure noise at the noise floor; an order well above it is structure.";
-    if (k == 0) caption = "Least-squares amplitude of cos kφ, sin kφ (order 0 = mean).";
+    if (k == 0) caption = stems + "Least-squares amplitude of cos kφ, sin kφ (order 0 = mean).";
     report.figure(xy_plot_svg(series, o), caption);
   }
 }
@@ -139,8 +147,10 @@ void position_section(HtmlReport& report, const ReportContext& ctx) {
   const ReportData& r = ctx.r;
   const bool fitted_any = ctx.fitted_any;
   report.heading("Residuals against measurement order, tooth and position", 3);
+  // noise_band: shade ±2σ/√n around zero, where a bin mean of n readings of pure noise at the
+  // noise floor σ stays 95 % of the time (n the fewest readings of any bin: the widest band).
   auto line_plot = [&](const Bins& b, const std::string& title, const std::string& x_label,
-                       const std::string& caption, const std::string& what) {
+                       std::string caption, const std::string& what, bool noise_band) {
     std::vector<Series> series;
     series.push_back(
         {"mean " + what + ", before", b.x, b.before, SeriesStyle::kLineAndPoints, kBefore});
@@ -153,12 +163,23 @@ void position_section(HtmlReport& report, const ReportContext& ctx) {
     o.x_label = x_label;
     o.y_label = "mean residual, µm";
     o.horizontal_lines = {0.0};
+    const int fewest = b.count.empty() ? 0 : *std::min_element(b.count.begin(), b.count.end());
+    if (noise_band && fewest > 0 && r.sigma > 0.0) {
+      const double half = 2.0 * r.sigma / std::sqrt(static_cast<double>(fewest));
+      o.bands.push_back({-half, half, "noise band ±2σ/√n", "#777777"});
+      caption += " Grey band: ±2σ/√n = ±" + fixed(half) +
+                 " µm, where a bin mean of n = " + std::to_string(fewest) +
+                 " readings (the fewest of any bin) stays 95 % of the " +
+                 "time if the residuals are noise at the noise floor σ = " + fixed(r.sigma) +
+                 " µm; bin means inside it are not structure (residuals correlated along a "
+                 "scan spread wider).";
+    }
     report.figure(xy_plot_svg(series, o), caption);
   };
   line_plot(r.by_order, "Residual vs measurement order", "order (file's order column)",
             "Mean residual of consecutive groups of readings (up to 60 groups of equal size). "
             "Drift shows as a trend.",
-            "per group");
+            "per group", false);
   {
     std::vector<Series> series;
     const char* side_name[2] = {"L", "R"};
@@ -188,9 +209,9 @@ void position_section(HtmlReport& report, const ReportContext& ctx) {
                   "the teeth, opposite on left and right flanks.");
   }
   line_plot(r.roll, "Residual vs roll length", "roll length L, mm",
-            "Mean residual per profile position (grid index i).", "per profile position");
+            "Mean residual per profile position (grid index i).", "per position", true);
   line_plot(r.face, "Residual vs face position", "z, mm",
-            "Mean residual per face section (grid index j).", "per face section");
+            "Mean residual per face section (grid index j).", "per section", true);
   {
     HtmlTable t;
     t.caption =

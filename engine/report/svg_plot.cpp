@@ -199,7 +199,8 @@ void draw_markers(Svg& svg, const Frame& f, const std::vector<MarkerLine>& marke
 
 struct LegendEntry {
   std::string label, colour;
-  bool is_line;  // a line swatch, otherwise a filled square
+  bool is_line;          // a line swatch, otherwise a filled square
+  double opacity = 1.0;  // of the square
 };
 
 // Approximate rendered width (px) of 12 px sans-serif text: 6.5 px per character (UTF-8
@@ -224,6 +225,8 @@ void draw_header(Svg& svg, int width, const std::string& title,
   for (const LegendEntry& e : legend) {
     if (e.is_line) {
       svg.line(x, kRow - 4, x + 16, kRow - 4, e.colour, 2.0);
+    } else if (e.opacity < 1.0) {
+      svg.rect(x + 2, kRow - 10, 12, 12, e.colour, " fill-opacity=\"" + fixed(e.opacity, 2) + "\"");
     } else {
       svg.rect(x + 2, kRow - 10, 12, 12, e.colour);
     }
@@ -233,7 +236,9 @@ void draw_header(Svg& svg, int width, const std::string& title,
   if (!note.empty()) svg.text(x, kRow, note, "start", " fill=\"#555555\"");
 }
 
-bool draws_lines(SeriesStyle s) { return s != SeriesStyle::kPoints; }
+bool draws_lines(SeriesStyle s) {
+  return s == SeriesStyle::kLine || s == SeriesStyle::kLineAndPoints;
+}
 bool draws_points(SeriesStyle s) { return s != SeriesStyle::kLine; }
 
 }  // namespace
@@ -391,7 +396,14 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
   for (double y : options.horizontal_lines) {
     if (std::isfinite(y)) y_lo = std::min(y_lo, y), y_hi = std::max(y_hi, y);
   }
-  if (options.y_from_zero) y_lo = std::min(y_lo, 0.0), y_hi = std::max(y_hi, 0.0);
+  for (const HorizontalBand& b : options.bands) {
+    if (std::isfinite(b.lo) && std::isfinite(b.hi)) {
+      y_lo = std::min(y_lo, std::min(b.lo, b.hi)), y_hi = std::max(y_hi, std::max(b.lo, b.hi));
+    }
+  }
+  bool stems = false;
+  for (const Series& s : series) stems = stems || s.style == SeriesStyle::kStems;
+  if (options.y_from_zero || stems) y_lo = std::min(y_lo, 0.0), y_hi = std::max(y_hi, 0.0);
   if (x_lo > x_hi) x_lo = 0, x_hi = 1;  // no data
   if (y_lo > y_hi) y_lo = 0, y_hi = 1;
   const Ticks xt0 = loose_ticks(options.x_min.value_or(x_lo), options.x_max.value_or(x_hi));
@@ -403,10 +415,21 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
 
   Svg svg(options.width_px, options.height_px);
   draw_axes(svg, f, xt, yt, options.x_label, options.y_label);
+  std::vector<LegendEntry> legend;
+  constexpr double kBandOpacity = 0.2;
+  for (const HorizontalBand& b : options.bands) {
+    if (!std::isfinite(b.lo) || !std::isfinite(b.hi)) continue;
+    const double lo = std::clamp(std::min(b.lo, b.hi), f.y_lo, f.y_hi);
+    const double hi = std::clamp(std::max(b.lo, b.hi), f.y_lo, f.y_hi);
+    const std::string colour = b.colour.empty() ? "#777777" : b.colour;
+    svg.rect(f.left, f.to_y(hi), f.right - f.left, f.to_y(lo) - f.to_y(hi), colour,
+             " class=\"band\" fill-opacity=\"" + fixed(kBandOpacity, 2) + "\"",
+             b.label.empty() ? "" : b.label);
+    if (!b.label.empty()) legend.push_back({b.label, colour, false, kBandOpacity});
+  }
   for (double y : options.horizontal_lines) {
     if (y >= f.y_lo && y <= f.y_hi) svg.line(f.left, f.to_y(y), f.right, f.to_y(y), "#777777");
   }
-  std::vector<LegendEntry> legend;
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     const std::string colour = colour_or(s.colour, k);
@@ -428,12 +451,23 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
                          f.to_y(std::clamp(s.y[i], f.y_lo, f.y_hi)));
       }
     }
-    if (draws_points(s.style)) {
+    if (s.style == SeriesStyle::kStems) {
+      // From y = 0 (the nearer edge when 0 is outside the range) to the value.
+      const double base = f.to_y(std::clamp(0.0, f.y_lo, f.y_hi));
       for (std::size_t i = 0; i < n; ++i) {
-        if (inside(i)) svg.circle(f.to_x(s.x[i]), f.to_y(s.y[i]), 2.5, colour);
+        if (!inside(i)) continue;
+        svg.line(f.to_x(s.x[i]), base, f.to_x(s.x[i]), f.to_y(s.y[i]), colour, 1.5);
       }
     }
-    if (!s.label.empty()) legend.push_back({s.label, colour, draws_lines(s.style)});
+    if (draws_points(s.style)) {
+      const double radius = s.style == SeriesStyle::kStems ? 3.0 : 2.5;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (inside(i)) svg.circle(f.to_x(s.x[i]), f.to_y(s.y[i]), radius, colour);
+      }
+    }
+    if (!s.label.empty()) {
+      legend.push_back({s.label, colour, draws_lines(s.style) || s.style == SeriesStyle::kStems});
+    }
   }
   draw_markers(svg, f, options.markers, series.size());
   draw_header(svg, options.width_px, options.title, legend);

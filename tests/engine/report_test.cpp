@@ -366,6 +366,68 @@ TEST(SvgPlot, XYPlot) {
   parse_ok(xy_plot_svg({}, XYPlotOptions{}));
 }
 
+TEST(SvgPlot, StemsRunFromZeroToTheValueWithADot) {
+  // Layout (svg_plot.cpp make_frame): plot area x 70 … 616, y 56 … 350 px for 640 × 400. With
+  // x in [0, 4] and y in [−1, 2]: x → 70 + x/4·546, y → 350 − (y + 1)/3·294, so y = 0 is at
+  // 252 px, y = 1 at 154, y = −0.5 at 301, y = 2 at 56; x = 1, 2, 3 at 206.5, 343, 479.5.
+  Series stems{"spectrum", {1, 2, 3}, {1.0, -0.5, 2.0}, SeriesStyle::kStems, "#123456"};
+  XYPlotOptions options;
+  options.x_min = 0.0, options.x_max = 4.0, options.y_min = -1.0, options.y_max = 2.0;
+  const std::string svg = xy_plot_svg({stems}, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::vector<std::vector<double>> lines, dots;
+  for (const Element& e : elements) {
+    if (e.name == "polyline") {
+      EXPECT_NE(e.attributes.at("stroke"), "#123456");  // stems are not joined
+    }
+    if (e.name == "line" && e.attributes.at("stroke") == "#123456" &&
+        e.attributes.at("x1") == e.attributes.at("x2")) {  // vertical: a stem (the legend's
+                                                           // swatch is horizontal)
+      lines.push_back({std::stod(e.attributes.at("x1")), std::stod(e.attributes.at("y1")),
+                       std::stod(e.attributes.at("y2"))});
+    }
+    if (e.name == "circle" && e.attributes.at("fill") == "#123456") {
+      dots.push_back({std::stod(e.attributes.at("cx")), std::stod(e.attributes.at("cy"))});
+    }
+  }
+  const std::vector<std::vector<double>> expected_lines = {
+      {206.5, 252, 154}, {343, 252, 301}, {479.5, 252, 56}};
+  const std::vector<std::vector<double>> expected_dots = {{206.5, 154}, {343, 301}, {479.5, 56}};
+  EXPECT_EQ(lines, expected_lines);
+  EXPECT_EQ(dots, expected_dots);
+  EXPECT_NE(svg.find(">spectrum</text>"), std::string::npos);  // legend entry
+}
+
+TEST(SvgPlot, BandIsShadedUnderTheDataAndWidensTheDefaultRange) {
+  // Data y in [0, 0.1] and a band [−0.25, 0.75]: the default y range covers the band, rounded
+  // out to Heckbert's ticks: range 1 → step 0.2 → [−0.4, 0.8]. y → 350 − (y + 0.4)/1.2·294 px,
+  // so the band's top 0.75 is at 68.25 px and its height 1.0/1.2·294 = 245 px; it spans the
+  // plot area's width 70 … 616 px.
+  Series data{"mean", {0, 1}, {0.0, 0.1}, SeriesStyle::kLine, "#123456"};
+  XYPlotOptions options;
+  options.bands = {{-0.25, 0.75, "noise band ±2σ/√n", "#abcdef"}};
+  const std::string svg = xy_plot_svg({data}, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::size_t band_index = 0, data_index = 0, bands = 0;
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const Element& e = elements[i];
+    if (e.name == "rect" && e.attributes.count("class") && e.attributes.at("class") == "band") {
+      ++bands;
+      band_index = i;
+      EXPECT_EQ(e.attributes.at("fill"), "#abcdef");
+      EXPECT_EQ(e.attributes.at("fill-opacity"), "0.20");
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("x")), 70.0);
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("width")), 546.0);
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("y")), 68.25);
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("height")), 245.0);
+    }
+    if (e.name == "polyline" && e.attributes.at("stroke") == "#123456") data_index = i;
+  }
+  EXPECT_EQ(bands, 1u);
+  EXPECT_LT(band_index, data_index);  // drawn first: under the data
+  EXPECT_NE(svg.find(">noise band ±2σ/√n</text>"), std::string::npos);  // legend entry
+}
+
 TEST(SvgPlot, PolarPointsLandWhereTheLayoutSays) {
   // Layout (svg_plot.cpp): size 480 -> centre (240, 240 + 32), outer radius 240 - 44 = 196 px;
   // r maps linearly from r_min (centre) to r_max (outer ring); angles counter-clockwise from +X,
