@@ -159,13 +159,21 @@ Frame make_frame(int width, int height, double x_lo, double x_hi, double y_lo, d
   return {70.0, 56.0, width - 24.0, height - 50.0, x_lo, x_hi, y_lo, y_hi};
 }
 
+// A power of ten 10^k as a tick label: "1", "10", …, "100000", then "10^6" written 1e6.
+std::string power_of_ten(double k) {
+  const int e = static_cast<int>(std::lround(k));
+  if (e >= 0 && e <= 5) return fixed(std::pow(10.0, e), 0);
+  return "1e" + std::to_string(e);
+}
+
+// y_log: the y data are log10 values, labelled as the powers of ten.
 void draw_axes(Svg& svg, const Frame& f, const Ticks& xt, const Ticks& yt,
-               const std::string& x_label, const std::string& y_label) {
+               const std::string& x_label, const std::string& y_label, bool y_log = false) {
   for (double v : tick_values(yt, f.y_lo, f.y_hi)) {
     const double y = f.to_y(v);
     svg.line(f.left, y, f.right, y, kGridColour);
     svg.line(f.left - 5, y, f.left, y, kAxisColour);
-    svg.text(f.left - 8, y + 4, fixed(v, yt.decimals), "end");
+    svg.text(f.left - 8, y + 4, y_log ? power_of_ten(v) : fixed(v, yt.decimals), "end");
   }
   for (double v : tick_values(xt, f.x_lo, f.x_hi)) {
     const double x = f.to_x(v);
@@ -307,8 +315,16 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
     }
   }
   if (options.y_max && *options.y_max > 0.0) y_top = *options.y_max;
-  const Ticks yt = loose_ticks(0.0, y_top > 0 ? y_top : 1.0, 6);
-  const Frame f = make_frame(options.width_px, options.height_px, x_lo, x_hi, 0.0, yt.hi);
+  // The count axis: linear from 0, or log10 from a count of 0.5 up to the next power of ten with
+  // a tick at every power of ten.
+  const bool log = options.log_count;
+  const double log_floor = std::log10(0.5);
+  const Ticks yt =
+      log ? Ticks{0.0, std::max(1.0, std::ceil(std::log10(std::max(y_top, 1.0)) - 1e-9)), 1.0, 0}
+          : loose_ticks(0.0, y_top > 0 ? y_top : 1.0, 6);
+  const auto to_axis = [&](double count) { return log ? std::log10(count) : count; };
+  const Frame f =
+      make_frame(options.width_px, options.height_px, x_lo, x_hi, log ? log_floor : 0.0, yt.hi);
   const Ticks xt = loose_ticks(x_lo, x_hi);
 
   std::string note;
@@ -317,14 +333,14 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
            std::to_string(histogram.overflow()) + " above";
   }
   Svg svg(options.width_px, options.height_px);
-  draw_axes(svg, f, xt, yt, options.x_label, options.y_label);
+  draw_axes(svg, f, xt, yt, options.x_label, options.y_label, log);
 
   const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(histogram.width()))));
   for (std::size_t i = 0; i < histogram.bin_count(); ++i) {
     const std::uint64_t count = histogram.count(i);
     const double lo = std::max(histogram.edge(i), x_lo), hi = std::min(histogram.edge(i + 1), x_hi);
     if (count == 0 || !(hi > lo)) continue;
-    const double top = f.to_y(static_cast<double>(count));
+    const double top = f.to_y(std::min(to_axis(static_cast<double>(count)), yt.hi));
     svg.rect(f.to_x(lo), top, f.to_x(hi) - f.to_x(lo), f.bottom - top, kPalette[0],
              " class=\"bar\" fill-opacity=\"0.8\" stroke=\"#ffffff\" stroke-width=\"0.5\"",
              "[" + fixed(histogram.edge(i), decimals + 1) + ", " +
@@ -332,7 +348,14 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
   }
   if (!overlay.empty()) {
     std::vector<std::pair<double, double>> points;
-    for (const auto& [x, y] : overlay) points.emplace_back(f.to_x(x), f.to_y(std::min(y, yt.hi)));
+    for (const auto& [x, y] : overlay) {
+      if (log && !(y >= 0.5)) {  // below the log axis: break the line there
+        svg.polyline(points, kPalette[1], 2.0);
+        points.clear();
+        continue;
+      }
+      points.emplace_back(f.to_x(x), f.to_y(std::min(to_axis(y), yt.hi)));
+    }
     svg.polyline(points, kPalette[1], 2.0);
   }
   draw_markers(svg, f, options.markers, 2);

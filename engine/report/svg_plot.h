@@ -46,8 +46,11 @@ struct HistogramPlotOptions {
   // bin, widened to include the markers, rounded out to ticks.
   std::optional<double> x_min, x_max;
   // The top of the count axis (e.g. the same for the left and right flanks' plots); default:
-  // the tallest shown bar or overlay value. Rounded up to a tick.
+  // the tallest shown bar or overlay value. Rounded up to a tick (with log_count: a power of 10).
   std::optional<double> y_max;
+  // A log10 count axis (ticks 1, 10, 100, …, from a count of 0.5 so a single count shows), so a
+  // tail of a few counts is as visible as the peak; empty bins are not drawn.
+  bool log_count = false;
   int width_px = 640, height_px = 400;
 };
 

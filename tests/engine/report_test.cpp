@@ -234,6 +234,35 @@ TEST(SvgPlot, HistogramBarsAreProportionalToCounts) {
   EXPECT_EQ(svg.find("outside the bins"), std::string::npos);  // nothing under/overflowed
 }
 
+TEST(SvgPlot, LogCountBarsAreProportionalToTheLogOfTheirCountAboveHalfACount) {
+  // log_count: the axis runs from log10(0.5) to the next power of ten above the tallest bar
+  // (320 → 10³), ticks at 1, 10, 100, 1000; a bar of count c is log10(c / 0.5) / log10(2000)
+  // of the 294 px plot area high (layout in svg_plot.cpp): c = 1 → 26.81 px, c = 320 →
+  // 249.51 px. Empty bins draw nothing.
+  const std::vector<std::uint64_t> counts = {0, 3, 40, 180, 320, 250, 120, 60, 20, 5, 0, 1};
+  HistogramPlotOptions options;
+  options.log_count = true;
+  options.y_label = "count (log scale)";
+  const std::string svg = histogram_svg(display_histogram(counts), options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::vector<std::pair<double, double>> bars;  // (height, count)
+  for (std::size_t e = 0; e + 1 < elements.size(); ++e) {
+    if (elements[e].name != "rect" || elements[e].attributes.count("class") == 0) continue;
+    const std::string& tip = elements[e + 1].text;
+    bars.emplace_back(std::stod(elements[e].attributes.at("height")),
+                      std::stod(tip.substr(tip.rfind(' ') + 1)));
+  }
+  ASSERT_EQ(bars.size(), 10u);
+  for (const auto& [height, count] : bars) {
+    EXPECT_NEAR(height, 294.0 * std::log10(count / 0.5) / std::log10(2000.0), 0.006) << count;
+  }
+  for (const char* tick : {">1</text>", ">10</text>", ">100</text>", ">1000</text>"}) {
+    EXPECT_NE(svg.find(tick), std::string::npos) << tick;
+  }
+  EXPECT_EQ(svg.find(">10000</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">count (log scale)</text>"), std::string::npos);
+}
+
 TEST(SvgPlot, SharedCountAxis) {
   // With y_max = 900 the axis top is the tick above 900 (Heckbert: range nice(900) = 1000, step
   // 200, top 1000), whatever the tallest bar: left and right plots get the same scale.
