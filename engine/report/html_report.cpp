@@ -17,7 +17,8 @@ constexpr const char* kStyle = R"(body { font-family: Helvetica, Arial, sans-ser
 h1 { font-size: 1.6em; border-bottom: 2px solid #0072B2; padding-bottom: 0.2em; }
 h2 { font-size: 1.3em; margin-top: 1.6em; }
 table { border-collapse: collapse; margin: 1em 0; }
-caption { caption-side: top; text-align: left; font-weight: bold; padding-bottom: 0.3em; }
+.table-caption { font-weight: bold; margin-top: 1em; padding-bottom: 0.3em; }
+.table-caption + .table-scroll table { margin-top: 0; }
 th, td { border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: right; }
 th { background: #f0f0f0; }
 th:first-child, td:first-child { text-align: left; }
@@ -27,7 +28,8 @@ figure svg { max-width: 100%; height: auto; }
 .figure-row { display: flex; flex-wrap: wrap; gap: 0 1.5em; }
 .figure-row figure { flex: 1 1 420px; min-width: 0; }
 table { break-inside: avoid; }
-h2, h3, h4, caption, .pre-caption { break-after: avoid; }
+.table-scroll { overflow-x: auto; }
+h2, h3, h4, .table-caption, .pre-caption { break-after: avoid; }
 @media print { body { max-width: none; margin: 0; font-size: 10pt; }
   pre { white-space: pre-wrap; } }
 figcaption { font-size: 0.9em; color: #444; margin-top: 0.3em; }
@@ -95,8 +97,12 @@ HtmlReport& HtmlReport::paragraph(std::string_view text) {
 }
 
 HtmlReport& HtmlReport::table(const HtmlTable& table) {
-  body_ += "<table>\n";
-  if (!table.caption.empty()) body_ += "<caption>" + escape_xml(table.caption) + "</caption>\n";
+  // The caption above a scrolling box: a table wider than a narrow window scrolls by itself,
+  // not the page, and its caption wraps at the window's width.
+  if (!table.caption.empty()) {
+    body_ += "<div class=\"table-caption\">" + escape_xml(table.caption) + "</div>\n";
+  }
+  body_ += "<div class=\"table-scroll\">\n<table>\n";
   if (!table.header.empty()) {
     body_ += "<thead><tr>";
     for (const std::string& h : table.header) body_ += "<th>" + escape_xml(h) + "</th>";
@@ -108,7 +114,7 @@ HtmlReport& HtmlReport::table(const HtmlTable& table) {
     for (const std::string& cell : row.cells) body_ += "<td>" + escape_xml(cell) + "</td>";
     body_ += "</tr>\n";
   }
-  body_ += "</tbody>\n</table>\n";
+  body_ += "</tbody>\n</table>\n</div>\n";
   return *this;
 }
 

@@ -38,6 +38,7 @@ class HtmlReport {
   HtmlReport& contents(std::string_view title = "Contents");
   HtmlReport& heading(std::string_view text, int level = 2);  // level 2..4
   HtmlReport& paragraph(std::string_view text);
+  // In a box that scrolls sideways when the table is wider than the window.
   HtmlReport& table(const HtmlTable& table);
   // `svg` from svg_plot.h, inlined verbatim; `caption` escaped.
   HtmlReport& figure(std::string_view svg, std::string_view caption);

@@ -556,6 +556,12 @@ TEST(HtmlReport, StructureIsSelfContained) {
   EXPECT_EQ(order, (std::vector<std::string>{"p", "h2", "table", "figure", "svg", "pre"}));
   EXPECT_NE(html.find("<meta charset=\"utf-8\">"), std::string::npos);
   EXPECT_NE(html.find("<style>"), std::string::npos);
+  // A table scrolls sideways in its own box (not the page) on a narrow window, its caption
+  // above the box so it wraps at the window's width.
+  EXPECT_NE(html.find("<div class=\"table-caption\">Per-flank δRcomp, µm</div>\n"
+                      "<div class=\"table-scroll\">\n<table>"),
+            std::string::npos);
+  EXPECT_NE(html.find(".table-scroll { overflow-x: auto; }"), std::string::npos);
   EXPECT_EQ(count_text(html, "<tr class=\"highlight\">"), 1u);
   EXPECT_EQ(count_text(html, "<th>"), 5u);
   // Nothing is fetched from elsewhere.
