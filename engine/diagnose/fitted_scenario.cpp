@@ -8,15 +8,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <numbers>
 #include <stdexcept>
 
+#include "engine/effects/lobing_harmonic.h"
 #include "engine/effects/measurement_effect.h"
 
 namespace gearmc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kSteelCtePpmPerK =
     11.5;  // the thermal_expansion candidate's column (candidates.h)
 
@@ -150,9 +149,8 @@ void update_lobing(YAML::Node entry, const MeasurementEffect* model, const Fitte
     }
     const EffectParameter* a = model_parameter(model, "amplitude_" + order + "_um");
     const EffectParameter* phase = model_parameter(model, "phase_" + order + "_deg");
-    const double a0 = a ? a->nominal() : 0.0;
-    const double phi0 = (phase ? phase->nominal() : 0.0) * kPi / 180.0;
-    double c = a0 * std::cos(k * phi0), s = a0 * std::sin(k * phi0);
+    const LobingHarmonic model_harmonic{k, a ? a->nominal() : 0.0, phase ? phase->nominal() : 0.0};
+    double c = model_harmonic.cos_component_um(), s = model_harmonic.sin_component_um();
     if (refit) {
       c += fitted(e.coefficients, "cos_" + order + "_um")->value;
       s += fitted(e.coefficients, "sin_" + order + "_um")->value;
@@ -163,14 +161,11 @@ void update_lobing(YAML::Node entry, const MeasurementEffect* model, const Fitte
                          "(the law's central value plus the fitted increment)");
       }
     }
-    const double period = 360.0 / k;
-    double deg = std::atan2(s, c) * 180.0 / kPi / k;
-    deg = std::fmod(deg, period);
-    if (deg < 0.0) deg += period;
+    const LobingHarmonic written = LobingHarmonic::from_components(k, c, s);
     YAML::Node item = flow_map();
     item["order"] = k;
-    item["amplitude_um"] = number_node(std::hypot(c, s));
-    item["phase_deg"] = number_node(deg);
+    item["amplitude_um"] = number_node(written.amplitude_um);
+    item["phase_deg"] = number_node(written.phase_deg);
     harmonics.push_back(item);
   }
   entry["harmonics"] = harmonics;

@@ -1,36 +1,54 @@
 // Reading the `effects:` section of a scenario into an EffectChain (see effect_config.h).
 #include "engine/effects/effect_config.h"
 
-#include <numbers>
-
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
 #include "engine/scenario/parameter_ranges.h"
+#include "engine/scenario/scenario_keys.h"
 
 namespace gearmc {
 namespace {
 
-// The plausible range of parameter `key` of the effect whose map is `map` (its path is
-// "effects.<effect>", or "effects.probe_lobing.harmonics[i]" for a harmonic).
-const ParameterRange& range_of(const YamlMap& map, const std::string& key) {
+// The table key of `key` in the effect map `map` (its path is "effects.<effect>", or
+// "effects.probe_lobing.harmonics[i]" for a harmonic): "effects.<effect>.<key>", without the
+// list index.
+std::string key_path(const YamlMap& map, const std::string& key) {
   std::string path = map.path();
   const std::size_t bracket = path.find('[');
   if (bracket != std::string::npos) path.erase(bracket, path.find(']', bracket) - bracket + 1);
   // The section may be read on its own (a document whose root is the effects map).
   if (path.rfind("effects.", 0) != 0) path = "effects." + path;
-  return effect_ranges().at(path + "." + key);
+  return path + "." + key;
 }
 
-// A parameter: a number, or {uniform: [lo, hi]}, or {normal: [mean, sd]}; absent = `fallback`.
+// The plausible range of parameter `key` of the effect whose map is `map`.
+const ParameterRange& range_of(const YamlMap& map, const std::string& key) {
+  return effect_ranges().at(key_path(map, key));
+}
+
+// The key table's default of number `key` in `map`.
+double default_of(const YamlMap& map, const std::string& key) {
+  return number_default(key_path(map, key));
+}
+
+// The key table's integer `key` in `map` within its bounds, or its default.
+std::int64_t integer_of(const YamlMap& map, const std::string& key) {
+  const ScenarioKey& k = scenario_key(key_path(map, key));
+  return map.get_int(key, k.integer_min, k.integer_max)
+      .value_or(static_cast<std::int64_t>(number_default(k.key)));
+}
+
+// A parameter: a number, or {uniform: [lo, hi]}, or {normal: [mean, sd]}; absent = the key
+// table's default.
 // Numbers, bounds and the mean lie within the parameter's valid range, a standard deviation
 // within half its width (else an InputError); outside the usual range they give a warning.
-EffectParameter read_parameter(const YamlMap& map, const std::string& key, double fallback,
+EffectParameter read_parameter(const YamlMap& map, const std::string& key,
                                InputWarnings* warnings) {
   const ParameterRange& range = range_of(map, key);
   EffectParameter p;
   p.name = key;
-  p.value = fallback;
+  p.value = default_of(map, key);
   const auto value = map.find(key);
   if (!value) return p;
   if (!value->is_map()) {
@@ -64,32 +82,27 @@ EffectParameter read_parameter(const YamlMap& map, const std::string& key, doubl
   return p;
 }
 
-std::vector<std::string> with_enabled(std::vector<std::string> keys) {
-  keys.insert(keys.begin(), "enabled");
-  return keys;
-}
-
 // `from_probe_model:` — p0 and the harmonics of orders 3, 6, 9, … computed by the CVODE
 // touch-trigger probe model (probe_dynamics.h) for the given stylus and approach speed.
 void read_probe_model(const YamlMap& m, EffectParameter* pretravel, std::vector<int>* orders,
                       std::vector<EffectParameter>* harmonic_parameters, InputWarnings* warnings) {
   const auto number = [&](const std::string& key) {
-    return get_ranged(m, key, range_of(m, key), warnings);
+    return get_ranged(m, key, range_of(m, key), warnings).value_or(default_of(m, key));
   };
   ProbeDynamicsParameters probe;
-  probe.stylus_length_mm = number("stylus_length_mm").value_or(probe.stylus_length_mm);
-  probe.stem_diameter_mm = number("stem_diameter_mm").value_or(probe.stem_diameter_mm);
-  probe.ball_diameter_mm = number("ball_diameter_mm").value_or(probe.ball_diameter_mm);
-  if (const auto material =
-          m.get_choice("stem_material", {"tungsten_carbide", "steel", "zirconia"})) {
-    probe.stem_material = *material == "steel"      ? probe_materials::kSteel
-                          : *material == "zirconia" ? probe_materials::kZirconia
-                                                    : probe_materials::kTungstenCarbide;
-  }
-  probe.trigger_latency_s = number("trigger_latency_s").value_or(probe.trigger_latency_s);
-  const double speed = number("speed_mm_s").value_or(2.0);
-  const int directions = static_cast<int>(m.get_int("directions", 12, 720).value_or(72));
-  const int max_order = static_cast<int>(m.get_int("max_order", 3, 12).value_or(9));
+  probe.stylus_length_mm = number("stylus_length_mm");
+  probe.stem_diameter_mm = number("stem_diameter_mm");
+  probe.ball_diameter_mm = number("ball_diameter_mm");
+  const std::string material_key = key_path(m, "stem_material");
+  const std::string material = m.get_choice("stem_material", key_choices(material_key))
+                                   .value_or(choice_default(material_key));
+  probe.stem_material = material == "steel"      ? probe_materials::kSteel
+                        : material == "zirconia" ? probe_materials::kZirconia
+                                                 : probe_materials::kTungstenCarbide;
+  probe.trigger_latency_s = number("trigger_latency_s");
+  const double speed = number("speed_mm_s");
+  const int directions = static_cast<int>(integer_of(m, "directions"));
+  const int max_order = static_cast<int>(integer_of(m, "max_order"));
   if (2 * max_order >= directions) {
     throw m.require("max_order", "").error("an order below half the number of directions");
   }
@@ -100,7 +113,7 @@ void read_probe_model(const YamlMap& m, EffectParameter* pretravel, std::vector<
     throw InputError(m.location(), m.path() + ": the probe model failed: " + e.what());
   }
   pretravel->value = h.p0_um;
-  for (const PretravelHarmonic& k : h.harmonics) {
+  for (const LobingHarmonic& k : h.harmonics) {
     if (k.order % 3 != 0) continue;  // the three-leg seat: only orders 3, 6, 9, … (2π/3)
     orders->push_back(k.order);
     EffectParameter a, phase;
@@ -109,20 +122,18 @@ void read_probe_model(const YamlMap& m, EffectParameter* pretravel, std::vector<
     a.value = k.amplitude_um;
     phase.name = "phase_" + std::to_string(k.order) + "_deg";
     phase.unit = "deg";
-    phase.value = k.phase_rad * 180.0 / std::numbers::pi;
+    phase.value = k.phase_deg;
     harmonic_parameters->push_back(a);
     harmonic_parameters->push_back(phase);
   }
 }
 
 std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m, InputWarnings* warnings) {
-  EffectParameter pretravel = read_parameter(m, "pretravel_um", 0.0, warnings);
+  EffectParameter pretravel = read_parameter(m, "pretravel_um", warnings);
   std::vector<int> orders;
   std::vector<EffectParameter> harmonic_parameters;
   if (const auto model =
-          m.get_map("from_probe_model",
-                    {"stylus_length_mm", "stem_diameter_mm", "ball_diameter_mm", "stem_material",
-                     "trigger_latency_s", "speed_mm_s", "directions", "max_order"})) {
+          m.get_map("from_probe_model", child_keys(key_path(m, "from_probe_model")))) {
     for (const char* key : {"pretravel_um", "harmonics"}) {
       if (m.has(key)) {
         throw m.find(key)->error("nothing: from_probe_model gives p0 and the harmonics");
@@ -132,16 +143,18 @@ std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m, InputWarn
   }
   if (const auto list = m.find("harmonics")) {
     for (const YamlValue& item : list->as_sequence()) {
-      const YamlMap h = item.as_map({"order", "amplitude_um", "phase_deg"});
-      const int order = static_cast<int>(h.require_int("order", 1, 36));
+      const YamlMap h = item.as_map(child_keys(key_path(m, "harmonics")));
+      const ScenarioKey& order_key = scenario_key(key_path(h, "order"));
+      const int order =
+          static_cast<int>(h.require_int("order", order_key.integer_min, order_key.integer_max));
       for (int existing : orders) {
         if (existing == order) throw h.require("order", "").error("an order not listed before");
       }
       orders.push_back(order);
-      EffectParameter a = read_parameter(h, "amplitude_um", 0.0, warnings);
+      EffectParameter a = read_parameter(h, "amplitude_um", warnings);
       a.name = "amplitude_" + std::to_string(order) + "_um";
       a.unit = "µm";
-      EffectParameter phase = read_parameter(h, "phase_deg", 0.0, warnings);
+      EffectParameter phase = read_parameter(h, "phase_deg", warnings);
       phase.name = "phase_" + std::to_string(order) + "_deg";
       phase.unit = "deg";
       harmonic_parameters.push_back(std::move(a));
@@ -149,22 +162,23 @@ std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m, InputWarn
     }
   }
   pretravel.unit = "µm";
-  EffectParameter repeatability = read_parameter(m, "repeatability_um", 0.0, warnings);
+  EffectParameter repeatability = read_parameter(m, "repeatability_um", warnings);
   repeatability.unit = "µm";
   ProbeQualificationSpec q;
-  if (const auto s =
-          m.get_choice("calibration", {"none", "mean6", "six_directions", "per_direction"})) {
-    q.strategy = *s == "none"             ? ProbeQualification::kNone
-                 : *s == "mean6"          ? ProbeQualification::kMean6
-                 : *s == "six_directions" ? ProbeQualification::kSixDirections
-                                          : ProbeQualification::kPerDirection;
-  }
-  if (const auto u = m.get_choice("six_directions_use", {"nearest", "interpolated"})) {
-    q.use = *u == "nearest" ? SixDirectionUse::kNearest : SixDirectionUse::kInterpolated;
-  }
+  const auto choice = [&](const std::string& key) {
+    const std::string path = key_path(m, key);
+    return m.get_choice(key, key_choices(path)).value_or(choice_default(path));
+  };
+  const std::string s = choice("calibration");
+  q.strategy = s == "none"             ? ProbeQualification::kNone
+               : s == "mean6"          ? ProbeQualification::kMean6
+               : s == "six_directions" ? ProbeQualification::kSixDirections
+                                       : ProbeQualification::kPerDirection;
+  q.use = choice("six_directions_use") == "nearest" ? SixDirectionUse::kNearest
+                                                    : SixDirectionUse::kInterpolated;
   q.start_deg =
       get_ranged(m, "calibration_start_deg", range_of(m, "calibration_start_deg"), warnings)
-          .value_or(90.0);
+          .value_or(default_of(m, "calibration_start_deg"));
   return std::make_unique<ProbeLobingEffect>(std::move(pretravel), std::move(orders),
                                              std::move(harmonic_parameters),
                                              std::move(repeatability), q);
@@ -173,9 +187,7 @@ std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m, InputWarn
 }  // namespace
 
 const std::vector<std::string>& effect_names() {
-  static const std::vector<std::string> names = {
-      "probe_lobing",      "stylus_radius", "tip_form",          "scale",        "squareness",
-      "thermal_expansion", "drift",         "step_quantization", "eccentricity", "noise"};
+  static const std::vector<std::string> names = child_keys("effects");
   return names;
 }
 
@@ -185,69 +197,45 @@ EffectChain parse_effects(const YamlValue& section, InputWarnings* warnings) {
   const YamlMap effects = section.as_map(effect_names());
   for (const auto& entry : effects.entries()) {
     const std::string& name = entry.key;
-    std::vector<std::string> keys;
-    if (name == "probe_lobing") {
-      keys = {"pretravel_um", "harmonics",          "from_probe_model",     "repeatability_um",
-              "calibration",  "six_directions_use", "calibration_start_deg"};
-    } else if (name == "stylus_radius") {
-      keys = {"error_um"};
-    } else if (name == "tip_form") {
-      keys = {"order", "amplitude_um", "phase_deg"};
-    } else if (name == "scale") {
-      keys = {"x_ppm", "y_ppm", "z_ppm"};
-    } else if (name == "squareness") {
-      keys = {"xy_urad", "xz_urad", "yz_urad"};
-    } else if (name == "thermal_expansion") {
-      keys = {"workpiece_delta_t_k", "scale_delta_t_k", "workpiece_cte_ppm_per_k",
-              "scale_cte_ppm_per_k"};
-    } else if (name == "drift") {
-      keys = {"x_um", "y_um", "z_um"};
-    } else if (name == "step_quantization") {
-      keys = {"step_um", "approach_mm"};
-    } else if (name == "eccentricity") {
-      keys = {"x_um", "y_um"};
-    } else {  // noise
-      keys = {"sigma_um"};
-    }
-    const YamlMap m = entry.value.as_map(with_enabled(keys));
-    if (!m.get_bool("enabled").value_or(true)) continue;
+    const YamlMap m = entry.value.as_map(child_keys("effects." + name));
+    if (!m.get_bool("enabled").value_or(boolean_default("effects." + name + ".enabled"))) continue;
     std::unique_ptr<MeasurementEffect> effect;
     if (name == "probe_lobing") {
       effect = read_probe_lobing(m, warnings);
     } else if (name == "stylus_radius") {
-      effect = std::make_unique<StylusRadiusEffect>(read_parameter(m, "error_um", 0.0, warnings));
+      effect = std::make_unique<StylusRadiusEffect>(read_parameter(m, "error_um", warnings));
     } else if (name == "tip_form") {
-      effect =
-          std::make_unique<TipFormEffect>(static_cast<int>(m.get_int("order", 1, 36).value_or(2)),
-                                          read_parameter(m, "amplitude_um", 0.0, warnings),
-                                          read_parameter(m, "phase_deg", 0.0, warnings));
+      effect = std::make_unique<TipFormEffect>(static_cast<int>(integer_of(m, "order")),
+                                               read_parameter(m, "amplitude_um", warnings),
+                                               read_parameter(m, "phase_deg", warnings));
     } else if (name == "scale") {
-      effect = std::make_unique<ScaleEffect>(read_parameter(m, "x_ppm", 0.0, warnings),
-                                             read_parameter(m, "y_ppm", 0.0, warnings),
-                                             read_parameter(m, "z_ppm", 0.0, warnings));
+      effect = std::make_unique<ScaleEffect>(read_parameter(m, "x_ppm", warnings),
+                                             read_parameter(m, "y_ppm", warnings),
+                                             read_parameter(m, "z_ppm", warnings));
     } else if (name == "squareness") {
-      effect = std::make_unique<SquarenessEffect>(read_parameter(m, "xy_urad", 0.0, warnings),
-                                                  read_parameter(m, "xz_urad", 0.0, warnings),
-                                                  read_parameter(m, "yz_urad", 0.0, warnings));
+      effect = std::make_unique<SquarenessEffect>(read_parameter(m, "xy_urad", warnings),
+                                                  read_parameter(m, "xz_urad", warnings),
+                                                  read_parameter(m, "yz_urad", warnings));
     } else if (name == "thermal_expansion") {
       effect = std::make_unique<ThermalExpansionEffect>(
-          read_parameter(m, "workpiece_delta_t_k", 0.0, warnings),
-          read_parameter(m, "scale_delta_t_k", 0.0, warnings),
-          read_parameter(m, "workpiece_cte_ppm_per_k", 11.5, warnings),
-          read_parameter(m, "scale_cte_ppm_per_k", 0.0, warnings));
+          read_parameter(m, "workpiece_delta_t_k", warnings),
+          read_parameter(m, "scale_delta_t_k", warnings),
+          read_parameter(m, "workpiece_cte_ppm_per_k", warnings),
+          read_parameter(m, "scale_cte_ppm_per_k", warnings));
     } else if (name == "drift") {
-      effect = std::make_unique<DriftEffect>(read_parameter(m, "x_um", 0.0, warnings),
-                                             read_parameter(m, "y_um", 0.0, warnings),
-                                             read_parameter(m, "z_um", 0.0, warnings));
+      effect = std::make_unique<DriftEffect>(read_parameter(m, "x_um", warnings),
+                                             read_parameter(m, "y_um", warnings),
+                                             read_parameter(m, "z_um", warnings));
     } else if (name == "step_quantization") {
       effect = std::make_unique<StepQuantizationEffect>(
-          read_parameter(m, "step_um", 0.0, warnings),
-          get_ranged(m, "approach_mm", range_of(m, "approach_mm"), warnings).value_or(2.0));
+          read_parameter(m, "step_um", warnings),
+          get_ranged(m, "approach_mm", range_of(m, "approach_mm"), warnings)
+              .value_or(default_of(m, "approach_mm")));
     } else if (name == "eccentricity") {
-      effect = std::make_unique<EccentricityEffect>(read_parameter(m, "x_um", 0.0, warnings),
-                                                    read_parameter(m, "y_um", 0.0, warnings));
+      effect = std::make_unique<EccentricityEffect>(read_parameter(m, "x_um", warnings),
+                                                    read_parameter(m, "y_um", warnings));
     } else {
-      effect = std::make_unique<NoiseEffect>(read_parameter(m, "sigma_um", 0.0, warnings));
+      effect = std::make_unique<NoiseEffect>(read_parameter(m, "sigma_um", warnings));
     }
     chain.add(std::move(effect));
   }

@@ -410,11 +410,12 @@ LobingHarmonics ProbeDynamics::lobing_harmonics(int n_directions, double speed_m
     }
     a *= 2.0 / n_directions;
     b *= 2.0 / n_directions;
-    PretravelHarmonic h;
+    LobingHarmonic h;
     h.order = k;
     h.amplitude_um = std::hypot(a, b);
-    h.phase_rad = std::atan2(b, a) / k;
-    if (h.phase_rad < 0) h.phase_rad += 2.0 * kPi / k;
+    double phase_rad = std::atan2(b, a) / k;
+    if (phase_rad < 0) phase_rad += 2.0 * kPi / k;
+    h.phase_deg = phase_rad * 180.0 / kPi;
     out.harmonics.push_back(h);
   }
   return out;

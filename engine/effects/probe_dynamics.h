@@ -27,6 +27,8 @@
 
 #include <vector>
 
+#include "engine/effects/lobing_harmonic.h"
+
 namespace gearmc {
 
 // Isotropic linear-elastic material of a stylus part or of the workpiece.
@@ -134,19 +136,13 @@ struct PretravelSolution {
   long steps = 0;              // CVODE steps taken
 };
 
-struct PretravelHarmonic {
-  int order = 0;            // k
-  double amplitude_um = 0;  // a_k ≥ 0
-  double phase_rad = 0;     // φ_k in [0, 2π/k)
-};
-
 // p(φ) sampled at φ_j = 2πj/n (j = 0 … n−1) and its discrete Fourier analysis
 // p(φ) ≈ p0 + Σ_{k=1..K} a_k cos(k(φ − φ_k)).
 struct LobingHarmonics {
-  double p0_um = 0;                          // mean pre-travel
-  std::vector<PretravelHarmonic> harmonics;  // k = 1 … max_order
-  std::vector<double> azimuth_rad;           // φ_j
-  std::vector<double> pretravel_um;          // p(φ_j)
+  double p0_um = 0;                       // mean pre-travel
+  std::vector<LobingHarmonic> harmonics;  // k = 1 … max_order; a_k ≥ 0, φ_k in [0, 360/k)°
+  std::vector<double> azimuth_rad;        // φ_j
+  std::vector<double> pretravel_um;       // p(φ_j)
 };
 
 // The probe model. Immutable after construction; every method is const and may be called from

@@ -53,7 +53,7 @@ std::vector<double> qualification_directions_rad(const ProbeQualificationSpec& s
 double LobingModel::pretravel_at(double azimuth_rad) const {
   double p = pretravel_um;
   for (const LobingHarmonic& h : harmonics) {
-    p += h.amplitude_um * std::cos(h.order * (azimuth_rad - h.phase_deg * kDeg));
+    p += h.value_um(azimuth_rad);
   }
   return p;
 }

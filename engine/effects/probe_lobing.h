@@ -28,15 +28,10 @@
 #include <string>
 #include <vector>
 
+#include "engine/effects/lobing_harmonic.h"
 #include "engine/effects/measurement_effect.h"
 
 namespace gearmc {
-
-struct LobingHarmonic {
-  int order = 6;              // k, lobes per turn
-  double amplitude_um = 0.0;  // a_k
-  double phase_deg = 0.0;     // φ_k: azimuth of a maximum, degrees
-};
 
 enum class ProbeQualification { kNone, kMean6, kSixDirections, kPerDirection };
 enum class SixDirectionUse { kNearest, kInterpolated };

@@ -1,6 +1,7 @@
 // A small builder for the self-contained report.html pages (docs/formats.md: `run` and `diagnose`
-// outputs): a title, headings, paragraphs, tables with optional highlighted rows, inline SVG
-// figures with captions and preformatted blocks (e.g. the scenario YAML). The page needs nothing
+// outputs): a title, an optional table of contents, headings, paragraphs, tables with optional
+// highlighted rows, inline SVG figures with captions and preformatted blocks (e.g. the scenario
+// YAML). The page needs nothing
 // from outside: no external CSS, JS, fonts or images; a little inline CSS for readability. All
 // text is HTML-escaped; only the SVG of a figure is inserted as is (it must come from
 // svg_plot.h, which escapes its own text). Files are written atomically (docs/formats.md: "nothing
@@ -30,8 +31,14 @@ class HtmlReport {
   // `title` goes into <title> and the page's <h1>.
   explicit HtmlReport(std::string title);
 
+  // A table of contents at this place: html() fills it with a link to every heading of level 2
+  // and 3 added after this call (level 3 nested under its level 2); every heading after it gets an
+  // id made from its text ("Gap before and after" → "gap-before-and-after", "-2", "-3" … for a
+  // repeated text). Without this call headings carry no id.
+  HtmlReport& contents(std::string_view title = "Contents");
   HtmlReport& heading(std::string_view text, int level = 2);  // level 2..4
   HtmlReport& paragraph(std::string_view text);
+  // In a box that scrolls sideways when the table is wider than the window.
   HtmlReport& table(const HtmlTable& table);
   // `svg` from svg_plot.h, inlined verbatim; `caption` escaped.
   HtmlReport& figure(std::string_view svg, std::string_view caption);
@@ -47,8 +54,16 @@ class HtmlReport {
   void write(const std::filesystem::path& file) const;
 
  private:
+  struct Anchor {
+    int level;
+    std::string id, text;
+  };
   std::string title_;
   std::string body_;
+  // The table of contents: where in body_ it goes (npos: none), its title, its entries.
+  std::size_t contents_at_ = std::string::npos;
+  std::string contents_title_;
+  std::vector<Anchor> anchors_;
 };
 
 // Writes `content` to `file` atomically: to "<file>.tmp" in the same directory, flushed and

@@ -352,7 +352,8 @@ std::string run_histograms_csv(const RunResults& r, const RunPresentation& view)
 
 std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r,
                                    const RunPresentation& view) {
-  // Per-flank-max, per-point and (with effects) total-error histograms, left and right side by
+  // Per-flank-max, per-point (with a log10 count view of the same bins under it, where the
+  // tail's few counts show) and (with effects) total-error histograms, left and right side by
   // side on the same bins and the same count axis (P1 Fig. 5); then the cumulative
   // distributions and, with effects, the error budget.
   std::vector<RunFigure> figures;
@@ -361,10 +362,13 @@ std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r
     const char* file;
     const char* what;
     const char* x_label;
+    bool log_count = false;
   };
-  const Kind kinds[] = {{kFlankMax, "flank_max_", "δRcomp per-flank maximum", "δRcomp, µm"},
-                        {kPointDelta, "point_", "δRcomp per point", "δRcomp, µm"},
-                        {kTotalAbs, "total_abs_", "|total point error| with effects", "|e|, µm"}};
+  const Kind kinds[] = {
+      {kFlankMax, "flank_max_", "δRcomp per-flank maximum", "δRcomp, µm"},
+      {kPointDelta, "point_", "δRcomp per point", "δRcomp, µm"},
+      {kPointDelta, "point_log_", "δRcomp per point, log count", "δRcomp, µm", true},
+      {kTotalAbs, "total_abs_", "|total point error| with effects", "|e|, µm"}};
   int row = 0;
   for (const Kind& kind : kinds) {
     const HistogramBins& bins = view.bins[kind.q];
@@ -381,6 +385,8 @@ std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r
       plot.title = std::string(kind.what) + ", " + kSideName[s] +
                    " (n = " + std::to_string(e.moments.count()) + ")";
       plot.x_label = kind.x_label;
+      plot.log_count = kind.log_count;
+      if (kind.log_count) plot.y_label = "count (log scale)";
       plot.x_min = bins.lo;
       plot.x_max = bins.lo + bins.width * static_cast<double>(bins.count);
       plot.y_max = tallest;
@@ -406,6 +412,7 @@ std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r
       }
       std::ostringstream bin_note;
       bin_note << "; bins " << bins.width << " µm (Freedman–Diaconis, shared by both flanks)";
+      if (kind.log_count) bin_note << "; log10 count axis, so the tail's single counts show";
       const std::string file = std::string(kind.file) + kSideName[s] + ".svg";
       figures.push_back(
           {file, histogram_svg(shown[s], plot), plot.title + bin_note.str() + " — " + file, row});

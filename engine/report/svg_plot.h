@@ -1,13 +1,13 @@
 // Plots as standalone SVG text, with no dependency beyond the standard library: the δRcomp
 // histogram of the `run` report (P1's Fig. 5, docs/sources.md) with an optional fitted-density
-// overlay and labelled vertical markers (quantiles, P1's claim), a generic XY line/scatter plot and
-// a polar scatter plot (value against approach azimuth) for the diagnosis report. All three share
-// one look: white background, a header with the title and one legend row (outside the plot
-// area, so it never hides data), axes with "nice" ticks (Heckbert, "Nice numbers for graph
-// labels", Graphics Gems, 1990), light grid, the colour-blind-safe Okabe-Ito palette (Okabe &
-// Ito 2008). Every text is XML-escaped. The output has
-// no XML declaration and no id attributes, so several plots can be inlined into one HTML page.
-// Coordinates are in data units (µm for deviations, radians for polar angles); sizes in px.
+// overlay and labelled vertical markers (quantiles, P1's claim), a generic XY line/scatter/stem
+// plot with optional shaded bands, and a polar scatter plot (value against approach azimuth) for
+// the diagnosis report. All three share one look: white background, a header with the title and one
+// legend row (outside the plot area, so it never hides data), axes with "nice" ticks (Heckbert,
+// "Nice numbers for graph labels", Graphics Gems, 1990), light grid, the colour-blind-safe
+// Okabe-Ito palette (Okabe & Ito 2008). Every text is XML-escaped. The output has no XML
+// declaration and no id attributes, so several plots can be inlined into one HTML page. Coordinates
+// are in data units (µm for deviations, radians for polar angles); sizes in px.
 #pragma once
 
 #include <functional>
@@ -46,8 +46,11 @@ struct HistogramPlotOptions {
   // bin, widened to include the markers, rounded out to ticks.
   std::optional<double> x_min, x_max;
   // The top of the count axis (e.g. the same for the left and right flanks' plots); default:
-  // the tallest shown bar or overlay value. Rounded up to a tick.
+  // the tallest shown bar or overlay value. Rounded up to a tick (with log_count: a power of 10).
   std::optional<double> y_max;
+  // A log10 count axis (ticks 1, 10, 100, …, from a count of 0.5 so a single count shows), so a
+  // tail of a few counts is as visible as the peak; empty bins are not drawn.
+  bool log_count = false;
   int width_px = 640, height_px = 400;
 };
 
@@ -67,7 +70,9 @@ struct BarChartOptions {
 std::string bar_chart_svg(const std::vector<std::string>& labels, const std::vector<double>& values,
                           const BarChartOptions& options);
 
-enum class SeriesStyle { kLine, kPoints, kLineAndPoints };
+// kStems: a stem plot (e.g. a spectrum: one amplitude per harmonic order), each point a vertical
+// line from y = 0 (or the nearer edge of the y range) to y with a dot at y; no line joins points.
+enum class SeriesStyle { kLine, kPoints, kLineAndPoints, kStems };
 
 // One data series; non-finite points are skipped (a line is broken there).
 struct Series {
@@ -77,10 +82,19 @@ struct Series {
   std::string colour;  // CSS colour; empty: the next palette colour
 };
 
+// A shaded horizontal band lo ≤ y ≤ hi (data units) across the plot area, under the data, with
+// a legend entry, e.g. the range a bin mean of pure noise stays within (±2σ/√n).
+struct HorizontalBand {
+  double lo = 0.0, hi = 0.0;
+  std::string label;   // legend entry; empty: none
+  std::string colour;  // CSS colour, drawn at 20 % opacity; empty: grey
+};
+
 struct XYPlotOptions {
   std::string title, x_label, y_label;
   std::vector<MarkerLine> markers;                   // vertical lines at x
   std::vector<double> horizontal_lines;              // thin reference lines at y (e.g. 0)
+  std::vector<HorizontalBand> bands;                 // shaded y ranges, inside the default range
   std::optional<double> x_min, x_max, y_min, y_max;  // default: the data (and lines), rounded out
   bool y_from_zero = false;                          // include y = 0 in the default range
   int width_px = 640, height_px = 400;

@@ -24,6 +24,7 @@
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/input_file.h"
 #include "engine/scenario/parameter_ranges.h"
+#include "engine/scenario/scenario_keys.h"
 #include "engine/scenario/yaml_reader.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
@@ -49,14 +50,17 @@ GearParameters read_gear(const YamlMap& gear, InputWarnings* warnings) {
   p.module_mm = read_ranged(required("module_mm"), r.at("gear.module_mm"), warnings);
   p.pressure_angle_deg =
       get_ranged(gear, "pressure_angle_deg", r.at("gear.pressure_angle_deg"), warnings)
-          .value_or(20.0);
-  p.profile_shift =
-      get_ranged(gear, "profile_shift", r.at("gear.profile_shift"), warnings).value_or(0.0);
+          .value_or(number_default("gear.pressure_angle_deg"));
+  p.profile_shift = get_ranged(gear, "profile_shift", r.at("gear.profile_shift"), warnings)
+                        .value_or(number_default("gear.profile_shift"));
   p.face_width_mm = read_ranged(required("face_width_mm"), r.at("gear.face_width_mm"), warnings);
   p.tip_diameter_mm = get_ranged(gear, "tip_diameter_mm", r.at("gear.tip_diameter_mm"), warnings);
   p.root_diameter_mm =
       get_ranged(gear, "root_diameter_mm", r.at("gear.root_diameter_mm"), warnings);
-  if (const auto rack = gear.get_map("basic_rack", {"addendum", "dedendum", "root_radius"})) {
+  p.rack.addendum = number_default("gear.basic_rack.addendum");
+  p.rack.dedendum = number_default("gear.basic_rack.dedendum");
+  p.rack.root_radius = number_default("gear.basic_rack.root_radius");
+  if (const auto rack = gear.get_map("basic_rack", child_keys("gear.basic_rack"))) {
     p.rack.addendum = get_ranged(*rack, "addendum", r.at("gear.basic_rack.addendum"), warnings)
                           .value_or(p.rack.addendum);
     p.rack.dedendum = get_ranged(*rack, "dedendum", r.at("gear.basic_rack.dedendum"), warnings)
@@ -155,12 +159,11 @@ std::map<ToleranceKind, double> read_overrides(const YamlMap& overrides, Toleran
 // read_grade; default "6-5-5" for GOST, required for ISO), overrides_um (see read_overrides).
 ToleranceSpec read_tolerances(const YamlMap& tolerances, InputWarnings* warnings) {
   ToleranceSpec spec;
-  const std::vector<std::string> standards = {standard_name(ToleranceStandard::kGost1643_81),
-                                              standard_name(ToleranceStandard::kIso1328_1_2013)};
-  if (const auto standard = tolerances.get_choice("standard", standards)) {
-    spec.standard = *standard == standards[0] ? ToleranceStandard::kGost1643_81
-                                              : ToleranceStandard::kIso1328_1_2013;
-  }
+  const std::string standard = tolerances.get_choice("standard", key_choices("tolerances.standard"))
+                                   .value_or(choice_default("tolerances.standard"));
+  spec.standard = standard == standard_name(ToleranceStandard::kGost1643_81)
+                      ? ToleranceStandard::kGost1643_81
+                      : ToleranceStandard::kIso1328_1_2013;
   if (const auto grade = tolerances.find("grade")) {
     spec.grade = read_grade(*grade, spec.standard);
   } else if (spec.standard == ToleranceStandard::kIso1328_1_2013) {
@@ -176,7 +179,7 @@ ToleranceSpec read_tolerances(const YamlMap& tolerances, InputWarnings* warnings
 // {distribution: uniform | normal | at_tolerance, k: > 0}, each key falling back to `base`.
 DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base,
                                InputWarnings* warnings) {
-  if (const auto law = map.get_choice("distribution", {"uniform", "normal", "at_tolerance"})) {
+  if (const auto law = map.get_choice("distribution", key_choices("deviations.distribution"))) {
     base.law = *law == "normal"         ? DeviationDistribution::Law::kNormal
                : *law == "at_tolerance" ? DeviationDistribution::Law::kAtTolerance
                                         : DeviationDistribution::Law::kUniform;
@@ -192,31 +195,39 @@ DeviationDistribution read_law(const YamlMap& map, DeviationDistribution base,
 DeviationModel read_deviations(const YamlMap& deviations, std::string* normal_expression_um,
                                InputWarnings* warnings) {
   DeviationModel model;
-  model.random = deviations.get_bool("random").value_or(model.random);
-  const DeviationDistribution base = read_law(deviations, DeviationDistribution{}, warnings);
+  model.random = deviations.get_bool("random").value_or(boolean_default("deviations.random"));
+  DeviationDistribution defaults;  // the table's law and k, unless the section gives them
+  const std::string default_law = choice_default("deviations.distribution");
+  defaults.law = default_law == "normal"         ? DeviationDistribution::Law::kNormal
+                 : default_law == "at_tolerance" ? DeviationDistribution::Law::kAtTolerance
+                                                 : DeviationDistribution::Law::kUniform;
+  defaults.k = number_default("deviations.k");
+  const DeviationDistribution base = read_law(deviations, defaults, warnings);
   model.eccentricity = model.pitch = model.thickness = model.profile_slope = model.profile_form =
       model.helix_slope = model.helix_form = base;
 
-  const std::vector<std::string> law_keys = {"distribution", "k"};
   const std::vector<std::pair<std::string, DeviationDistribution*>> simple_groups = {
       {"eccentricity", &model.eccentricity},
       {"pitch", &model.pitch},
       {"thickness", &model.thickness}};
   for (const auto& [key, law] : simple_groups) {
-    if (const auto group = deviations.get_map(key, law_keys)) {
+    if (const auto group = deviations.get_map(key, child_keys("deviations." + key))) {
       *law = read_law(*group, base, warnings);
     }
   }
 
-  const std::vector<std::string> shape_keys = {"distribution", "k", "control_points"};
   const ParameterRange& points = deviation_ranges().at("deviations.control_points");
-  if (const auto profile = deviations.get_map("profile", shape_keys)) {
+  model.profile_form_control_points =
+      static_cast<int>(number_default("deviations.profile.control_points"));
+  model.helix_form_control_points =
+      static_cast<int>(number_default("deviations.helix.control_points"));
+  if (const auto profile = deviations.get_map("profile", child_keys("deviations.profile"))) {
     model.profile_slope = model.profile_form = read_law(*profile, base, warnings);
     model.profile_form_control_points =
         static_cast<int>(get_ranged_int(*profile, "control_points", points, warnings)
                              .value_or(model.profile_form_control_points));
   }
-  if (const auto helix = deviations.get_map("helix", shape_keys)) {
+  if (const auto helix = deviations.get_map("helix", child_keys("deviations.helix"))) {
     model.helix_slope = model.helix_form = read_law(*helix, base, warnings);
     model.helix_form_control_points =
         static_cast<int>(get_ranged_int(*helix, "control_points", points, warnings)
@@ -251,11 +262,39 @@ std::string read_name(const YamlValue& value) {
   return name;
 }
 
+ProfileSpacing spacing_of(const std::string& spacing) {
+  return spacing == "roll_length"  ? ProfileSpacing::kRollLength
+         : spacing == "arc_length" ? ProfileSpacing::kArcLength
+                                   : ProfileSpacing::kRadius;
+}
+
+void set_flanks(const std::string& flanks, ProbingPlanSpec& plan) {
+  plan.left = flanks != "R";
+  plan.right = flanks != "L";
+}
+
+ProbingOrder order_of(const std::string& order) {
+  return order == "tooth_by_tooth" ? ProbingOrder::kToothByTooth : ProbingOrder::kSideBySide;
+}
+
+// The plan of a scenario without `probing:` (and the start of one with it): the key table's
+// defaults, every tooth.
+ProbingPlanSpec probing_defaults() {
+  ProbingPlanSpec plan;
+  plan.grid.points_along_profile = static_cast<int>(number_default("probing.points_along_profile"));
+  plan.grid.sections_across_face = static_cast<int>(number_default("probing.sections_across_face"));
+  plan.grid.margin_fraction = number_default("probing.margin_fraction");
+  plan.grid.spacing = spacing_of(choice_default("probing.profile_spacing"));
+  set_flanks(choice_default("probing.flanks"), plan);
+  plan.order = order_of(choice_default("probing.order"));
+  return plan;
+}
+
 // probing: {points_along_profile, sections_across_face, margin_fraction, profile_spacing,
 // teeth: all | [list], flanks: both | L | R, order: tooth_by_tooth | side_by_side}
 ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth, InputWarnings* warnings) {
   const RangeTable& r = probing_ranges();
-  ProbingPlanSpec plan;
+  ProbingPlanSpec plan = probing_defaults();
   ProbingGridSpec& grid = plan.grid;
   grid.points_along_profile =
       static_cast<int>(get_ranged_int(probing, "points_along_profile",
@@ -269,10 +308,8 @@ ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth, InputWarnin
       get_ranged(probing, "margin_fraction", r.at("probing.margin_fraction"), warnings)
           .value_or(grid.margin_fraction);
   if (const auto spacing =
-          probing.get_choice("profile_spacing", {"roll_length", "arc_length", "radius"})) {
-    grid.spacing = *spacing == "roll_length"  ? ProfileSpacing::kRollLength
-                   : *spacing == "arc_length" ? ProfileSpacing::kArcLength
-                                              : ProfileSpacing::kRadius;
+          probing.get_choice("profile_spacing", key_choices("probing.profile_spacing"))) {
+    grid.spacing = spacing_of(*spacing);
   }
   if (const auto teeth = probing.find("teeth")) {
     const std::string expected =
@@ -293,13 +330,11 @@ ProbingPlanSpec read_probing(const YamlMap& probing, int gear_teeth, InputWarnin
       throw teeth->error(expected);
     }
   }
-  if (const auto flanks = probing.get_choice("flanks", {"both", "L", "R"})) {
-    plan.left = *flanks != "R";
-    plan.right = *flanks != "L";
+  if (const auto flanks = probing.get_choice("flanks", key_choices("probing.flanks"))) {
+    set_flanks(*flanks, plan);
   }
-  if (const auto order = probing.get_choice("order", {"tooth_by_tooth", "side_by_side"})) {
-    plan.order =
-        *order == "tooth_by_tooth" ? ProbingOrder::kToothByTooth : ProbingOrder::kSideBySide;
+  if (const auto order = probing.get_choice("order", key_choices("probing.order"))) {
+    plan.order = order_of(*order);
   }
   return plan;
 }
@@ -367,13 +402,15 @@ std::vector<FlankMeshSurface> read_surfaces(const YamlValue& value, const GearPa
   std::vector<FlankMeshSurface> surfaces;
   std::vector<int> lines;  // where each entry's tooth is, for the duplicate message
   for (const YamlValue& item : value.as_sequence()) {
-    const YamlMap entry = item.as_map({"tooth", "flank", "mesh", "contact"});
+    const YamlMap entry = item.as_map(child_keys("surfaces"));
     FlankMeshSurface surface;
     const YamlValue tooth =
         entry.require("tooth", "a tooth number from 1 to " + std::to_string(gear.teeth));
-    surface.tooth = static_cast<int>(tooth.as_int(1, gear.teeth));
+    surface.tooth =
+        static_cast<int>(tooth.as_int(scenario_key("surfaces.tooth").integer_min, gear.teeth));
     const YamlValue flank = entry.require("flank", "one of L, R");
-    surface.side = flank.as_choice({"L", "R"}) == "R" ? FlankSide::kRight : FlankSide::kLeft;
+    surface.side = flank.as_choice(key_choices("surfaces.flank")) == "R" ? FlankSide::kRight
+                                                                         : FlankSide::kLeft;
     const std::string name = std::to_string(surface.tooth) + side_letter(surface.side);
     for (std::size_t k = 0; k < surfaces.size(); ++k) {
       if (surfaces[k].tooth == surface.tooth && surfaces[k].side == surface.side) {
@@ -388,10 +425,9 @@ std::vector<FlankMeshSurface> read_surfaces(const YamlValue& value, const GearPa
       throw tooth.error("a flank the probing plan probes (probing.teeth and probing.flanks leave " +
                         name + " out, so its mesh would never be used)");
     }
-    if (const auto contact = entry.get_choice("contact", {"smoothed", "facets"})) {
-      surface.contact =
-          *contact == "facets" ? MeshContactPoint::kFacets : MeshContactPoint::kSmoothed;
-    }
+    const std::string contact = entry.get_choice("contact", key_choices("surfaces.contact"))
+                                    .value_or(choice_default("surfaces.contact"));
+    surface.contact = contact == "facets" ? MeshContactPoint::kFacets : MeshContactPoint::kSmoothed;
     const YamlValue mesh = entry.require("mesh", "a triangle mesh file (.stl, .ply, .obj or .off)");
     const std::string written = mesh.as_string();
     if (written.empty()) throw mesh.error("a triangle mesh file (.stl, .ply, .obj or .off)");
@@ -502,8 +538,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
     throw InputError(root.location(), "", "", expected_top + ", but the scenario is empty");
   }
   if (!root.is_map()) throw root.error(expected_top);
-  const YamlMap top = root.as_map({"name", "seed", "gear", "tolerances", "deviations", "probing",
-                                   "stylus", "run", "surfaces", "effects"});
+  const YamlMap top = root.as_map(child_keys(""));
 
   Scenario scenario;
   scenario.source_path = source_name;
@@ -514,27 +549,22 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
     scenario.name = std::filesystem::path(source_name).stem().string();
     if (scenario.name.empty()) scenario.name = "scenario";
   }
-  scenario.seed = top.get_uint64("seed").value_or(scenario.seed);
+  scenario.seed =
+      top.get_uint64("seed").value_or(static_cast<std::uint64_t>(number_default("seed")));
   InputWarnings* warnings = &scenario.warnings;
-  const YamlMap gear_map = top.require_map(
-      "gear", {"teeth", "module_mm", "pressure_angle_deg", "profile_shift", "face_width_mm",
-               "tip_diameter_mm", "root_diameter_mm", "basic_rack"});
+  const YamlMap gear_map = top.require_map("gear", child_keys("gear"));
   scenario.gear = read_gear(gear_map, warnings);
-  const std::optional<YamlMap> tolerances =
-      top.get_map("tolerances", {"standard", "grade", "overrides_um"});
+  const std::optional<YamlMap> tolerances = top.get_map("tolerances", child_keys("tolerances"));
   if (tolerances) scenario.tolerances = read_tolerances(*tolerances, warnings);
-  if (const auto deviations =
-          top.get_map("deviations", {"random", "distribution", "k", "eccentricity", "pitch",
-                                     "thickness", "profile", "helix", "normal_um"})) {
+  if (const auto deviations = top.get_map("deviations", child_keys("deviations"))) {
     scenario.deviations = read_deviations(*deviations, &scenario.normal_expression_um, warnings);
   }
   // The tolerances are resolved here, so that every command (geometry, run, simulate, …)
   // accepts or rejects the same scenario, with the place of the cause.
   check_tolerances(scenario, gear_map, tolerances);
-  const std::optional<YamlMap> probing =
-      top.get_map("probing", {"points_along_profile", "sections_across_face", "margin_fraction",
-                              "profile_spacing", "teeth", "flanks", "order"});
-  if (probing) scenario.probing = read_probing(*probing, scenario.gear.teeth, warnings);
+  const std::optional<YamlMap> probing = top.get_map("probing", child_keys("probing"));
+  scenario.probing =
+      probing ? read_probing(*probing, scenario.gear.teeth, warnings) : probing_defaults();
   {
     const ProbingPlanSpec& plan = scenario.probing;
     const double teeth =
@@ -546,12 +576,14 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
     check_ranged(points, probing_ranges().at("probing.points_per_gear"), where,
                  std::to_string(static_cast<long long>(points)), warnings);
   }
-  if (const auto stylus = top.get_map("stylus", {"radius_mm"})) {
+  scenario.stylus_radius_mm = number_default("stylus.radius_mm");
+  scenario.gears = static_cast<int>(number_default("run.gears"));
+  if (const auto stylus = top.get_map("stylus", child_keys("stylus"))) {
     scenario.stylus_radius_mm =
         get_ranged(*stylus, "radius_mm", probing_ranges().at("stylus.radius_mm"), warnings)
             .value_or(scenario.stylus_radius_mm);
   }
-  if (const auto run = top.get_map("run", {"gears"})) {
+  if (const auto run = top.get_map("run", child_keys("run"))) {
     scenario.gears =
         static_cast<int>(get_ranged_int(*run, "gears", probing_ranges().at("run.gears"), warnings)
                              .value_or(scenario.gears));

@@ -1,11 +1,12 @@
-// Prints docs/scenario-keys.md: the reference of every ranged number, generated from the
-// readers' own range tables (scripts/update-docs writes it; tests/engine/docs_test.cpp checks
-// that the committed page equals this output).
+// Prints docs/scenario-keys.md: every scenario key with its type, default and allowed values,
+// and the units and ranges of every number, generated from the readers' own key and range
+// tables (scripts/update-docs writes it; tests/engine/docs_test.cpp checks that the committed
+// page equals this output).
 #include <iostream>
 
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/scenario/scenario_keys.h"
 
 int main() {
-  std::cout << gearmc::range_reference_markdown();
+  std::cout << gearmc::scenario_keys_markdown();
   return 0;
 }

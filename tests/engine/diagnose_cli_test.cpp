@@ -39,6 +39,14 @@ std::string read_text(const fs::path& path) {
   return s.str();
 }
 
+std::size_t count_of(const std::string& text, const std::string& part) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) {
+    ++n;
+  }
+  return n;
+}
+
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
@@ -144,6 +152,18 @@ TEST_F(DiagnoseCli, NamesTheHiddenLobingFitsItAndTheFittedModelClosesTheGap) {
         "Step 1: probe_lobing accepted", "Residuals after the fit", "fitted.yaml"}) {
     EXPECT_NE(html.find(part), std::string::npos) << part;
   }
+  // The table of contents comes first and links every section.
+  EXPECT_LT(html.find("<nav class=\"contents\">"), verdict);
+  for (const char* id : {"verdict", "where-residuals-against-the-approach-azimuth",
+                         "harmonic-spectrum-against-approach-azimuth", "gap-before-and-after",
+                         "selection", "ambiguity", "inputs"}) {
+    EXPECT_NE(html.find("<a href=\"#" + std::string(id) + "\">"), std::string::npos) << id;
+    EXPECT_NE(html.find(" id=\"" + std::string(id) + "\">"), std::string::npos) << id;
+  }
+  // The noise band on the roll-length and face-position plots, 2σ/√n with σ = 0.3 µm and n =
+  // 240 readings per profile position (24 teeth × 2 flanks × 5 sections): ±0.039 µm.
+  EXPECT_EQ(count_of(html, "class=\"band\""), 2u);
+  EXPECT_NE(html.find("Grey band: ±2σ/√n = ±0.039 µm"), std::string::npos);
   const std::string html2 = read_text(*dir_ / "second" / "report.html");
   EXPECT_NE(html2.find("No gap"), std::string::npos);
   // The three outputs and nothing temporary.

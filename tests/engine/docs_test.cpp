@@ -1,5 +1,6 @@
-// The documentation cannot drift from the code: docs/scenario-keys.md is exactly what the range
-// tables the readers check against generate, and every page under docs/ and the README link
+// The documentation cannot drift from the code: docs/scenario-keys.md is exactly what the key
+// table the scenario readers take their keys, choices and defaults from and the range tables
+// they check numbers against generate, and every page under docs/ and the README link
 // only to files that exist in the repository.
 #include <gtest/gtest.h>
 
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "engine/scenario/parameter_ranges.h"
+#include "engine/scenario/scenario_keys.h"
 
 namespace gearmc {
 namespace {
@@ -23,16 +25,28 @@ std::string read_text(const fs::path& path) {
   return s.str();
 }
 
-TEST(Docs, ScenarioKeysPageIsTheRangeTables) {
+TEST(Docs, ScenarioKeysPageIsTheKeyAndRangeTables) {
   const fs::path page = fs::path(GEARMC_SOURCE_DIR) / "docs" / "scenario-keys.md";
   ASSERT_TRUE(fs::exists(page));
-  EXPECT_EQ(read_text(page), range_reference_markdown())
-      << "docs/scenario-keys.md differs from the range tables: run scripts/update-docs";
-  // Spot checks that the generated text is the reference it claims to be.
-  const std::string md = range_reference_markdown();
-  EXPECT_NE(md.find("| `gear.module_mm` | mm |"), std::string::npos);
-  EXPECT_NE(md.find("## effects"), std::string::npos);
-  EXPECT_NE(md.find("## readings"), std::string::npos);
+  EXPECT_EQ(read_text(page), scenario_keys_markdown())
+      << "docs/scenario-keys.md differs from the key and range tables: run scripts/update-docs";
+  // Spot checks that the generated text is the reference it claims to be: every key of the
+  // table is a row, non-numeric keys with their type, default and allowed values.
+  const std::string md = scenario_keys_markdown();
+  for (const ScenarioKey& k : scenario_keys()) {
+    EXPECT_NE(md.find("| `" + k.key + "` | "), std::string::npos) << k.key;
+  }
+  EXPECT_NE(md.find("| `probing.flanks` | choice |  | both | `both`, `L`, `R` |"),
+            std::string::npos);
+  EXPECT_NE(md.find("| `deviations.random` | boolean |  | true | true, false |"),
+            std::string::npos);
+  EXPECT_NE(md.find("| `effects.probe_lobing.calibration` | choice |  | none | `none`, `mean6`"),
+            std::string::npos);
+  EXPECT_NE(md.find("| `gear.module_mm` | number | mm | required | a number from 0.01 to 200 |"),
+            std::string::npos);
+  EXPECT_NE(md.find("| `gear.module_mm` | mm |"), std::string::npos);  // the range table
+  EXPECT_NE(md.find("### effects"), std::string::npos);
+  EXPECT_NE(md.find("### readings"), std::string::npos);
 }
 
 TEST(Docs, LocalLinksPointToFilesInTheRepository) {

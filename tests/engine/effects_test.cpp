@@ -104,6 +104,23 @@ TEST(Effects, LobingWithoutQualificationReproducesItsHarmonicAtTheGearsAzimuths)
   EXPECT_NEAR(std::atan2(B, A) / 6.0 * 180.0 / kPi, 20.0, 1e-7);
 }
 
+TEST(Effects, LobingHarmonicComponentsRoundTripAndSumToItsValue) {
+  // a cos(k(φ − φ_k)) = a cos(kφ_k) cos kφ + a sin(kφ_k) sin kφ (angle-difference identity), and
+  // from_components inverts the components with φ_k reduced to [0, 360/k)°: 100° of a 3-fold
+  // harmonic is 100° − 0·120°, and −30° of a 6-fold one is 30° (−30° + 60°).
+  for (const LobingHarmonic h : {LobingHarmonic{3, 1.5, 100.0}, LobingHarmonic{6, 0.75, -30.0}}) {
+    const double c = h.cos_component_um(), s = h.sin_component_um();
+    for (double phi = 0.0; phi < 6.3; phi += 0.7) {
+      EXPECT_NEAR(h.value_um(phi), c * std::cos(h.order * phi) + s * std::sin(h.order * phi),
+                  1e-12);
+    }
+    const LobingHarmonic back = LobingHarmonic::from_components(h.order, c, s);
+    EXPECT_EQ(back.order, h.order);
+    EXPECT_NEAR(back.amplitude_um, h.amplitude_um, 1e-12);
+    EXPECT_NEAR(back.phase_deg, h.order == 3 ? 100.0 : 30.0, 1e-9);
+  }
+}
+
 TEST(Effects, Mean6QualificationLeavesP2sResidualOnASixLobeProbe) {
   // P2 variant 1 on a 6-lobe ±0.75 µm probe whose maxima lie at the qualification start (+Y):
   // one 3-point set hits three maxima, the rotated set three minima, so ΔR = p0 and the

@@ -133,7 +133,7 @@ TEST(ProbeDynamics, LobingIsThreeFoldWithMaximaTowardsTheLegs) {
   EXPECT_GT(a3 * a3 / (a3 * a3 + others_sq), 0.75);
   EXPECT_GT(a3, 2 * lobing.harmonics[5].amplitude_um);
   // Maximum pre-travel towards a leg (the largest trigger force): φ_3 = θ0 = π/2.
-  EXPECT_NEAR(lobing.harmonics[2].phase_rad, kPi / 2, 1e-6);
+  EXPECT_NEAR(lobing.harmonics[2].phase_deg, 90.0, 1e-6 * 180.0 / kPi);
   // p(φ + 2π/3) = p(φ) to solver tolerance: 24 samples, a shift of 8.
   for (int j = 0; j < 24; ++j) {
     EXPECT_NEAR(lobing.pretravel_um[j], lobing.pretravel_um[(j + 8) % 24], 1e-5) << j;

@@ -234,6 +234,35 @@ TEST(SvgPlot, HistogramBarsAreProportionalToCounts) {
   EXPECT_EQ(svg.find("outside the bins"), std::string::npos);  // nothing under/overflowed
 }
 
+TEST(SvgPlot, LogCountBarsAreProportionalToTheLogOfTheirCountAboveHalfACount) {
+  // log_count: the axis runs from log10(0.5) to the next power of ten above the tallest bar
+  // (320 → 10³), ticks at 1, 10, 100, 1000; a bar of count c is log10(c / 0.5) / log10(2000)
+  // of the 294 px plot area high (layout in svg_plot.cpp): c = 1 → 26.81 px, c = 320 →
+  // 249.51 px. Empty bins draw nothing.
+  const std::vector<std::uint64_t> counts = {0, 3, 40, 180, 320, 250, 120, 60, 20, 5, 0, 1};
+  HistogramPlotOptions options;
+  options.log_count = true;
+  options.y_label = "count (log scale)";
+  const std::string svg = histogram_svg(display_histogram(counts), options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::vector<std::pair<double, double>> bars;  // (height, count)
+  for (std::size_t e = 0; e + 1 < elements.size(); ++e) {
+    if (elements[e].name != "rect" || elements[e].attributes.count("class") == 0) continue;
+    const std::string& tip = elements[e + 1].text;
+    bars.emplace_back(std::stod(elements[e].attributes.at("height")),
+                      std::stod(tip.substr(tip.rfind(' ') + 1)));
+  }
+  ASSERT_EQ(bars.size(), 10u);
+  for (const auto& [height, count] : bars) {
+    EXPECT_NEAR(height, 294.0 * std::log10(count / 0.5) / std::log10(2000.0), 0.006) << count;
+  }
+  for (const char* tick : {">1</text>", ">10</text>", ">100</text>", ">1000</text>"}) {
+    EXPECT_NE(svg.find(tick), std::string::npos) << tick;
+  }
+  EXPECT_EQ(svg.find(">10000</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">count (log scale)</text>"), std::string::npos);
+}
+
 TEST(SvgPlot, SharedCountAxis) {
   // With y_max = 900 the axis top is the tick above 900 (Heckbert: range nice(900) = 1000, step
   // 200, top 1000), whatever the tallest bar: left and right plots get the same scale.
@@ -366,6 +395,68 @@ TEST(SvgPlot, XYPlot) {
   parse_ok(xy_plot_svg({}, XYPlotOptions{}));
 }
 
+TEST(SvgPlot, StemsRunFromZeroToTheValueWithADot) {
+  // Layout (svg_plot.cpp make_frame): plot area x 70 … 616, y 56 … 350 px for 640 × 400. With
+  // x in [0, 4] and y in [−1, 2]: x → 70 + x/4·546, y → 350 − (y + 1)/3·294, so y = 0 is at
+  // 252 px, y = 1 at 154, y = −0.5 at 301, y = 2 at 56; x = 1, 2, 3 at 206.5, 343, 479.5.
+  Series stems{"spectrum", {1, 2, 3}, {1.0, -0.5, 2.0}, SeriesStyle::kStems, "#123456"};
+  XYPlotOptions options;
+  options.x_min = 0.0, options.x_max = 4.0, options.y_min = -1.0, options.y_max = 2.0;
+  const std::string svg = xy_plot_svg({stems}, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::vector<std::vector<double>> lines, dots;
+  for (const Element& e : elements) {
+    if (e.name == "polyline") {
+      EXPECT_NE(e.attributes.at("stroke"), "#123456");  // stems are not joined
+    }
+    if (e.name == "line" && e.attributes.at("stroke") == "#123456" &&
+        e.attributes.at("x1") == e.attributes.at("x2")) {  // vertical: a stem (the legend's
+                                                           // swatch is horizontal)
+      lines.push_back({std::stod(e.attributes.at("x1")), std::stod(e.attributes.at("y1")),
+                       std::stod(e.attributes.at("y2"))});
+    }
+    if (e.name == "circle" && e.attributes.at("fill") == "#123456") {
+      dots.push_back({std::stod(e.attributes.at("cx")), std::stod(e.attributes.at("cy"))});
+    }
+  }
+  const std::vector<std::vector<double>> expected_lines = {
+      {206.5, 252, 154}, {343, 252, 301}, {479.5, 252, 56}};
+  const std::vector<std::vector<double>> expected_dots = {{206.5, 154}, {343, 301}, {479.5, 56}};
+  EXPECT_EQ(lines, expected_lines);
+  EXPECT_EQ(dots, expected_dots);
+  EXPECT_NE(svg.find(">spectrum</text>"), std::string::npos);  // legend entry
+}
+
+TEST(SvgPlot, BandIsShadedUnderTheDataAndWidensTheDefaultRange) {
+  // Data y in [0, 0.1] and a band [−0.25, 0.75]: the default y range covers the band, rounded
+  // out to Heckbert's ticks: range 1 → step 0.2 → [−0.4, 0.8]. y → 350 − (y + 0.4)/1.2·294 px,
+  // so the band's top 0.75 is at 68.25 px and its height 1.0/1.2·294 = 245 px; it spans the
+  // plot area's width 70 … 616 px.
+  Series data{"mean", {0, 1}, {0.0, 0.1}, SeriesStyle::kLine, "#123456"};
+  XYPlotOptions options;
+  options.bands = {{-0.25, 0.75, "noise band ±2σ/√n", "#abcdef"}};
+  const std::string svg = xy_plot_svg({data}, options);
+  const std::vector<Element> elements = parse_ok(svg);
+  std::size_t band_index = 0, data_index = 0, bands = 0;
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const Element& e = elements[i];
+    if (e.name == "rect" && e.attributes.count("class") && e.attributes.at("class") == "band") {
+      ++bands;
+      band_index = i;
+      EXPECT_EQ(e.attributes.at("fill"), "#abcdef");
+      EXPECT_EQ(e.attributes.at("fill-opacity"), "0.20");
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("x")), 70.0);
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("width")), 546.0);
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("y")), 68.25);
+      EXPECT_DOUBLE_EQ(std::stod(e.attributes.at("height")), 245.0);
+    }
+    if (e.name == "polyline" && e.attributes.at("stroke") == "#123456") data_index = i;
+  }
+  EXPECT_EQ(bands, 1u);
+  EXPECT_LT(band_index, data_index);  // drawn first: under the data
+  EXPECT_NE(svg.find(">noise band ±2σ/√n</text>"), std::string::npos);  // legend entry
+}
+
 TEST(SvgPlot, PolarPointsLandWhereTheLayoutSays) {
   // Layout (svg_plot.cpp): size 480 -> centre (240, 240 + 32), outer radius 240 - 44 = 196 px;
   // r maps linearly from r_min (centre) to r_max (outer ring); angles counter-clockwise from +X,
@@ -465,12 +556,50 @@ TEST(HtmlReport, StructureIsSelfContained) {
   EXPECT_EQ(order, (std::vector<std::string>{"p", "h2", "table", "figure", "svg", "pre"}));
   EXPECT_NE(html.find("<meta charset=\"utf-8\">"), std::string::npos);
   EXPECT_NE(html.find("<style>"), std::string::npos);
+  // A table scrolls sideways in its own box (not the page) on a narrow window, its caption
+  // above the box so it wraps at the window's width.
+  EXPECT_NE(html.find("<div class=\"table-caption\">Per-flank δRcomp, µm</div>\n"
+                      "<div class=\"table-scroll\">\n<table>"),
+            std::string::npos);
+  EXPECT_NE(html.find(".table-scroll { overflow-x: auto; }"), std::string::npos);
   EXPECT_EQ(count_text(html, "<tr class=\"highlight\">"), 1u);
   EXPECT_EQ(count_text(html, "<th>"), 5u);
   // Nothing is fetched from elsewhere.
   for (const char* external : {"<script", "<link", "src=", "url(", "@import"}) {
     EXPECT_EQ(html.find(external), std::string::npos) << external;
   }
+}
+
+TEST(HtmlReport, ContentsLinkEveryLaterHeadingToItsId) {
+  HtmlReport report("contents");
+  report.heading("Before the contents");  // not listed, no id
+  report.contents("On this page");
+  report.heading("Gap before & after").paragraph("text");
+  report.heading("Spectrum", 3);
+  report.heading("Order, tooth", 3);
+  report.heading("Gap before & after");  // the same text again: its own id
+  report.heading("Detail", 4);           // level 4: not listed
+  const std::string html = report.html();
+  const std::vector<Element> elements = parse_ok(html, /*html=*/true);
+  std::vector<std::string> links, ids;
+  int nested_lists = 0;
+  for (const Element& e : elements) {
+    if (e.name == "a") links.push_back(e.attributes.at("href"));
+    if (e.attributes.count("id")) ids.push_back("#" + e.attributes.at("id"));
+    if (e.name == "ol") ++nested_lists;
+  }
+  // Slugs: ASCII letters and digits, lower case, other runs one '-'; a repeat gets "-2".
+  EXPECT_EQ(links, (std::vector<std::string>{"#gap-before-after", "#spectrum", "#order-tooth",
+                                             "#gap-before-after-2"}));
+  // Every link has its target; the level-4 heading has an id but is not listed.
+  links.push_back("#detail");
+  EXPECT_EQ(ids, links);
+  EXPECT_EQ(nested_lists, 2);  // the list and the level-3 headings under the first entry
+  EXPECT_LT(html.find("<nav class=\"contents\">"), html.find("id=\"gap-before-after\""));
+  EXPECT_GT(html.find("<nav class=\"contents\">"), html.find("Before the contents"));
+  EXPECT_NE(html.find("On this page"), std::string::npos);
+  // Without contents(), headings are plain.
+  EXPECT_EQ(sample_report().html().find(" id="), std::string::npos);
 }
 
 // A new empty directory under the system's temporary directory, unique per process.

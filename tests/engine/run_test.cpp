@@ -78,14 +78,24 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   EXPECT_EQ(summary["delta_rcomp_um"]["flank_max"]["left"]["n"], 2 * 24);
   EXPECT_TRUE(fs::exists(dir / "histograms.csv"));
   // Pictures and the report (P1 Fig. 5 style histograms, left and right).
-  for (const char* svg :
-       {"flank_max_left.svg", "flank_max_right.svg", "point_left.svg", "point_right.svg"}) {
+  for (const char* svg : {"flank_max_left.svg", "flank_max_right.svg", "point_left.svg",
+                          "point_right.svg", "point_log_left.svg", "point_log_right.svg"}) {
     std::ifstream f(dir / svg);
     const std::string text((std::istreambuf_iterator<char>(f)), {});
     EXPECT_NE(text.find("<svg"), std::string::npos) << svg;
     // 4 800 points support a p99.73 marker; 48 per-flank maxima (2 gears) do not (need 371).
     EXPECT_EQ(text.find("p99.73") != std::string::npos, std::string(svg).rfind("point", 0) == 0)
         << svg;
+  }
+  {  // The per-point tail on a log10 count axis: its ticks are powers of ten, also in report.html.
+    std::ifstream f(dir / "point_log_left.svg");
+    const std::string text((std::istreambuf_iterator<char>(f)), {});
+    EXPECT_NE(text.find(">count (log scale)</text>"), std::string::npos);
+    EXPECT_NE(text.find(">1</text>"), std::string::npos);
+    EXPECT_NE(text.find(">100</text>"), std::string::npos);
+    std::ifstream page(dir / "report.html");
+    const std::string html((std::istreambuf_iterator<char>(page)), {});
+    EXPECT_NE(html.find("log10 count axis"), std::string::npos);
   }
   const auto& flank_max_left = summary["delta_rcomp_um"]["flank_max"]["left"];
   EXPECT_TRUE(flank_max_left["p99_73"].is_null());

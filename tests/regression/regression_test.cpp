@@ -3,13 +3,10 @@
 // and its own seed, and the run's summary.json — without the timing fields — is compared with
 // the stored reference scenarios/NAME.ref.json.
 //
-// Comparison: counts (gears, contacts, collisions, n, ...) and strings exactly; real numbers to
-// a relative 1e-9 (absolute 1e-12 µm near zero). Reason for not comparing the reals bit for
-// bit: glibc's libm selects FMA or non-FMA code for sin/cos/atan2/tan at run time from the CPU,
-// and the two can differ in the last bit; the run is otherwise bit-reproducible (tests/engine/
-// run_test.cpp checks 1 thread against all threads exactly), and a last-bit change moves a
-// statistic by ~1e-15 relative, far below 1e-9, while any change of the model moves it by far
-// more.
+// Comparison (reference_compare.h): counts (gears, contacts, collisions, n, ...) and strings
+// exactly; real numbers to a relative 1e-9 (the run is otherwise bit-reproducible: tests/engine/
+// run_test.cpp checks 1 thread against all threads exactly). The references of `simulate` and
+// `diagnose` are in command_regression_test.cpp.
 //
 // Regenerating the references after an intended change of results:
 //   scripts/update-references        (runs this test binary with --update)
@@ -25,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/regression/reference_compare.h"
 #include "tests/support/run_gearmc.h"
 
 namespace gearmc {
@@ -34,7 +32,6 @@ namespace fs = std::filesystem;
 using nlohmann::ordered_json;
 using testing_support::run_gearmc;
 
-bool g_update = false;     // --update: write the references instead of comparing
 constexpr int kGears = 3;  // small: the whole suite stays within a few seconds
 
 std::vector<std::string> scenario_stems() {
@@ -53,54 +50,6 @@ ordered_json regression_view(ordered_json summary) {
   return summary;
 }
 
-// Recursive comparison; appends one line per difference to `out`.
-void compare(const ordered_json& expected, const ordered_json& actual, const std::string& path,
-             std::vector<std::string>& out) {
-  if (expected.is_number_float() || actual.is_number_float()) {
-    if (!expected.is_number() || !actual.is_number()) {
-      out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
-      return;
-    }
-    const double e = expected.get<double>(), a = actual.get<double>();
-    if (std::abs(a - e) > std::max(1e-12, 1e-9 * std::abs(e))) {
-      out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
-    }
-    return;
-  }
-  if (expected.type() != actual.type()) {
-    out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
-    return;
-  }
-  if (expected.is_object()) {
-    for (const auto& [key, value] : expected.items()) {
-      if (!actual.contains(key)) {
-        out.push_back(path + "/" + key + ": missing from the run's summary");
-      } else {
-        compare(value, actual[key], path + "/" + key, out);
-      }
-    }
-    for (const auto& [key, value] : actual.items()) {
-      if (!expected.contains(key)) {
-        out.push_back(path + "/" + key + ": new in the run's summary (not in the reference)");
-      }
-    }
-    return;
-  }
-  if (expected.is_array()) {
-    if (expected.size() != actual.size()) {
-      out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
-      return;
-    }
-    for (size_t i = 0; i < expected.size(); ++i) {
-      compare(expected[i], actual[i], path + "/" + std::to_string(i), out);
-    }
-    return;
-  }
-  if (expected != actual) {
-    out.push_back(path + ": expected " + expected.dump() + ", got " + actual.dump());
-  }
-}
-
 class ScenarioRegression : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ScenarioRegression, MatchesStoredReference) {
@@ -117,7 +66,7 @@ TEST_P(ScenarioRegression, MatchesStoredReference) {
   const ordered_json actual = regression_view(ordered_json::parse(summary_file));
   fs::remove_all(out);
 
-  if (g_update) {
+  if (regression::update_mode()) {
     ordered_json reference;
     reference["_about"] =
         "Regression reference of scenarios/" + stem + ".yaml: summary.json of `gearmc run " +
@@ -132,13 +81,9 @@ TEST_P(ScenarioRegression, MatchesStoredReference) {
   std::ifstream reference_file(reference_path);
   ASSERT_TRUE(reference_file) << "no stored reference " << reference_path
                               << "; create it with scripts/update-references";
-  ordered_json reference = ordered_json::parse(reference_file);
-  reference.erase("_about");
-  std::vector<std::string> differences;
-  compare(reference, actual, "", differences);
-  std::string report;
-  for (const auto& d : differences) report += "  " + d + "\n";
-  EXPECT_TRUE(differences.empty())
+  const std::string report =
+      regression::differences_from(ordered_json::parse(reference_file), actual);
+  EXPECT_TRUE(report.empty())
       << "scenario " << stem << " differs from " << reference_path << ":\n"
       << report
       << "If the change is intended, run scripts/update-references and give the reason in the "
@@ -157,7 +102,7 @@ int main(int argc, char** argv) {
   std::vector<char*> args;
   for (int i = 0; i < argc; ++i) {
     if (std::strcmp(argv[i], "--update") == 0) {
-      gearmc::g_update = true;
+      gearmc::regression::update_mode() = true;
     } else {
       args.push_back(argv[i]);
     }
