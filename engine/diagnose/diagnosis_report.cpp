@@ -288,9 +288,10 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
     s << ". ";
   }
   s << "Gap: RMS " << fixed(d.gap_before.rms_um) << " µm → " << fixed(d.gap_after.rms_um)
-    << " µm with it, " << fixed(d.held_out_rms_um) << " µm on held-out teeth, noise floor "
-    << fixed(r.sigma) << " µm" << floor_after_phrase(d) << " (it explains "
-    << fixed(100.0 * d.explained_fraction, 0) << " % of the excess variance). ";
+    << " µm with it, " << fixed(d.held_out_rms_um) << " µm held out ("
+    << held_out_split_text(d.held_out_split) << "), noise floor " << fixed(r.sigma) << " µm"
+    << floor_after_phrase(d) << " (it explains " << fixed(100.0 * d.explained_fraction, 0)
+    << " % of the excess variance). ";
   if (d.unexplained_structure) {
     s << "Unexplained structure remains after it (χ²/dof " << fixed(d.gap_after.chi2_dof, 2) << ", "
       << p_text(d.gap_after.chi2_p, k) << "; KS " << p_text(d.gap_after.ks_p, k) << "). ";
@@ -326,6 +327,16 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
                   fixed(d.gap_after.rms_um) + " µm after (held-out " + fixed(d.held_out_rms_um) +
                   " µm, noise floor " + fixed(d.noise.sigma_um) + " µm" + floor_after_phrase(d) +
                   ")");
+  if (!d.outliers.excluded.empty()) {
+    std::string which;
+    for (std::size_t e = 0; e < d.outliers.excluded.size() && e < 5; ++e) {
+      which += (e ? ", " : "") + std::to_string(d.outliers.excluded[e].line);
+    }
+    if (d.outliers.excluded.size() > 5) which += ", …";
+    lines.push_back("excluded " + std::to_string(d.outliers.excluded.size()) +
+                    " gross outlier reading" + (d.outliers.excluded.size() == 1 ? "" : "s") +
+                    " (CSV line " + which + "; see the report)");
+  }
   return lines;
 }
 

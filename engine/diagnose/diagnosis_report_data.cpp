@@ -57,6 +57,15 @@ AxisStructure axis_structure(const std::string& axis, const Bins& b, double sigm
 
 }  // namespace
 
+std::string held_out_split_text(const std::string& split) {
+  if (split == "alternating_teeth") return "alternate measured teeth";
+  if (split == "flanks") return "L ↔ R flanks";
+  if (split == "alternating_sections") return "alternate face sections";
+  if (split == "alternating_profile_points") return "alternate profile points";
+  if (split == "nothing_fitted") return "nothing fitted: the RMS before";
+  return "no split possible";
+}
+
 std::string fixed(double v, int decimals) {
   if (!std::isfinite(v)) return "–";
   char buffer[64];

@@ -28,6 +28,8 @@ inline constexpr std::size_t kMaxScatterMarks = 5000;
 
 // v with `decimals` decimals ("–" when not finite; never "-0.000").
 std::string fixed(double v, int decimals = 3);
+// How the held-out check split the readings (Diagnosis::held_out_split), in words.
+std::string held_out_split_text(const std::string& split);
 // A value with its standard error at a precision that follows the error (2 significant digits
 // of the error, at most 4 decimals, at least 1).
 std::string with_error(double value, double error);

@@ -237,7 +237,8 @@ void gap_section(HtmlReport& report, const ReportContext& ctx) {
                 " simulations of the null: noise at the noise floor at the same points).";
     t.header = {"", "before", "after"};
     t.rows.push_back({{"residual RMS, µm", fixed(d.gap_before.rms_um), fixed(d.gap_after.rms_um)}});
-    t.rows.push_back({{"held-out RMS (odd ↔ even teeth), µm", "", fixed(d.held_out_rms_um)}});
+    t.rows.push_back({{"held-out RMS (" + held_out_split_text(d.held_out_split) + "), µm", "",
+                       fixed(d.held_out_rms_um)}});
     t.rows.push_back(
         {{"noise floor σ, µm", fixed(d.noise.sigma_um), fixed(d.noise_floor_after_um)}});
     t.rows.push_back({{"excess RMS √(RMS² − σ²), µm", fixed(d.gap_before.excess_rms_um),
@@ -476,6 +477,27 @@ void notes_and_inputs_section(HtmlReport& report, const ReportContext& ctx) {
   if (!notes.empty()) {
     report.heading("Notes");
     for (const std::string& n : notes) report.paragraph(n + ".");
+  }
+  if (!d.outliers.excluded.empty()) {
+    constexpr std::size_t kShown = 50;
+    HtmlTable t;
+    t.caption = "Readings excluded as gross outliers (|z| > " + fixed(d.outliers.threshold_z, 2) +
+                " against the prediction from their profile scan's neighbours, σ " +
+                fixed(d.outliers.sigma_um) + " µm; a 1 % chance per clean file)" +
+                (d.outliers.excluded.size() > kShown
+                     ? "; the first " + std::to_string(kShown) + " of " +
+                           std::to_string(d.outliers.excluded.size()) + ", all in diagnosis.json"
+                     : std::string()) +
+                ".";
+    t.header = {"CSV line", "gear", "tooth", "flank", "i", "j", "residual, µm", "z"};
+    for (std::size_t e = 0; e < d.outliers.excluded.size() && e < kShown; ++e) {
+      const ExcludedReading& x = d.outliers.excluded[e];
+      t.rows.push_back({{std::to_string(x.line), std::to_string(x.gear), std::to_string(x.tooth),
+                         x.side == FlankSide::kRight ? "R" : "L", std::to_string(x.i),
+                         std::to_string(x.j), fixed(x.residual_um), fixed(x.z, 1)}});
+    }
+    report.heading("Excluded readings");
+    report.table(t);
   }
   report.heading("Inputs");
   {

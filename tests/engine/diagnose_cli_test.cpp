@@ -146,7 +146,7 @@ TEST_F(DiagnoseCli, NamesTheHiddenLobingFitsItAndTheFittedModelClosesTheGap) {
   ASSERT_NE(verdict, std::string::npos);
   EXPECT_LT(verdict, html.find("<svg"));
   EXPECT_NE(html.find("amplitude_6_um = 0.75"), std::string::npos);
-  EXPECT_NE(html.find("on held-out teeth"), std::string::npos);
+  EXPECT_NE(html.find("held out (alternate measured teeth)"), std::string::npos);
   for (const char* part :
        {"approach azimuth", "Residual vs measurement order", "Residual vs tooth", "null band",
         "Step 1: probe_lobing accepted", "Residuals after the fit", "fitted.yaml"}) {
