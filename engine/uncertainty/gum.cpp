@@ -74,11 +74,11 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
   f.evaluate(r.x.data(), y.data());
   const auto c = sensitivities(f, r.x, steps);
 
-  // Higher-order terms (JCGM 100 5.1.2 note) with steps h_i = u_i.
+  // Higher-order terms (JCGM 100 5.1.2 note) with steps h_i = 1e-2 u_i.
   std::vector<double> second(m, 0.0);
   if (r.second_order) {
     std::vector<double> H(n);
-    for (std::size_t i = 0; i < n; ++i) H[i] = r.u[i] > 0 ? exact_step(r.x[i], r.u[i]) : 0.0;
+    for (std::size_t i = 0; i < n; ++i) H[i] = r.u[i] > 0 ? exact_step(r.x[i], 1e-2 * r.u[i]) : 0.0;
     std::vector<double> xx = r.x, out(m);
     auto at = [&](std::size_t i, double di, std::size_t j, double dj, std::size_t k) {
       xx = r.x;

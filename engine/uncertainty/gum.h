@@ -20,11 +20,11 @@ namespace gearmc::uncertainty {
 inline constexpr double kSensitivityStepFraction = 1e-3;
 inline constexpr const char* kSensitivityMethod =
     "central differences, step h_i = 1e-3 u(x_i) (JCGM 100 5.1.3; error about h^2 |f'''| / 6)";
-// The higher-order terms use steps h_i = u(x_i) (the difference quotients are exact for
-// polynomials up to degree 3 in each pair of inputs).
+// The higher-order terms use steps h_i = 1e-2 u(x_i) (second and third difference quotients;
+// their rounding error grows as eps |f| / h³, so the step is larger than for c_i).
 inline constexpr const char* kSecondOrderMethod =
     "JCGM 100 5.1.2 note: sum_ij [ (d2f/dxi dxj)^2 / 2 + df/dxi d3f/dxi dxj^2 ] u_i^2 u_j^2, "
-    "derivatives by central differences with steps h_i = u(x_i), inputs taken as uncorrelated";
+    "derivatives by central differences with steps h_i = 1e-2 u(x_i), inputs taken as uncorrelated";
 
 struct GumOutput {
   std::string name;

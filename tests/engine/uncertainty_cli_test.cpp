@@ -1,0 +1,147 @@
+// `gearmc uncertainty` run as a user runs it:
+//  * bad model files (unknown law, wrong parameter count, an expression naming an unknown input,
+//    a correlation matrix that is not positive definite, sd <= 0, unknown keys, an unknown
+//    builtin, too few trials) give exit code 2 and one message with file:line:column, the key
+//    and a "did you mean" where one fits, and write nothing (the --out folder is not created);
+//  * uncertainty.json has the documented keys, and is byte-identical for 1 and 2 threads apart
+//    from "threads", "wall_s" and the provenance (command line, time) — fixed M and adaptive.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/support/run_gearmc.h"
+
+namespace gearmc {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::run_gearmc;
+
+std::string temp_dir(const std::string& tag) {
+  const fs::path d =
+      fs::path(::testing::TempDir()) / ("unc_" + tag + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  return d.string();
+}
+
+std::string write_model(const std::string& tag, const std::string& text) {
+  const std::string path = temp_dir(tag) + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+const char* kGood = R"M(name: good
+inputs:
+  X1: {normal: [0, 1]}
+  X2: {uniform: [-1, 1]}
+  X3: {normal: [0, 1]}
+outputs:
+  Y: "X1 + X2*X3"
+settings: {trials: 20000, seed: 3}
+)M";
+
+struct BadCase {
+  const char* tag;
+  std::string text;
+  std::string where;    // "file:line:col" suffix expected after the file name
+  std::string message;  // a part of the message
+};
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
+  const std::string g = kGood;
+  const BadCase cases[] = {
+      {"law", replace(g, "uniform: [-1, 1]", "uniforn: [-1, 1]"),
+       ":4:8:", "did you mean 'uniform'"},
+      {"count", replace(g, "normal: [0, 1]}\n  X2", "normal: [0]}\n  X2"),
+       ":3:16:", "normal [mean, sd]"},
+      {"sd", replace(g, "normal: [0, 1]}\n  X2", "normal: [0, -1]}\n  X2"),
+       ":3:16:", "sd must be > 0"},
+      {"unknown_input", replace(g, "X1 + X2*X3", "X1 + X2*X4"), ":7:6:", "'X4' is none of them"},
+      {"non_pd", g + "correlations: [[X1, X3, 0.9], [X1, X3, 0.8]]\n",
+       ":9:31:", "each pair of inputs at most once"},
+      {"not_pd",
+       replace(g, "X2: {uniform: [-1, 1]}", "X2: {normal: [0, 1]}") +
+           "correlations: [[X1, X2, 0.9], [X1, X3, 0.9], [X2, X3, -0.9]]\n",
+       ":9:15:", "positive definite"},
+      {"top_key", replace(g, "settings:", "setings:"), ":8:1:", "did you mean 'settings'"},
+      {"setting_key", replace(g, "trials: 20000", "trails: 20000"),
+       ":8:12:", "did you mean 'trials'"},
+      {"builtin", replace(g, "outputs:\n  Y: \"X1 + X2*X3\"", "builtin: {model: summ}"),
+       ":6:18:", "did you mean 'sum'"},
+      {"few_trials", replace(g, "trials: 20000", "trials: 10"), ":8:", "at least 21 trials"},
+  };
+  for (const BadCase& c : cases) {
+    const std::string model = write_model(c.tag, c.text);
+    const std::string out = temp_dir(std::string(c.tag) + "_out");
+    const auto r = run_gearmc("uncertainty " + model + " --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << c.tag << ": " << r.err;
+    EXPECT_NE(r.err.find(model + c.where), std::string::npos) << c.tag << ": " << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.tag << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.tag << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.tag;
+    fs::remove(model);
+  }
+  const auto r = run_gearmc("uncertainty " + write_model("good", kGood) + " --trials 1e6 --out " +
+                            temp_dir("bad_trials"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--trials"), std::string::npos) << r.err;
+}
+
+nlohmann::json run_json(const std::string& args, const std::string& out) {
+  const auto r = run_gearmc("uncertainty " + args + " --quiet --out " + out);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream f(out + "/uncertainty.json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_TRUE(fs::exists(out + "/report.html"));
+  return j;
+}
+
+TEST(UncertaintyCli, JsonKeysAndThreadIndependence) {
+  const std::string dir = std::string(GEARMC_SOURCE_DIR) + "/scenarios/uncertainty/";
+  for (const std::string& args :
+       {dir + "mass_calibration.yaml --trials 300000", dir + "additive_rectangular.yaml"}) {
+    const std::string a = temp_dir("t1"), b = temp_dir("t2");
+    nlohmann::json j1 = run_json(args + " --threads 1", a);
+    nlohmann::json j2 = run_json(args + " --threads 2", b);
+    EXPECT_EQ(j1["threads"], 1);
+    EXPECT_EQ(j2["threads"], 2);
+    for (auto* j : {&j1, &j2}) {
+      j->erase("threads");
+      j->erase("wall_s");
+      j->erase("provenance");
+    }
+    EXPECT_EQ(j1.dump(), j2.dump()) << args;
+    const auto& o = j1["outputs"].begin().value();
+    for (const char* k :
+         {"estimate", "u", "nu_eff", "k", "U", "interval", "sensitivities", "contributions"}) {
+      EXPECT_TRUE(o["gum"].contains(k)) << k;
+    }
+    for (const char* k :
+         {"estimate", "u", "interval_symmetric", "interval_shortest", "trials", "adaptive"}) {
+      EXPECT_TRUE(o["mcm"].contains(k)) << k;
+    }
+    EXPECT_TRUE(o["mcm"]["adaptive"].contains("blocks"));
+    EXPECT_TRUE(o["mcm"]["adaptive"].contains("delta"));
+    for (const char* k : {"delta", "d_low", "d_high", "gum_validated"}) {
+      EXPECT_TRUE(o["validation"].contains(k)) << k;
+    }
+    for (const char* k : {"model", "seed", "coverage_probability"}) {
+      EXPECT_TRUE(j1.contains(k)) << k;
+    }
+    fs::remove_all(a);
+    fs::remove_all(b);
+  }
+}
+
+}  // namespace
+}  // namespace gearmc
