@@ -293,8 +293,17 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
           shi.push_back(bv.short_hi[j]);
         }
         McmOutput& out = r.outputs[j];
-        // §7.9.4 h): δ from u(y) of all h M values so far.
-        out.delta = numerical_tolerance(mean_sd(values[j].data(), to).sd, o.significant_digits);
+        // §7.9.4 h): δ from u(y) of all h M values so far, pooled from the block means and
+        // standard deviations: (hB − 1) u² = Σ_r [(B − 1) u_r² + B (ȳ_r − ȳ)²] (exact algebra,
+        // O(h) instead of O(hB) per block).
+        double grand = 0.0;
+        for (double v : ye) grand += v;
+        grand /= double(ye.size());
+        double ss = 0.0;
+        for (std::size_t b = 0; b < ye.size(); ++b) {
+          ss += double(B - 1) * yu[b] * yu[b] + double(B) * (ye[b] - grand) * (ye[b] - grand);
+        }
+        out.delta = numerical_tolerance(std::sqrt(ss / double(to - 1)), o.significant_digits);
         out.two_s_estimate = 2 * sd_of_average(ye);
         out.two_s_u = 2 * sd_of_average(yu);
         // The endpoints of both interval kinds must be stable (both are reported).

@@ -44,7 +44,6 @@ double gum_cdf(const GumOutput& g, double x) {
 std::string evaluation_report_html(const UncertaintyModel& model, const McmOptions& o,
                                    const Evaluation& e, const Provenance& provenance) {
   HtmlReport page("gearmc uncertainty: " + model.name);
-  page.paragraph(provenance_line(provenance));
   std::ostringstream intro;
   intro << "GUM (JCGM 100) and Monte Carlo (JCGM 101) side by side for " << model.inputs.size()
         << " input(s) and " << model.outputs.size() << " output(s); coverage probability "
@@ -188,6 +187,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
                    (v.validated ? "" : " Use the MCM results."));
   }
   page.preformatted(model.source_text, "Model file " + model.source_path);
+  page.paragraph(provenance_line(provenance));
   return page.html();
 }
 
