@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -79,6 +81,11 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
       {"builtin", replace(g, "outputs:\n  Y: \"X1 + X2*X3\"", "builtin: {model: summ}"),
        ":6:18:", "did you mean 'sum'"},
       {"few_trials", replace(g, "trials: 20000", "trials: 10"), ":8:", "at least 21 trials"},
+      // 4e9 trials x 16 bytes = 64 GB: refused before any work (the memory rule).
+      {"memory", replace(g, "trials: 20000", "trials: 4000000000"),
+       ":8:", "16 bytes per trial per output"},
+      {"later_output", replace(g, "Y: \"X1 + X2*X3\"", "Y: \"Z + 1\"\n  Z: \"X1\""),
+       ":7:6:", "outputs may use only outputs listed before them"},
   };
   for (const BadCase& c : cases) {
     const std::string model = write_model(c.tag, c.text);
@@ -95,6 +102,44 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
                             temp_dir("bad_trials"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--trials"), std::string::npos) << r.err;
+}
+
+TEST(UncertaintyCli, OutputsUseEarlierOutputs) {
+  const std::string model = write_model(
+      "chain", replace(kGood, "Y: \"X1 + X2*X3\"", "Y: \"X1 + X2*X3\"\n  Z: \"2*Y + 1\""));
+  const std::string out = temp_dir("chain_out");
+  const auto r = run_gearmc("uncertainty " + model + " --quiet --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  // Z = 2Y + 1 exactly, trial by trial: its mean and u follow from Y's.
+  const auto& y = j["outputs"]["Y"]["mcm"];
+  const auto& z = j["outputs"]["Z"]["mcm"];
+  EXPECT_NEAR(z["estimate"].get<double>(), 2 * y["estimate"].get<double>() + 1, 1e-12);
+  EXPECT_NEAR(z["u"].get<double>(), 2 * y["u"].get<double>(), 1e-12);
+  EXPECT_NEAR(j["outputs"]["Z"]["gum"]["sensitivities"]["X1"].get<double>(), 2.0, 1e-8);
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
+TEST(UncertaintyCli, InterruptStopsCleanlyWithExit130) {
+  // SIGINT one second into an adaptive run that cannot stop by its rule soon (4 significant
+  // digits of u = 2 need about 10^10 trials): exit 130, no file and no folder left behind.
+  const std::string model =
+      write_model("endless", replace(replace(kGood, "trials: 20000", "trials: adaptive"), "seed: 3",
+                                     "seed: 3, significant_digits: 4"));
+  const std::string out = temp_dir("endless_out");
+  const std::string err_file = temp_dir("endless_err") + ".txt";
+  const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(GEARMC_BINARY) +
+                          " uncertainty " + model + " --quiet --out " + out + " >/dev/null 2>" +
+                          err_file;
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  std::ifstream e(err_file);
+  const std::string err((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(err.find("interrupted"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove(model);
+  fs::remove(err_file);
 }
 
 nlohmann::json run_json(const std::string& args, const std::string& out) {
