@@ -82,11 +82,32 @@ double sd_of_average(const std::vector<double>& v) {
   return std::sqrt(ss / (h * (h - 1.0)));
 }
 
-// Sorts finite doubles ascending by a least-significant-digit radix sort on their bit patterns
-// (4 passes of 16 bits; the key maps IEEE-754 order to unsigned order: negative numbers have
-// all bits flipped, the others the sign bit). O(M) with a scratch buffer of M values, about
-// 5x faster than std::sort at 10^6 values; the result is the unique sorted order.
-void radix_sort(std::vector<double>& v) {
+class Arena {
+ public:
+  explicit Arena(int threads) {
+    if (threads > 0) {
+      limit_.emplace(tbb::global_control::max_allowed_parallelism,
+                     static_cast<std::size_t>(threads));
+      arena_.emplace(threads);
+    }
+  }
+  template <typename F>
+  void run(F&& f) {
+    if (arena_) {
+      arena_->execute(f);
+    } else {
+      f();
+    }
+  }
+
+ private:
+  std::optional<tbb::global_control> limit_;
+  std::optional<tbb::task_arena> arena_;
+};
+
+}  // namespace
+
+void sort_values(std::vector<double>& v) {
   const std::size_t n = v.size();
   std::vector<std::uint64_t> a(n), b(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -113,31 +134,6 @@ void radix_sort(std::vector<double>& v) {
     std::memcpy(&v[i], &k, sizeof k);
   }
 }
-
-class Arena {
- public:
-  explicit Arena(int threads) {
-    if (threads > 0) {
-      limit_.emplace(tbb::global_control::max_allowed_parallelism,
-                     static_cast<std::size_t>(threads));
-      arena_.emplace(threads);
-    }
-  }
-  template <typename F>
-  void run(F&& f) {
-    if (arena_) {
-      arena_->execute(f);
-    } else {
-      f();
-    }
-  }
-
- private:
-  std::optional<tbb::global_control> limit_;
-  std::optional<tbb::task_arena> arena_;
-};
-
-}  // namespace
 
 std::uint64_t coverage_count(std::uint64_t M, double p) {
   const double pm = p * static_cast<double>(M);
@@ -366,7 +362,7 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
     out.estimate = ms.mean;
     out.u = ms.sd;
     out.sorted = std::move(values[j]);
-    radix_sort(out.sorted);
+    sort_values(out.sorted);
     out.symmetric = symmetric_interval(out.sorted, p);
     out.shortest = shortest_interval(out.sorted, p);
     if (!r.adaptive) out.delta = numerical_tolerance(out.u, o.significant_digits);

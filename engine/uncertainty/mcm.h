@@ -23,6 +23,12 @@ namespace gearmc::uncertainty {
 // integer, else floor(pM + 1/2); the probabilistically symmetric interval is [y_(r), y_(r+q)]
 // with r = (M − q)/2 when that is an integer, else floor((M − q + 1)/2); the shortest is the
 // [y_(r), y_(r+q)] of least width (an O(M) scan; the first r on ties). Needs q < M.
+// Sorts finite values ascending: a least-significant-digit radix sort on the IEEE-754 bit
+// patterns (4 passes of 16 bits; negative numbers have all bits flipped, the others the sign
+// bit, which maps their order to unsigned order; −0 sorts before +0). O(M), with a scratch
+// buffer of M values.
+void sort_values(std::vector<double>& values);
+
 struct Interval {
   double lo = 0.0, hi = 0.0;
 };

@@ -22,6 +22,7 @@
 // probability below 1e-4 per check; the runs are deterministic, so a pass stays a pass.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -29,6 +30,7 @@
 #include "engine/uncertainty/mcm.h"
 #include "engine/uncertainty/model.h"
 #include "engine/uncertainty/special_functions.h"
+#include "engine/uncertainty/trial_stream.h"
 
 namespace gearmc::uncertainty {
 namespace {
@@ -91,6 +93,21 @@ TEST(UncertaintyMcm, NumericalToleranceBlockSizeAndIntervals) {
   y.push_back(30);
   EXPECT_EQ(coverage_count(21, 0.9), 19u);
   EXPECT_DOUBLE_EQ(symmetric_interval(y, 0.9).hi, 20.5);
+}
+
+TEST(UncertaintyMcm, RadixSortEqualsStdSort) {
+  // Mixed signs, zeros, subnormals, huge and tiny magnitudes, repeats; compared value by value
+  // with std::sort (which orders −0 and +0 as equal, so zeros are compared by value).
+  std::vector<double> v = {3.5, -0.0, 0.0, -1e-310, 1e-310, -1e300, 1e300, 2.0, -2.0, 2.0, -7.25};
+  for (int i = 0; i < 100000; ++i) {
+    TrialStream s(9, std::uint64_t(i), 0);
+    v.push_back(s.normal() * std::pow(10.0, 20 * s.uniform() - 10));
+  }
+  std::vector<double> expected = v;
+  std::sort(expected.begin(), expected.end());
+  sort_values(v);
+  ASSERT_EQ(v.size(), expected.size());
+  for (std::size_t i = 0; i < v.size(); ++i) ASSERT_EQ(v[i], expected[i]) << i;
 }
 
 TEST(UncertaintyMcm, AdditiveNormalJcgm101Section922) {
