@@ -109,26 +109,32 @@ class Arena {
 
 void sort_values(std::vector<double>& v) {
   const std::size_t n = v.size();
-  std::vector<std::uint64_t> a(n), b(n);
+  // Peak memory 16 bytes per value: the keys and one scratch buffer exist while `v` is freed.
+  std::vector<std::uint64_t> a(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t k;
     std::memcpy(&k, &v[i], sizeof k);
     a[i] = (k >> 63) ? ~k : (k | 0x8000000000000000ull);
   }
-  std::vector<std::size_t> count(1u << 16);
-  for (int pass = 0; pass < 4; ++pass) {
-    const int shift = 16 * pass;
-    std::fill(count.begin(), count.end(), 0);
-    for (std::size_t i = 0; i < n; ++i) ++count[(a[i] >> shift) & 0xFFFF];
-    std::size_t sum = 0;
-    for (std::size_t& c : count) {
-      const std::size_t t = c;
-      c = sum;
-      sum += t;
+  std::vector<double>().swap(v);
+  {
+    std::vector<std::uint64_t> b(n);
+    std::vector<std::size_t> count(1u << 16);
+    for (int pass = 0; pass < 4; ++pass) {
+      const int shift = 16 * pass;
+      std::fill(count.begin(), count.end(), 0);
+      for (std::size_t i = 0; i < n; ++i) ++count[(a[i] >> shift) & 0xFFFF];
+      std::size_t sum = 0;
+      for (std::size_t& c : count) {
+        const std::size_t t = c;
+        c = sum;
+        sum += t;
+      }
+      for (std::size_t i = 0; i < n; ++i) b[count[(a[i] >> shift) & 0xFFFF]++] = a[i];
+      a.swap(b);
     }
-    for (std::size_t i = 0; i < n; ++i) b[count[(a[i] >> shift) & 0xFFFF]++] = a[i];
-    a.swap(b);
   }
+  v.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint64_t k = (a[i] >> 63) ? (a[i] & 0x7FFFFFFFFFFFFFFFull) : ~a[i];
     std::memcpy(&v[i], &k, sizeof k);

@@ -5,8 +5,9 @@
 // Trials run in parallel (oneTBB) but every trial's draws come from its own counter-based stream
 // (trial_stream.h) and writes its own slot, and all statistics are taken afterwards in trial
 // order, so results are bit-identical for any number of threads.
-// Memory: 8 bytes per trial per output for the values, and as much again for a sorted copy while
-// the intervals are found (kBytesPerTrialPerOutput).
+// Memory: 8 bytes per trial per output for the values, and 8 more per trial for the output being
+// sorted while its intervals are found: at most 16 bytes per trial per output
+// (kBytesPerTrialPerOutput).
 #pragma once
 
 #include <atomic>
@@ -25,8 +26,8 @@ namespace gearmc::uncertainty {
 // [y_(r), y_(r+q)] of least width (an O(M) scan; the first r on ties). Needs q < M.
 // Sorts finite values ascending: a least-significant-digit radix sort on the IEEE-754 bit
 // patterns (4 passes of 16 bits; negative numbers have all bits flipped, the others the sign
-// bit, which maps their order to unsigned order; −0 sorts before +0). O(M), with a scratch
-// buffer of M values.
+// bit, which maps their order to unsigned order; −0 sorts before +0). O(M); while it runs, the
+// keys and a scratch buffer take 16 bytes per value (the values themselves are freed).
 void sort_values(std::vector<double>& values);
 
 struct Interval {

@@ -69,8 +69,9 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
 // Reads and parses a model file (regular file, at most 64 MiB, UTF-8).
 UncertaintyModel load_uncertainty_model(const std::string& path);
 
-// Largest memory for the stored output values: 8 bytes per trial per output, twice (the values
-// and a sorted copy for the coverage intervals). Larger runs are refused.
+// Largest memory for the stored output values: 8 bytes per trial per output, and 8 more per
+// trial while one output is sorted for its coverage intervals — counted as 16 bytes per trial
+// per output. Larger runs are refused.
 inline constexpr double kMaxValueBytes = 8.0 * (1ull << 30);
 inline constexpr double kBytesPerTrialPerOutput = 16.0;
 
