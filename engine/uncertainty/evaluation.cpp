@@ -36,9 +36,9 @@ Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
     const GumOutput& g = e.gum.outputs[j];
     const McmOutput& m = e.mcm.outputs[j];
     e.validation.push_back(
-        validate_gum(g.estimate, g.U, g.u, m.shortest, options.significant_digits));
-    e.validation_symmetric.push_back(
         validate_gum(g.estimate, g.U, g.u, m.symmetric, options.significant_digits));
+    e.validation_shortest.push_back(
+        validate_gum(g.estimate, g.U, g.u, m.shortest, options.significant_digits));
   }
   if (e.mcm.adaptive && !e.mcm.converged) {
     e.warnings.push_back("the adaptive procedure reached max_trials (" +
@@ -127,14 +127,14 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
     mj["adaptive"] = aj;
 
     const Validation& v = e.validation[k];
-    const Validation& vs = e.validation_symmetric[k];
+    const Validation& vs = e.validation_shortest[k];
     nlohmann::ordered_json vj;
     vj["delta"] = v.delta;
     vj["d_low"] = v.d_low;
     vj["d_high"] = v.d_high;
     vj["gum_validated"] = v.validated;
-    vj["mcm_interval"] = "shortest";
-    vj["symmetric"] = {{"d_low", vs.d_low}, {"d_high", vs.d_high}, {"gum_validated", vs.validated}};
+    vj["mcm_interval"] = "symmetric";
+    vj["shortest"] = {{"d_low", vs.d_low}, {"d_high", vs.d_high}, {"gum_validated", vs.validated}};
     outputs[g.name] = {{"gum", gj}, {"mcm", mj}, {"validation", vj}};
   }
   j["outputs"] = outputs;
@@ -174,9 +174,9 @@ void print_evaluation(std::ostream& out, const UncertaintyModel& model, const Mc
         << fixed(g.u, d) + (e.gum.second_order ? " (with 2nd order)" : "") << fixed(m.u, d) << "\n";
     out << std::setw(22) << "  nu_eff, k" << std::setw(28) << nu + ", " + fixed(g.k, 3) << "-\n";
     out << std::setw(22) << "  " + pct.str() + " interval" << std::setw(28) << iv(g.lo, g.hi)
-        << "shortest " << iv(m.shortest.lo, m.shortest.hi) << "\n";
-    out << std::setw(22) << "" << std::setw(28) << ""
         << "symmetric " << iv(m.symmetric.lo, m.symmetric.hi) << "\n";
+    out << std::setw(22) << "" << std::setw(28) << ""
+        << "shortest  " << iv(m.shortest.lo, m.shortest.hi) << "\n";
     out << "  validation (JCGM 101 §8, ndig " << o.significant_digits << "): delta "
         << std::defaultfloat << std::setprecision(3) << v.delta << ", d_low " << v.d_low
         << ", d_high " << v.d_high << " -> GUM " << (v.validated ? "validated" : "NOT validated")

@@ -18,9 +18,11 @@ namespace gearmc::uncertainty {
 struct Evaluation {
   GumResult gum;
   McmResult mcm;
-  // JCGM 101 §8 per output, against the MCM shortest interval (the verdict) and against the
-  // probabilistically symmetric one (shown too).
-  std::vector<Validation> validation, validation_symmetric;
+  // JCGM 101 §8 per output, against the MCM probabilistically symmetric interval (the verdict:
+  // the GUM interval y ± U is probabilistically symmetric too) and against the shortest one
+  // (shown too; for a symmetric output law its endpoints wander far more than the symmetric
+  // ones, so it would fail an exact GUM by Monte-Carlo noise alone).
+  std::vector<Validation> validation, validation_shortest;
   std::vector<std::string> warnings;
 };
 

@@ -73,13 +73,13 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
           std::string(v.validated ? "validated" : "NOT validated") + " (δ " + fmt(v.delta, d + 1) +
               ", d_low " + fmt(v.d_low, d + 1) + ", d_high " + fmt(v.d_high, d + 1) + ")"},
          false});
-    summary.rows.push_back({{g.name, "MCM shortest", fmt(m.estimate, d), fmt(m.u, d), "", "",
-                             "[" + fmt(m.shortest.lo, d) + ", " + fmt(m.shortest.hi, d) + "]", ""},
-                            true});
     summary.rows.push_back(
-        {{g.name, "MCM symmetric", "", "", "", "",
+        {{g.name, "MCM symmetric", fmt(m.estimate, d), fmt(m.u, d), "", "",
           "[" + fmt(m.symmetric.lo, d) + ", " + fmt(m.symmetric.hi, d) + "]", ""},
-         false});
+         true});
+    summary.rows.push_back({{g.name, "MCM shortest", "", "", "", "",
+                             "[" + fmt(m.shortest.lo, d) + ", " + fmt(m.shortest.hi, d) + "]", ""},
+                            false});
   }
   page.table(summary);
 
@@ -109,8 +109,10 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     ho.overlay_label = std::isfinite(g.nu_eff) ? "GUM: y + u t_ν" : "GUM: N(y, u²)";
     ho.markers = {{g.lo, "GUM " + fmt(g.lo, d), "#D55E00", true},
                   {g.hi, "GUM " + fmt(g.hi, d), "#D55E00", true},
-                  {m.shortest.lo, "MCM " + fmt(m.shortest.lo, d), "#0072B2", false},
-                  {m.shortest.hi, "MCM " + fmt(m.shortest.hi, d), "#0072B2", false}};
+                  {m.symmetric.lo, "MCM " + fmt(m.symmetric.lo, d), "#0072B2", false},
+                  {m.symmetric.hi, "MCM " + fmt(m.symmetric.hi, d), "#0072B2", false},
+                  {m.shortest.lo, "", "#009E73", true},
+                  {m.shortest.hi, "", "#009E73", true}};
     ho.x_min = lo;
     ho.x_max = hi;
     ho.width_px = 900;
@@ -118,7 +120,8 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     page.figure(
         histogram_svg(hist, ho),
         "Histogram of the MCM values with the GUM density (expected count per bar); dashed: "
-        "the GUM interval y ± U, solid: the MCM shortest interval.");
+        "the GUM interval y ± U (orange), solid blue: the MCM probabilistically symmetric "
+        "interval, dashed green: the MCM shortest interval.");
 
     Series mc{"MCM (empirical CDF)", {}, {}, SeriesStyle::kLine, "#0072B2"};
     const std::size_t points = std::min<std::size_t>(M, 500);
@@ -182,7 +185,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
                    std::to_string(o.significant_digits) +
                    " significant digits), d_low = |y − U − y_low| = " + fmt(v.d_low, d + 1) +
                    ", d_high = |y + U − y_high| = " + fmt(v.d_high, d + 1) +
-                   " against the MCM shortest interval: the GUM is " +
+                   " against the MCM probabilistically symmetric interval: the GUM is " +
                    (v.validated ? "validated" : "NOT validated") + " for this model." +
                    (v.validated ? "" : " Use the MCM results."));
   }

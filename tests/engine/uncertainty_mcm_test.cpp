@@ -164,7 +164,7 @@ TEST(UncertaintyMcm, MassCalibrationJcgm101Section93) {
   EXPECT_NEAR(o.symmetric.hi, 1.383605, tol);
   EXPECT_NEAR(o.shortest.lo, 1.084440, tol);
   EXPECT_NEAR(o.shortest.hi, 1.383582, tol);
-  const Validation v = validate_gum(1.2340, 1.959964 * 0.053852, 0.053852, o.shortest, 2);
+  const Validation v = validate_gum(1.2340, 1.959964 * 0.053852, 0.053852, o.symmetric, 2);
   EXPECT_DOUBLE_EQ(v.delta, 0.0005);
   EXPECT_FALSE(v.validated);  // JCGM 101 §9.3: the GUF interval is not validated
 }
