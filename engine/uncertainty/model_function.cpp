@@ -115,7 +115,7 @@ ModelFunction::ModelFunction(const UncertaintyModel& model) : impl_(std::make_un
       const ModelOutput& out = model.outputs[j];
       const std::string key = "outputs." + out.name;
       if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN) {
-        const std::string token = e.GetToken();
+        const std::string token = shown_input(e.GetToken());
         std::string expected = "an expression of the inputs, constants";
         if (j > 0) expected += " and earlier outputs";
         expected += ": '" + token + "' is none of them";
@@ -126,9 +126,10 @@ ModelFunction::ModelFunction(const UncertaintyModel& model) : impl_(std::make_un
         }
         throw InputError(out.where, key, out.expression, expected, did_you_mean(token, known));
       }
-      throw InputError(out.where, key, out.expression,
-                       "a muParser expression (muParser: " + e.GetMsg() + " at character " +
-                           std::to_string(e.GetPos() + 1) + ")");
+      throw InputError(
+          out.where, key, out.expression,
+          "a muParser expression (muParser: " + shown_input(e.GetMsg(), 2 * kShownChars) +
+              " at character " + std::to_string(e.GetPos() + 1) + ")");
     }
   }
 }
