@@ -1,5 +1,6 @@
 // report.html of `gearmc uncertainty` (evaluation.h), built with the project's SVG plots and
 // HTML page builder.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -95,6 +96,11 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     double lo = std::min({s[static_cast<std::size_t>(0.0005 * double(M))], g.lo, m.shortest.lo});
     double hi = std::max(
         {s[std::min(M - 1, static_cast<std::size_t>(0.9995 * double(M)))], g.hi, m.shortest.hi});
+    if (!(hi > lo)) {  // every value the same (an output without uncertainty)
+      const double w = 1e-6 * std::max(1.0, std::fabs(lo));
+      lo -= w;
+      hi += w;
+    }
     const double pad = 0.05 * (hi - lo);
     lo -= pad;
     hi += pad;
@@ -105,7 +111,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     ho.title = g.name + ": " + std::to_string(M) + " MCM values and the GUM density";
     ho.x_label = g.name;
     ho.bars_label = "MCM";
-    ho.overlay_pdf = [&g](double x) { return gum_pdf(g, x); };
+    if (g.u > 0) ho.overlay_pdf = [&g](double x) { return gum_pdf(g, x); };
     ho.overlay_label = std::isfinite(g.nu_eff) ? "GUM: y + u t_ν" : "GUM: N(y, u²)";
     ho.markers = {{g.lo, "GUM " + fmt(g.lo, d), "#D55E00", true},
                   {g.hi, "GUM " + fmt(g.hi, d), "#D55E00", true},

@@ -121,6 +121,32 @@ TEST(UncertaintyCli, OutputsUseEarlierOutputs) {
   fs::remove(model);
 }
 
+TEST(UncertaintyCli, AnOutputWithoutUncertaintyIsReported) {
+  // y depends only on a constant: u = 0 on both sides, the GUM trivially validated (δ = 0), and
+  // the report is still drawn (a zero-width histogram range once made it an internal error).
+  const std::string model = write_model("constant", R"M(name: constant_model
+inputs:
+  a: {constant: 3}
+  b: {normal: [0, 1]}
+outputs:
+  y: "2*a"
+  w: "b + a"
+settings: {trials: 1000}
+)M");
+  const std::string out = temp_dir("constant_out");
+  const auto r = run_gearmc("uncertainty " + model + " --quiet --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  const auto& y = j["outputs"]["y"];
+  EXPECT_EQ(y["gum"]["u"].get<double>(), 0.0);
+  EXPECT_EQ(y["mcm"]["u"].get<double>(), 0.0);
+  EXPECT_EQ(y["mcm"]["estimate"].get<double>(), 6.0);
+  EXPECT_TRUE(y["validation"]["gum_validated"].get<bool>());
+  EXPECT_TRUE(fs::exists(out + "/report.html"));
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
 TEST(UncertaintyCli, InterruptStopsCleanlyWithExit130) {
   // SIGINT one second into an adaptive run that cannot stop by its rule soon (4 significant
   // digits of u = 2 need about 10^10 trials): exit 130, no file and no folder left behind.
