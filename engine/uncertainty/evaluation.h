@@ -38,7 +38,8 @@ void print_evaluation(std::ostream& out, const UncertaintyModel& model, const Mc
                       const Evaluation& e);
 
 // report.html: per output the MCM histogram with the GUM density over it and both intervals
-// marked, the two CDFs, the budget |c_i| u(x_i) as bars, the §8 verdict; then the model file.
+// marked, the two CDFs, the budget |c_i| u(x_i) as bars, the adaptive stop block by block, the
+// §8 verdict; then the model file.
 std::string evaluation_report_html(const UncertaintyModel& model, const McmOptions& options,
                                    const Evaluation& e, const Provenance& provenance);
 

@@ -40,6 +40,50 @@ double gum_cdf(const GumOutput& g, double x) {
   return student_t_cdf(t, nu);
 }
 
+// 2 s of the block averages after each block and δ, as in run_mcm's stop rule.
+std::string adaptive_svg(const McmResult& r, std::size_t k, int ndig) {
+  const double B = static_cast<double>(r.block_size);
+  std::vector<double> hs;
+  std::vector<std::vector<double>> two_s(4);
+  std::vector<double> delta;
+  for (int h = 2; h <= r.blocks; ++h) {
+    auto sd_avg = [&](auto get) {
+      double m = 0;
+      for (int b = 0; b < h; ++b) m += get(r.block_values[b]) / h;
+      double ss = 0;
+      for (int b = 0; b < h; ++b) ss += (get(r.block_values[b]) - m) * (get(r.block_values[b]) - m);
+      return 2 * std::sqrt(ss / (h * (h - 1.0)));
+    };
+    hs.push_back(h);
+    two_s[0].push_back(sd_avg([k](const BlockValues& v) { return v.estimate[k]; }));
+    two_s[1].push_back(sd_avg([k](const BlockValues& v) { return v.u[k]; }));
+    two_s[2].push_back(std::max(sd_avg([k](const BlockValues& v) { return v.lo[k]; }),
+                                sd_avg([k](const BlockValues& v) { return v.short_lo[k]; })));
+    two_s[3].push_back(std::max(sd_avg([k](const BlockValues& v) { return v.hi[k]; }),
+                                sd_avg([k](const BlockValues& v) { return v.short_hi[k]; })));
+    double mean = 0;
+    for (int b = 0; b < h; ++b) mean += r.block_values[b].estimate[k] / h;
+    double ss = 0;
+    for (int b = 0; b < h; ++b) {
+      const BlockValues& v = r.block_values[b];
+      ss += (B - 1) * v.u[k] * v.u[k] + B * (v.estimate[k] - mean) * (v.estimate[k] - mean);
+    }
+    delta.push_back(numerical_tolerance(std::sqrt(ss / (h * B - 1)), ndig));
+  }
+  const char* names[] = {"2 s(y)", "2 s(u)", "2 s(y_low)", "2 s(y_high)"};
+  std::vector<Series> series;
+  for (int i = 0; i < 4; ++i) series.push_back({names[i], hs, two_s[i], SeriesStyle::kLine, ""});
+  series.push_back({"δ", hs, delta, SeriesStyle::kLine, "#000000"});
+  XYPlotOptions xo;
+  xo.title = r.outputs[k].name + ": adaptive stop";
+  xo.x_label = "blocks h (of " + std::to_string(r.block_size) + " trials)";
+  xo.y_label = "units of " + r.outputs[k].name;
+  xo.y_from_zero = true;
+  xo.width_px = 900;
+  xo.height_px = 320;
+  return xy_plot_svg(series, xo);
+}
+
 }  // namespace
 
 std::string evaluation_report_html(const UncertaintyModel& model, const McmOptions& o,
@@ -187,6 +231,13 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
            false});
     }
     page.table(budget);
+    if (e.mcm.adaptive && e.mcm.blocks >= 2) {
+      page.figure(adaptive_svg(e.mcm, k, o.significant_digits),
+                  "The adaptive stop (JCGM 101 §7.9.4): after each block h, twice the standard "
+                  "deviation of the average of the block values of y, u(y) and the interval "
+                  "endpoints (the larger of the symmetric and shortest ones), against δ; the run "
+                  "stops at the first h where all four are below it.");
+    }
     page.paragraph("JCGM 101 §8 validation: δ = " + fmt(v.delta, d + 1) + " (u(y) of the GUM at " +
                    std::to_string(o.significant_digits) +
                    " significant digits), d_low = |y − U − y_low| = " + fmt(v.d_low, d + 1) +
