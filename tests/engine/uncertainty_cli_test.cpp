@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -209,6 +210,20 @@ TEST(UncertaintyCli, JsonKeysAndThreadIndependence) {
     for (const char* k : {"model", "seed", "coverage_probability"}) {
       EXPECT_TRUE(j1.contains(k)) << k;
     }
+    // The report: histogram, CDFs and budget per output, plus the adaptive stop for adaptive
+    // runs; the verdict and the model file's text.
+    std::ifstream rf(a + "/report.html");
+    const std::string report((std::istreambuf_iterator<char>(rf)), {});
+    std::size_t svgs = 0;
+    for (std::size_t at = report.find("<svg"); at != std::string::npos;
+         at = report.find("<svg", at + 1)) {
+      ++svgs;
+    }
+    const bool adaptive = args.find("rectangular") != std::string::npos;
+    EXPECT_EQ(svgs, adaptive ? 4u : 3u) << args;
+    EXPECT_NE(report.find("JCGM 101 §8 validation"), std::string::npos);
+    EXPECT_NE(report.find("Model file"), std::string::npos);
+    EXPECT_NE(report.find(j1["model"].get<std::string>()), std::string::npos);
     fs::remove_all(a);
     fs::remove_all(b);
   }
