@@ -106,9 +106,15 @@ int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, s
   out << "gearmc uncertainty: " << model.name << ", " << model.inputs.size() << " inputs, "
       << model.outputs.size() << " output(s), p = " << mcm.coverage_probability << ", seed "
       << mcm.seed << ", "
-      << (mcm.trials ? std::to_string(*mcm.trials) + " trials" : std::string("adaptive trials"))
-      << "\n"
-      << std::flush;
+      << (mcm.trials ? std::to_string(*mcm.trials) + " trials" : std::string("adaptive trials"));
+  if (mcm.trials) {
+    // The memory rule of the MCM: 16 bytes per trial per output at most.
+    const double mb = kBytesPerTrialPerOutput * static_cast<double>(*mcm.trials) *
+                      static_cast<double>(model.outputs.size()) / 1e6;
+    out << " (values: up to " << std::setprecision(mb < 10 ? 2 : 3) << mb << " MB)"
+        << std::defaultfloat;
+  }
+  out << "\n" << std::flush;
   const bool show_progress = !o.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   if (show_progress) {
