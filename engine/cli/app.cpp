@@ -88,6 +88,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "  gearmc run                                   P1's reference gear, 50 gears\n"
       "  gearmc run scenarios/p1_iso_class8.yaml --gears 500 --seed 7\n"
       "  gearmc diagnose --model model.yaml --measured readings.csv --out results/diag\n"
+      "  gearmc uncertainty scenarios/uncertainty/mass_calibration.yaml   GUM and Monte Carlo\n"
       "Run 'gearmc COMMAND --help' for a command's options.");
   app.add_subcommand("help", "Print this help");
 
