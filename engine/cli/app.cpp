@@ -15,6 +15,7 @@
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
 #include "engine/cli/simulate_command.h"
+#include "engine/cli/uncertainty_command.h"
 #include "engine/report/provenance.h"
 #include "engine/report/version.h"
 #include "engine/scenario/input_error.h"
@@ -87,6 +88,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "  gearmc run                                   P1's reference gear, 50 gears\n"
       "  gearmc run scenarios/p1_iso_class8.yaml --gears 500 --seed 7\n"
       "  gearmc diagnose --model model.yaml --measured readings.csv --out results/diag\n"
+      "  gearmc uncertainty scenarios/uncertainty/mass_calibration.yaml   GUM and Monte Carlo\n"
       "Run 'gearmc COMMAND --help' for a command's options.");
   app.add_subcommand("help", "Print this help");
 
@@ -175,7 +177,26 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                      "Predict on the model's perturbed gears (same seed) instead of its nominal "
                      "master (only for readings simulated from the same gear model)");
 
+  UncertaintyCommandOptions uncertainty_options;
+  CLI::App* uncertainty = app.add_subcommand(
+      "uncertainty",
+      "GUM (JCGM 100) and adaptive Monte Carlo (JCGM 101) side by side for a measurement model");
+  uncertainty->footer(
+      "Example:\n  gearmc uncertainty scenarios/uncertainty/mass_calibration.yaml --out "
+      "results/mass");
+  uncertainty->add_option("MODEL", uncertainty_options.model_path, "Model file (YAML)")->required();
+  uncertainty->add_option("--out", uncertainty_options.out_dir,
+                          "Output folder (default results/<model name>)");
+  uncertainty->add_option("--trials", uncertainty_options.trials,
+                          "Monte-Carlo trials M, or 'adaptive' (overrides settings.trials)");
+  uncertainty->add_option("--seed", uncertainty_options.seed, "Random seed (overrides seed)");
+  uncertainty
+      ->add_option("--threads", uncertainty_options.threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  uncertainty->add_flag("--quiet", uncertainty_options.quiet, "No progress line");
+
   run_options.command_line = command_line_text(argc, argv);
+  uncertainty_options.command_line = run_options.command_line;
   simulate_options.command_line = run_options.command_line;
   diagnose_options.command_line = run_options.command_line;
   try {
@@ -211,6 +232,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (export_mesh->parsed()) return export_mesh_command(mesh_options, out, err);
     if (simulate->parsed()) return simulate_command(simulate_options, out, err);
     if (diagnose->parsed()) return diagnose_command(diagnose_options, out, err);
+    if (uncertainty->parsed()) return uncertainty_command(uncertainty_options, out, err);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

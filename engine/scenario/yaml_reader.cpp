@@ -377,7 +377,8 @@ YamlValue parse_yaml_document(const std::string& text, const std::string& file) 
     starts = handler.starts;
   } catch (const YAML::Exception& e) {
     const InputLocation where = location_of(e.mark, file);
-    throw InputError(where, "invalid YAML: " + e.msg);
+    // yaml-cpp quotes the offending character raw (e.g. a newline after a backslash).
+    throw InputError(where, "invalid YAML: " + shown_input(e.msg, 2 * kShownChars));
   }
   if (starts.empty()) {  // no text or only comments
     return YamlValue(YAML::Node(), "", file, {file, 1, 1});

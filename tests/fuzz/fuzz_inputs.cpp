@@ -1,14 +1,16 @@
 // A bounded, deterministic mutation fuzzer of gearmc's input readers, run as a ctest test.
-// Every seed file of tests/fuzz/corpus/scenario (scenarios/ plus edge cases) and
-// tests/fuzz/corpus/readings is mutated from a fixed seed (byte flips, special values such as
-// 1e308, nan, -1, "", very long tokens, non-UTF-8 bytes, deleted, duplicated and swapped lines,
-// truncation, deep nesting) and each mutant is fed in-process to the scenario reader (load,
-// which resolves and checks the tolerances, then the gear geometry and one drawn gear, the
-// work `gearmc geometry` and the start of `gearmc run` do) or to the readings reader. The test
-// fails when anything other than success or an InputError escapes (another exception; a crash
-// ends the process, which ctest reports as a failure), and when an InputError's message is not
-// one clean line of bounded length. It stops after --mutants mutants or --seconds seconds,
-// whichever comes first, and prints how many mutants ran, were accepted and rejected cleanly.
+// Every seed file of tests/fuzz/corpus/scenario (scenarios/ plus edge cases),
+// tests/fuzz/corpus/model (uncertainty model files) and tests/fuzz/corpus/readings is mutated from
+// a fixed seed (byte flips, special values such as 1e308, nan, -1, "", very long tokens, non-UTF-8
+// bytes, deleted, duplicated and swapped lines, truncation, deep nesting) and each mutant is fed
+// in-process to the scenario reader (load, which resolves and checks the tolerances, then the gear
+// geometry and one drawn gear, the work `gearmc geometry` and the start of `gearmc run` do), to the
+// uncertainty model reader (then the GUM and, when at most 20 000 trials give an interval, a short
+// Monte-Carlo run) or to the readings reader. The test fails when anything other than success or an
+// InputError escapes (another exception; a crash ends the process, which ctest reports as a
+// failure), and when an InputError's message is not one clean line of bounded length. It stops
+// after --mutants mutants or --seconds seconds, whichever comes first, and prints how many mutants
+// ran, were accepted and rejected cleanly.
 //
 //   fuzz_inputs --corpus DIR [--mutants N] [--seconds S] [--seed K] [--save-failures DIR]
 //               [--trace 1]
@@ -29,6 +31,9 @@
 #include "engine/scenario/input_error.h"
 #include "engine/scenario/input_file.h"
 #include "engine/scenario/scenario.h"
+#include "engine/uncertainty/gum.h"
+#include "engine/uncertainty/mcm.h"
+#include "engine/uncertainty/model.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
@@ -239,6 +244,23 @@ void use_scenario(const gearmc::Scenario& s) {
   (void)sampler.draw(0);
 }
 
+// The GUM of a loaded model and, when it is short, the Monte-Carlo run of `gearmc uncertainty`
+// (its trial count checked as the command checks it).
+void use_model(const gearmc::uncertainty::UncertaintyModel& m) {
+  using namespace gearmc::uncertainty;
+  (void)evaluate_gum(m);
+  const double p = m.settings.coverage_probability;
+  const double need = 1.0 / (1.0 - p) + 2.0;
+  if (need > 20000.0) return;
+  McmOptions o;
+  o.trials = static_cast<std::uint64_t>(std::max(200.0, need));
+  o.coverage_probability = p;
+  o.seed = m.settings.seed;
+  o.threads = 1;
+  check_trials(*o.trials, m.outputs.size(), p, {}, "trials");
+  (void)run_mcm(m, o);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -270,16 +292,18 @@ int main(int argc, char** argv) {
   struct Seed {
     std::string name, text;
     bool readings;
+    bool model = false;
   };
   std::vector<Seed> seeds;
-  for (const char* kind : {"scenario", "readings"}) {
+  for (const char* kind : {"scenario", "readings", "model"}) {
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::directory_iterator(corpus / kind)) {
       files.push_back(entry.path());
     }
     std::sort(files.begin(), files.end());  // a fixed order: the run is deterministic
     for (const auto& f : files) {
-      seeds.push_back({f.filename().string(), read_text(f), std::string(kind) == "readings"});
+      seeds.push_back({f.filename().string(), read_text(f), std::string(kind) == "readings",
+                       std::string(kind) == "model"});
     }
   }
   if (seeds.empty()) {
@@ -291,7 +315,9 @@ int main(int argc, char** argv) {
   int failures = 0;
   for (const Seed& s : seeds) {
     try {
-      if (s.readings) {
+      if (s.model) {
+        use_model(gearmc::uncertainty::parse_uncertainty_model(s.text, s.name));
+      } else if (s.readings) {
         gearmc::parse_readings(s.text, s.name);
       } else {
         use_scenario(gearmc::parse_scenario(s.text, s.name));
@@ -325,7 +351,9 @@ int main(int argc, char** argv) {
       }
     }
     try {
-      if (s.readings) {
+      if (s.model) {
+        use_model(gearmc::uncertainty::parse_uncertainty_model(mutant, name));
+      } else if (s.readings) {
         gearmc::parse_readings(mutant, name);
       } else {
         use_scenario(gearmc::parse_scenario(mutant, name));
