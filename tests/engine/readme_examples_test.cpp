@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "tests/support/run_gearmc.h"
 
@@ -36,6 +37,38 @@ TEST(ReadmeExamples, DiagnoseFindsTheLobingOfTheShippedTruth) {
   const double amplitude = effect["parameters"]["amplitude_6_um"].get<double>();
   const double se = effect["std_errors"]["amplitude_6_um"].get<double>();
   EXPECT_NEAR(amplitude, 0.75, 3.0 * se);
+}
+
+TEST(ReadmeExamples, TheUncertaintyExamplePrintsWhatTheReadmeShows) {
+  // The README's `gearmc uncertainty` block, run as written (with --out into a temporary
+  // folder): every printed line of the README's block except the timing and report lines must
+  // be in the command's output (the run is deterministic: seed 1, 10^6 trials). The numbers
+  // themselves are checked against JCGM 101 §9.3 in uncertainty_mcm_test.cpp and
+  // uncertainty_gum_test.cpp.
+  std::ifstream readme(std::string(GEARMC_SOURCE_DIR) + "/README.md");
+  std::vector<std::string> expected;
+  bool inside = false;
+  for (std::string line; std::getline(readme, line);) {
+    if (line.rfind("$ build/gearmc uncertainty scenarios/uncertainty/mass_calibration.yaml", 0) ==
+        0) {
+      inside = true;
+      continue;
+    }
+    if (inside && line.rfind("```", 0) == 0) break;
+    if (inside && !line.empty() && line.rfind("MCM: ", 0) != 0 && line.rfind("report: ", 0) != 0) {
+      expected.push_back(line);
+    }
+  }
+  ASSERT_GE(expected.size(), 8u) << "the README's uncertainty block was not found";
+  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_readme_uncertainty";
+  fs::remove_all(dir);
+  const auto r = run_gearmc("uncertainty " + std::string(GEARMC_SOURCE_DIR) +
+                            "/scenarios/uncertainty/mass_calibration.yaml --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string& line : expected) {
+    EXPECT_NE(r.out.find(line), std::string::npos) << "README line not printed: " << line << "\n"
+                                                   << r.out;
+  }
 }
 
 }  // namespace
