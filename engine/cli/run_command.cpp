@@ -1,12 +1,12 @@
 // `gearmc run`: checks, the Monte-Carlo batch, output files and the terminal summary (see
 // run_command.h); what is written and printed is composed in engine/report/run_report.
 #include "engine/cli/run_command.h"
+#include "engine/cli/interrupt_guard.h"
 
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -29,40 +29,6 @@ namespace fs = std::filesystem;
 constexpr double kPointRowBytes = 330.0;
 // --points refuses a file larger than this unless --force.
 constexpr double kPointsLimitBytes = 4.0e9;
-
-// Set by SIGINT/SIGTERM while a run is under way (a signal handler can only touch a lock-free
-// atomic with static storage).
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_interrupt(int) { g_interrupted.store(true); }
-
-// Installs on_interrupt for SIGINT and SIGTERM for its lifetime, then restores the old handlers.
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    g_interrupted.store(false);
-    old_int_ = std::signal(SIGINT, on_interrupt);
-    old_term_ = std::signal(SIGTERM, on_interrupt);
-  }
-  ~InterruptGuard() {
-    std::signal(SIGINT, old_int_);
-    std::signal(SIGTERM, old_term_);
-  }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  void (*old_int_)(int);
-  void (*old_term_)(int);
-};
-
-// Removes the output folder on the way out if this command created it and left it empty.
-struct CreatedFolder {
-  fs::path dir;
-  bool created = false;
-  ~CreatedFolder() {
-    if (created) remove_if_empty(dir);
-  }
-};
 
 void write_point_row(std::ostream& f, const ProbedPoint& p) {
   const ContactResult& c = p.contact;
@@ -168,7 +134,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   run.threads = o.threads;
   run.only_gear = o.only_gear;
   run.record_points = o.points;
-  run.cancel = &g_interrupted;
+  run.cancel = &interrupted_flag();
   if (o.points) {
     run.on_gear = [&](const GearOutcome& g) {
       for (const ProbedPoint& p : g.points) write_point_row(points_file, p);

@@ -1,12 +1,12 @@
 // `gearmc uncertainty` (see uncertainty_command.h): reads the model, checks the output folder
 // and the trial count before any work, evaluates, then writes the outputs atomically.
 #include "engine/cli/uncertainty_command.h"
+#include "engine/cli/interrupt_guard.h"
 
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -22,36 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace gearmc::uncertainty;
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_uncertainty_interrupt(int) { g_interrupted.store(true); }
-
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    g_interrupted.store(false);
-    old_int_ = std::signal(SIGINT, on_uncertainty_interrupt);
-    old_term_ = std::signal(SIGTERM, on_uncertainty_interrupt);
-  }
-  ~InterruptGuard() {
-    std::signal(SIGINT, old_int_);
-    std::signal(SIGTERM, old_term_);
-  }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-
- private:
-  void (*old_int_)(int);
-  void (*old_term_)(int);
-};
-
-struct CreatedFolder {
-  fs::path dir;
-  bool created = false;
-  ~CreatedFolder() {
-    if (created) remove_if_empty(dir);
-  }
-};
 
 // The default folder results/<name> may hold another model file's results (same `name:`).
 void refuse_another_models_folder(const fs::path& dir, const UncertaintyModel& model) {
@@ -78,7 +48,7 @@ int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, s
   mcm.significant_digits = model.settings.significant_digits;
   mcm.max_trials = model.settings.max_trials;
   mcm.threads = o.threads;
-  mcm.cancel = &g_interrupted;
+  mcm.cancel = &interrupted_flag();
   if (!o.trials.empty()) {
     if (o.trials == "adaptive") {
       mcm.trials.reset();
