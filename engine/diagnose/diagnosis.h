@@ -41,7 +41,10 @@
 //     floor is not the numerical one, NoiseFloor::at_numerical_floor: that floor bounds an exact
 //     prediction's rounding, it is not a law of the residuals); named_effect = the first
 //     selected effect when the selected effects explain ≥ 50 % of the excess residual variance
-//     (Σr² − nσ²), "unexplained" when a gap is detected but nothing in the library explains it,
+//     (Σr² − nσ²) and no structure remains after them, "unexplained" when a gap is detected but
+//     nothing in the library explains it or structure remains after the library's best fit (the
+//     verdict leads with what is not explained; the fitted library effects stay listed, the first
+//     as partially_explained_by, with the axis the remaining structure varies along),
 //     "none" when there is no gap; unexplained_structure when the gap tests still reject after
 //     the fit.
 // Units: residuals and RMS in µm, parameters in the units of their names (µm, ppm, µrad, K, deg).
@@ -140,6 +143,18 @@ struct Diagnosis {
   std::string named_effect = "none";  // library name, "none", "unexplained" or "not_tested"
   std::vector<std::string> ambiguous_with;
   bool unexplained_structure = false;
+  // When structure remains after the fit: the axis along which the residuals after vary most
+  // (one-way analysis of variance of the residuals after, grouped along each axis: "roll_length"
+  // by profile index i, "face_position" by section j, "tooth", "flank", "approach_azimuth" in 24
+  // sectors of 15°, "probing_order" in 20 consecutive groups; the smallest F-test p-value), that
+  // p-value and the share of the residuals' variance the groups' means carry. Empty otherwise.
+  struct StructureAxis {
+    std::string axis;
+    double p_value = kNotAvailable;
+    double variance_share = kNotAvailable;
+  } unexplained_along;
+  // The library effect that explains part of an unexplained gap (the first selected), or "".
+  std::string partially_explained_by;
   double explained_fraction = kNotAvailable;  // of the excess variance
   std::vector<FittedEffect> effects;          // selected effects, in selection order
   GapStatistics gap_before, gap_after;

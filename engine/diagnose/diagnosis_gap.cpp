@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <tuple>
 
@@ -73,6 +74,69 @@ HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int column
       "or profile points) each with more points than the " +
       std::to_string(columns) + " fitted parameters";
   return out;
+}
+
+Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points,
+                                        const std::vector<double>& residual_um) {
+  struct Axis {
+    const char* name;
+    std::function<long(const ResidualPoint&, std::size_t)> group;
+  };
+  const std::size_t n = points.size();
+  int first_order = 0, last_order = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    first_order = k == 0 ? points[k].order : std::min(first_order, points[k].order);
+    last_order = k == 0 ? points[k].order : std::max(last_order, points[k].order);
+  }
+  const double order_span = std::max(1, last_order - first_order + 1);
+  const std::vector<Axis> axes = {
+      {"roll_length", [](const ResidualPoint& p, std::size_t) { return long{p.i}; }},
+      {"face_position", [](const ResidualPoint& p, std::size_t) { return long{p.j}; }},
+      {"tooth",
+       [](const ResidualPoint& p, std::size_t) { return long{p.gear} * 100000L + p.tooth; }},
+      {"flank",
+       [](const ResidualPoint& p, std::size_t) { return p.side == FlankSide::kRight ? 1L : 0L; }},
+      {"approach_azimuth",
+       [](const ResidualPoint& p, std::size_t) {
+         double a = std::fmod(p.context.azimuth_rad, 2.0 * std::numbers::pi);
+         if (a < 0.0) a += 2.0 * std::numbers::pi;
+         return static_cast<long>(std::floor(a / (2.0 * std::numbers::pi) * 24.0));
+       }},
+      {"probing_order",
+       [&](const ResidualPoint& p, std::size_t) {
+         return static_cast<long>(std::floor(20.0 * (p.order - first_order) / order_span));
+       }},
+  };
+  Diagnosis::StructureAxis best;
+  double total_mean = 0.0;
+  for (double r : residual_um) total_mean += r;
+  total_mean /= static_cast<double>(std::max<std::size_t>(1, n));
+  double total_ss = 0.0;
+  for (double r : residual_um) total_ss += (r - total_mean) * (r - total_mean);
+  for (const Axis& axis : axes) {
+    std::map<long, std::pair<double, int>> groups;  // sum, count
+    for (std::size_t k = 0; k < n; ++k) {
+      auto& g = groups[axis.group(points[k], k)];
+      g.first += residual_um[k];
+      ++g.second;
+    }
+    const double g = static_cast<double>(groups.size());
+    if (groups.size() < 2 || n <= groups.size() || !(total_ss > 0.0)) continue;
+    double between = 0.0;
+    for (const auto& [key, sc] : groups) {
+      const double mean = sc.first / sc.second;
+      between += sc.second * (mean - total_mean) * (mean - total_mean);
+    }
+    const double within = std::max(total_ss - between, 1e-300);
+    const double f = (between / (g - 1.0)) / (within / (static_cast<double>(n) - g));
+    const double p = f_distribution_upper_tail(f, g - 1.0, static_cast<double>(n) - g);
+    if (best.axis.empty() || p < best.p_value) {
+      best.axis = axis.name;
+      best.p_value = p;
+      best.variance_share = between / total_ss;
+    }
+  }
+  return best;
 }
 
 std::vector<double> to_vector(const Eigen::VectorXd& v) {
@@ -319,11 +383,28 @@ void make_verdict(const State& state, Diagnosis& out) {
   }
   if (!out.gap_detected) {
     out.named_effect = "none";
-  } else if (!out.effects.empty() && out.explained_fraction >= options.min_explained_fraction) {
+  } else if (!out.effects.empty() && out.explained_fraction >= options.min_explained_fraction &&
+             !out.unexplained_structure) {
     out.named_effect = out.effects.front().name;
     for (const Ambiguity& a : out.effects.front().ambiguous) out.ambiguous_with.push_back(a.with);
   } else {
     out.named_effect = "unexplained";
+  }
+  if (out.unexplained_structure) {
+    out.unexplained_along = structure_axis(state.residuals.points, to_vector(r_after_c));
+    if (!out.effects.empty()) out.partially_explained_by = out.effects.front().name;
+    std::ostringstream text;
+    text << "structure remains after the library's best fit";
+    if (!out.partially_explained_by.empty()) {
+      text << " (" << out.partially_explained_by << " explains "
+           << std::lround(100.0 * out.explained_fraction) << " % of the excess variance)";
+    }
+    if (!out.unexplained_along.axis.empty()) {
+      text << "; it varies most along " << out.unexplained_along.axis << " (its group means carry "
+           << std::lround(100.0 * out.unexplained_along.variance_share)
+           << " % of the remaining variance, F-test p = " << out.unexplained_along.p_value << ")";
+    }
+    out.notes.insert(out.notes.begin(), text.str());
   }
 }
 

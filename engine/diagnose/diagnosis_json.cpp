@@ -173,6 +173,12 @@ std::string diagnosis_json(const Diagnosis& d) {
                       {"hypotheses", hypotheses}};
   }
   j["unexplained_structure"] = d.unexplained_structure;
+  if (d.unexplained_structure) {
+    j["partially_explained_by"] = d.partially_explained_by;
+    j["unexplained_along"] = {{"axis", d.unexplained_along.axis},
+                              {"p_value", number(d.unexplained_along.p_value)},
+                              {"variance_share", number(d.unexplained_along.variance_share)}};
+  }
   j["explained_fraction"] = number(d.explained_fraction);
   {
     const OutlierScreen& o = d.outliers;

@@ -250,9 +250,15 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
     } else {
       s << "The selected library effects (";
       for (std::size_t e = 0; e < d.effects.size(); ++e) s << (e ? ", " : "") << d.effects[e].name;
-      s << ") explain only " << fixed(100.0 * d.explained_fraction, 0)
-        << " % of the excess variance (RMS " << fixed(d.gap_before.rms_um) << " → "
-        << fixed(d.gap_after.rms_um) << " µm)";
+      s << ") explain " << (d.explained_fraction < 0.5 ? "only " : "")
+        << fixed(100.0 * d.explained_fraction, 0) << " % of the excess variance (RMS "
+        << fixed(d.gap_before.rms_um) << " → " << fixed(d.gap_after.rms_um) << " µm)";
+      if (d.unexplained_structure) s << ", and structure remains after them";
+    }
+    if (!d.unexplained_along.axis.empty()) {
+      s << ". The remaining structure varies most along " << d.unexplained_along.axis
+        << " (its group means carry " << fixed(100.0 * d.unexplained_along.variance_share, 0)
+        << " % of the remaining variance)";
     }
     s << ". fitted.yaml is the model unchanged; the plots below show the structure to look for "
          "outside the library (the artefact itself, a form or fixture effect).";
@@ -312,7 +318,11 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
   } else if (!d.gap_detected) {
     verdict = "no gap: the readings agree with the model within the noise floor";
   } else if (!is_library_effect(d.named_effect)) {
-    verdict = "gap, unexplained structure remains: no library effect explains it";
+    verdict = "gap, unexplained structure remains";
+    if (!d.unexplained_along.axis.empty()) verdict += " along " + d.unexplained_along.axis;
+    verdict += d.partially_explained_by.empty()
+                   ? ": no library effect explains it"
+                   : " (" + d.partially_explained_by + " explains part of it)";
   } else {
     const FittedEffect& e = d.effects.front();
     verdict = "gap: " + e.name + " (" + parameter_list(e, ", ") + ")";

@@ -69,4 +69,8 @@ struct HeldOutSplit {
 };
 HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns);
 
+// The axis along which `residual_um` (one per point) varies most (Diagnosis::unexplained_along).
+Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points,
+                                        const std::vector<double>& residual_um);
+
 }  // namespace gearmc::diagnosis_stages

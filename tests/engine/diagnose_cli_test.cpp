@@ -336,12 +336,12 @@ TEST_F(DiagnoseCli, GrossOutliersAreExcludedListedByLineAndTheVerdictIsOnTheClea
   }
 }
 
-TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndANoiseOfAMillimetreIsNotFitted) {
+TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndLeadTheVerdictAsUnexplained) {
   // 10 % of the readings 50 mm off: more than the screen's 5 % is a disagreement, not a few bad
-  // readings, so none is excluded (the screen says why). The gap is huge; the report stays
-  // bounded (its histograms' bins: DiagnoseReportData tests in diagnose_test.cpp); the point-law
-  // fit (a "noise" of millimetres) is beyond the noise's physical range (0–100 µm), so fitted.yaml
-  // is the model unchanged, loads again, and the outputs say why.
+  // readings, so none is excluded (the screen says why). The gap is huge and no library effect
+  // removes it: the verdict is "unexplained" with the axis of the remaining structure, no effect
+  // is added to fitted.yaml, and the report stays bounded (its histograms' bins:
+  // DiagnoseReportData tests in diagnose_test.cpp).
   std::vector<int> rows;
   for (int row = 5; row < 2400; row += 10) rows.push_back(row);
   write_moved("moved_10pct.csv", rows, 50.0);
@@ -353,16 +353,52 @@ TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndANoiseOfAMillimetreIsNo
   EXPECT_EQ(json.find("NaN"), std::string::npos);
   const auto j = json_of("out_moved");
   EXPECT_TRUE(j.at("gap_detected").get<bool>());
+  EXPECT_EQ(j.at("named_effect"), "unexplained");
+  EXPECT_TRUE(j.at("unexplained_structure").get<bool>());
+  EXPECT_FALSE(j.at("unexplained_along").at("axis").get<std::string>().empty());
   EXPECT_TRUE(j.at("outliers").at("excluded").empty());
   EXPECT_NE(j.at("outliers").at("not_applied").get<std::string>().find("none is excluded"),
             std::string::npos);
   const std::string html = read_text(*dir_ / "out_moved" / "report.html");
   EXPECT_LT(html.size(), 3'000'000u);
-  ASSERT_TRUE(j.contains("fitted_yaml")) << json;
+  EXPECT_NE(read_text(*dir_ / "out_moved" / "fitted.yaml").find("no effect was added"),
+            std::string::npos);
+}
+
+TEST_F(DiagnoseCli, AFitBeyondItsEffectsPhysicalRangeIsNotAddedToFittedYaml) {
+  // The readings drift by 2 mm in x over the measurement (c_x + 2 mm · order/(N − 1), the drift
+  // effect's own law, engine/effects DriftEffect): drift is named with x_um ≈ 2000, beyond the
+  // drift's physical range ±1000 µm (docs/scenario-keys.md). fitted.yaml is then the model
+  // unchanged, loads again, and the JSON and the terminal say why.
+  const std::string good = read_text(path("lobing.csv"));
+  std::vector<std::string> lines;
+  std::stringstream s(good);
+  for (std::string l; std::getline(s, l);) lines.push_back(l);
+  const std::size_t first_data = 3, rows = lines.size() - first_data;
+  for (std::size_t k = 0; k < rows; ++k) {
+    std::string& line = lines[first_data + k];
+    std::vector<std::string> f;
+    std::stringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    const double fraction = std::stod(f.at(5)) / static_cast<double>(rows - 1);  // order
+    std::ostringstream v;
+    v.precision(17);
+    v << std::stod(f.at(12)) + 2.0 * fraction;
+    line = replace_field(line, 12, v.str());
+  }
+  std::string text;
+  for (const std::string& l : lines) text += l + "\n";
+  write_text(path("drift_2mm.csv"), text);
+  const auto r = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                            path("drift_2mm.csv") + " --out " + path("out_drift"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json_of("out_drift");
+  EXPECT_EQ(j.at("named_effect"), "drift") << j.dump(1);
+  ASSERT_TRUE(j.contains("fitted_yaml")) << j.dump(1);
   EXPECT_FALSE(j["fitted_yaml"]["fit_added"].get<bool>());
   EXPECT_NE(r.out.find("warning: the fit is outside"), std::string::npos) << r.out;
   const auto again =
-      run_gearmc("diagnose --model " + (*dir_ / "out_moved" / "fitted.yaml").string() +
+      run_gearmc("diagnose --model " + (*dir_ / "out_drift" / "fitted.yaml").string() +
                  " --measured " + path("lobing.csv") + " --out " + path("out_again"));
   EXPECT_EQ(again.exit_code, 0) << again.err;
 }

@@ -723,6 +723,28 @@ TEST(Diagnose, NullDatasetsNameNothing) {
   }
 }
 
+TEST(Diagnose, StructureLeftAfterAPartialLibraryFitLeadsTheVerdict) {
+  // Lobing (6 lobes, 1.5 µm: in the library) plus a waviness across the face outside it,
+  // 0.6 sin(2π z / 20 mm) µm: the lobing explains most of the excess variance, but structure
+  // remains along the face, so the verdict is "unexplained" with probe_lobing as the partial
+  // explanation and face_position as the axis (the waviness varies with z alone, i.e. with the
+  // section index j). Seeds 1.
+  Scenario truth = with_effects(
+      "probe_lobing: {harmonics: [{order: 6, amplitude_um: 1.5, phase_deg: 90}]}\n"
+      "noise: {sigma_um: 0.3}\n");
+  truth.normal_expression_um = "0.6*sin(2*_pi*z/20)";
+  const Diagnosis d = diagnose(baseline(), master_readings(truth));
+  EXPECT_TRUE(d.gap_detected);
+  EXPECT_TRUE(d.unexplained_structure);
+  EXPECT_EQ(d.named_effect, "unexplained");
+  EXPECT_GE(d.explained_fraction, 0.5);
+  EXPECT_EQ(d.partially_explained_by, "probe_lobing");
+  EXPECT_EQ(d.unexplained_along.axis, "face_position");
+  EXPECT_LT(d.unexplained_along.p_value, 1e-6);
+  ASSERT_FALSE(d.notes.empty());
+  EXPECT_NE(d.notes.front().find("structure remains"), std::string::npos);
+}
+
 TEST(Diagnose, AnEffectOutsideTheLibraryIsNotNamedWithConfidence) {
   // A waviness across the face, the same on every flank: 0.8 sin(2π z / 20 mm) µm (normal_um).
   // No library signature varies with z alone, so "unexplained structure remains" is the answer.
