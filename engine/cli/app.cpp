@@ -12,6 +12,7 @@
 
 #include "engine/cli/diagnose_command.h"
 #include "engine/cli/export_mesh_command.h"
+#include "engine/cli/export_plan_command.h"
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
 #include "engine/cli/simulate_command.h"
@@ -137,6 +138,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                    "Sections across the face width (default 40)")
       ->check(CLI::Range(2, 20000));
 
+  ExportPlanOptions plan_options;
+  CLI::App* export_plan = app.add_subcommand(
+      "export-plan", "Write the probing plan as a DMIS program (to run it on a real CMM)");
+  export_plan->footer(
+      "Example:\n  gearmc export-plan scenarios/p1_reference.yaml --format dmis --out plan.dmi");
+  export_plan->add_option("SCENARIO", plan_options.scenario_path,
+                          "Scenario file (default: the built-in reference)");
+  export_plan->add_option("--format", plan_options.format, "Program format: dmis (default)");
+  export_plan->add_option("--out", plan_options.out, "Program file to write")->required();
+
   SimulateCommandOptions simulate_options;
   CLI::App* simulate = app.add_subcommand(
       "simulate", "Simulated CMM readings of the scenario's gears with its effects (readings CSV)");
@@ -162,7 +173,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "Example:\n  gearmc diagnose --model scenarios/diagnose/lobing_model.yaml --measured "
       "lobing.csv --out results/diagnose_lobing");
   diagnose->add_option("--model", diagnose_options.model_path, "Model scenario file")->required();
-  diagnose->add_option("--measured", diagnose_options.measured_path, "Readings CSV (measured)")
+  diagnose
+      ->add_option("--measured", diagnose_options.measured_path,
+                   "Readings CSV, or the DMIS results (.dmo) of export-plan's program")
       ->required();
   diagnose
       ->add_option("--out", diagnose_options.out_dir,
@@ -198,6 +211,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   run_options.command_line = command_line_text(argc, argv);
   uncertainty_options.command_line = run_options.command_line;
   simulate_options.command_line = run_options.command_line;
+  plan_options.command_line = run_options.command_line;
   diagnose_options.command_line = run_options.command_line;
   try {
     app.parse(argc, argv);
@@ -230,6 +244,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     }
     if (run->parsed()) return run_command(run_options, out, err);
     if (export_mesh->parsed()) return export_mesh_command(mesh_options, out, err);
+    if (export_plan->parsed()) return export_plan_command(plan_options, out, err);
     if (simulate->parsed()) return simulate_command(simulate_options, out, err);
     if (diagnose->parsed()) return diagnose_command(diagnose_options, out, err);
     if (uncertainty->parsed()) return uncertainty_command(uncertainty_options, out, err);

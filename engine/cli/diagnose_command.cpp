@@ -13,6 +13,7 @@
 #include "engine/diagnose/diagnosis_report.h"
 #include "engine/diagnose/fitted_scenario.h"
 #include "engine/diagnose/readings_check.h"
+#include "engine/readings/dmis_results.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/report/output_files.h"
 #include "engine/report/provenance.h"
@@ -27,7 +28,11 @@ namespace fs = std::filesystem;
 int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::ostream& err) {
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
-  auto readings = std::make_unique<Readings>(read_readings(o.measured_path));
+  // A DMIS output file (the results of `gearmc export-plan`'s program): its points were
+  // compensated with the ball the model names.
+  auto readings = std::make_unique<Readings>(
+      is_dmis_file(o.measured_path) ? read_dmis_results(o.measured_path, model.stylus_radius_mm)
+                                    : read_readings(o.measured_path));
   for (const std::string& w : model.warnings) err << "gearmc: warning: " << w << "\n";
   for (const std::string& w : readings->warnings) err << "gearmc: warning: " << w << "\n";
 

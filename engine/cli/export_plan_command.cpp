@@ -1,0 +1,50 @@
+// `gearmc export-plan`: the probing plan as a DMIS program (see export_plan_command.h).
+#include "engine/cli/export_plan_command.h"
+
+#include <ostream>
+#include <sstream>
+
+#include "engine/probing/contact.h"
+#include "engine/probing/dmis_plan.h"
+#include "engine/report/html_report.h"
+#include "engine/report/output_files.h"
+#include "engine/report/provenance.h"
+#include "engine/scenario/input_error.h"
+#include "engine/scenario/scenario.h"
+
+namespace gearmc {
+namespace {
+
+std::string short_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+int export_plan_command(const ExportPlanOptions& o, std::ostream& out, std::ostream& err) {
+  const Scenario scenario =
+      o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
+  if (o.format != "dmis") {
+    throw InputError({}, "--format", o.format, "dmis (the only plan format so far)");
+  }
+  check_output_file(o.out, "--out");
+  const InvoluteGear gear(scenario.gear);
+  const std::vector<PlannedPoint> sequence = probing_sequence(gear, scenario.probing);
+  const Provenance made =
+      make_provenance(o.command_line, scenario.source_path, scenario.source_text);
+  const std::vector<std::string> comments = {
+      "made by " + provenance_line(made),
+      "gear: z " + std::to_string(gear.teeth()) + ", m " + short_number(gear.module_mm()) +
+          " mm; stylus ball radius " + short_number(scenario.stylus_radius_mm) +
+          " mm (qualify the probe with it); frame: gear axis +Z, tooth 1 on +X"};
+  write_file_atomically(o.out, dmis_program(sequence, "gearmc probing plan of " + scenario.name,
+                                            kProbeApproachMm, comments));
+  out << "gearmc export-plan: " << scenario.name << ", " << sequence.size()
+      << " points in probing order (DMIS) -> " << o.out << "\n";
+  return 0;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,30 @@
+// Readings from a CMM's DMIS output: the results of running the plan `gearmc export-plan` wrote
+// (engine/probing/dmis_plan.h). A DMIS output file holds, per measured point, the nominal
+// feature F(label)=FEAT/POINT,CART,x,y,z,i,j,k (point and outward normal) and the actual one
+// FA(label)=FEAT/POINT,CART,x,y,z,i,j,k: the point the CMM reports, already radius-compensated
+// along the nominal normal (E = O − R n, docs/formats.md). The label names tooth, flank and grid
+// indices (T001L_I03_J07), so each result becomes one readings row:
+//   p, n = the nominal feature's point and normal (n normalised),
+//   c = E + R n, the stylus centre the CMM recorded (so e = ((c − p)·n − R)·1000 µm is the
+//   reading along n, as for the CSV), with R the stylus radius the points were compensated with,
+//   order = the position of the FA record in the file, gear 0 (one measurement per file).
+// Keywords are case-insensitive; `$$` starts a comment; a line ending in `$` continues on the
+// next. Other statements are skipped. Bad input — a malformed FEAT/POINT, a number that is not
+// finite, a label not of the plan's form, an actual without its nominal, a point measured twice,
+// no results — is one InputError with file:line:column (exit 2). Lengths in mm.
+#pragma once
+
+#include <string>
+
+#include "engine/readings/readings_csv.h"
+
+namespace gearmc {
+
+// True when `path` names a DMIS file by its extension (.dmo, .dmi, .dms, .dmis; any case).
+bool is_dmis_file(const std::string& path);
+
+Readings parse_dmis_results(const std::string& text, const std::string& source_name,
+                            double stylus_radius_mm);
+Readings read_dmis_results(const std::string& path, double stylus_radius_mm);
+
+}  // namespace gearmc
