@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
 #include "engine/mc/monte_carlo.h"
-#include "engine/report/output_files.h"
 #include "engine/report/run_report.h"
-#include "engine/scenario/input_error.h"
 
 namespace gearmc {
 namespace {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 namespace gearmc {
 namespace {

@@ -5,9 +5,9 @@
 #include <tuple>
 
 #include "engine/effects/measurement_effect.h"
+#include "engine/io/input_error.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/probing_grid.h"
-#include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 #include "gears/normal_expression.h"
 #include "surfaces/analytic_flank.h"

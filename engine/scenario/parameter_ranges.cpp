@@ -10,6 +10,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/io/number_text.h"
+
 namespace gearmc {
 namespace {
 
@@ -18,15 +20,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 NumberRange closed(double lo, double hi) { return NumberRange::closed(lo, hi); }
 NumberRange above(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
 
-std::string number(double value) {
-  char buffer[64];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, r.ptr);
-}
-
 std::string with_unit(double value, const std::string& unit) {
-  if (unit.empty()) return number(value);
-  return number(value) + (unit == "%" ? "" : " ") + unit;
+  if (unit.empty()) return shortest_text(value);
+  return shortest_text(value) + (unit == "%" ? "" : " ") + unit;
 }
 
 }  // namespace
@@ -196,7 +192,8 @@ std::vector<const RangeTable*> all_range_tables() {
 std::string describe_range(const ParameterRange& range) {
   std::string text = range.valid.describe();
   if (range.integer) {
-    text = "an integer from " + number(range.valid.min) + " to " + number(range.valid.max);
+    text = "an integer from " + shortest_text(range.valid.min) + " to " +
+           shortest_text(range.valid.max);
   }
   if (!range.unit.empty()) text += " " + range.unit;
   return text + " (" + range.why + ")";
@@ -206,8 +203,8 @@ namespace {
 
 std::string warning_text(double value, const ParameterRange& range) {
   std::string text = with_unit(value, range.unit) + " is outside the usual range " +
-                     number(range.usual_min) + " … " + with_unit(range.usual_max, range.unit) +
-                     " (" + range.why + ")";
+                     shortest_text(range.usual_min) + " … " +
+                     with_unit(range.usual_max, range.unit) + " (" + range.why + ")";
   if (!range.slip.empty()) text += "; " + range.slip;
   return text;
 }
@@ -236,12 +233,12 @@ std::string range_reference_markdown() {
     md += "| key | unit | valid | usual | why | a value outside the usual range may be |\n";
     md += "|---|---|---|---|---|---|\n";
     for (const ParameterRange& r : table->entries) {
-      const std::string valid = r.integer
-                                    ? "integer " + number(r.valid.min) + " … " + number(r.valid.max)
-                                    : r.valid.describe();
+      const std::string valid =
+          r.integer ? "integer " + shortest_text(r.valid.min) + " … " + shortest_text(r.valid.max)
+                    : r.valid.describe();
       md += "| `" + r.key + "` | " + cell(r.unit) + " | " + cell(valid) + " | " +
-            number(r.usual_min) + " … " + number(r.usual_max) + " | " + cell(r.why) + " | " +
-            cell(r.slip) + " |\n";
+            shortest_text(r.usual_min) + " … " + shortest_text(r.usual_max) + " | " + cell(r.why) +
+            " | " + cell(r.slip) + " |\n";
     }
   }
   return md;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scenario/yaml_reader.h"
+#include "engine/io/yaml_reader.h"
 
 namespace gearmc {
 

@@ -21,10 +21,10 @@
 #include <utility>
 #include <vector>
 
-#include "engine/scenario/input_error.h"
-#include "engine/scenario/input_file.h"
+#include "engine/io/input_error.h"
+#include "engine/io/input_file.h"
+#include "engine/io/yaml_reader.h"
 #include "engine/scenario/parameter_ranges.h"
-#include "engine/scenario/yaml_reader.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
 

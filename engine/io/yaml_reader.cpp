@@ -1,7 +1,7 @@
 // Strict, located conversions of YAML nodes into typed values and the declared-keys mapping
 // reader (see yaml_reader.h). Every failure is an InputError naming file:line:column (yaml-cpp
 // marks are 0-based; messages are 1-based), the dotted key, the value and what was expected.
-#include "engine/scenario/yaml_reader.h"
+#include "engine/io/yaml_reader.h"
 
 #include <yaml-cpp/eventhandler.h>
 
@@ -13,18 +13,14 @@
 #include <system_error>
 #include <utility>
 
+#include "engine/io/number_text.h"
+
 namespace gearmc {
 namespace {
 
 InputLocation location_of(const YAML::Mark& mark, const std::string& file) {
   if (mark.is_null()) return {file, 0, 0};
   return {file, mark.line + 1, mark.column + 1};
-}
-
-std::string format_number(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
 }
 
 std::string join(const std::vector<std::string>& words, const std::string& separator) {
@@ -100,11 +96,11 @@ bool NumberRange::contains(double value) const {
 std::string NumberRange::describe() const {
   const bool has_min = std::isfinite(min);
   const bool has_max = std::isfinite(max);
-  const std::string lower = (min_inclusive ? ">= " : "> ") + format_number(min);
-  const std::string upper = (max_inclusive ? "<= " : "< ") + format_number(max);
+  const std::string lower = (min_inclusive ? ">= " : "> ") + shortest_text(min);
+  const std::string upper = (max_inclusive ? "<= " : "< ") + shortest_text(max);
   if (has_min && has_max) {
     if (min_inclusive && max_inclusive) {
-      return "a number from " + format_number(min) + " to " + format_number(max);
+      return "a number from " + shortest_text(min) + " to " + shortest_text(max);
     }
     return "a number " + lower + " and " + upper;
   }
