@@ -21,6 +21,9 @@
 #include <system_error>
 
 namespace gearmc {
+
+std::size_t triangle_count(const TriangleMesh& mesh) { return mesh.n_faces(); }
+
 namespace {
 
 constexpr double kPi = std::numbers::pi;

@@ -238,7 +238,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   for (const std::string& w : view.warnings) err << "gearmc: warning: " << w << "\n";
   for (const FlankMeshSurface& surface : scenario.surfaces) {
     out << "flank " << surface.tooth << side_letter(surface.side) << " is the mesh "
-        << surface.mesh_path << " (" << surface.mesh->n_faces() << " triangles, "
+        << surface.mesh_path << " (" << triangle_count(*surface.mesh) << " triangles, "
         << (surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facet")
         << " contact point) in every gear\n";
   }

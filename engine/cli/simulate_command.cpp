@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "engine/effects/measurement_effect.h"
 #include "engine/io/input_error.h"
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"

@@ -6,7 +6,7 @@
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 
 namespace gearmc {
 namespace {

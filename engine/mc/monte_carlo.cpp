@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "engine/effects/measurement_effect.h"
+#include "engine/probing/mesh_probe.h"
 #include "engine/scenario/scenario.h"
 #include "gears/normal_expression.h"
 #include "surfaces/analytic_flank.h"

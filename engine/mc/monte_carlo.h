@@ -16,13 +16,14 @@
 #include <vector>
 
 #include "engine/probing/contact.h"
-#include "engine/probing/mesh_probe.h"
 #include "engine/probing/probing_grid.h"
 #include "engine/scenario/scenario.h"
 #include "engine/stats/relative_histogram.h"
 #include "engine/stats/running_stats.h"
 
 namespace gearmc {
+
+class MeshFlankProbe;  // engine/probing/mesh_probe.h (keeps OpenMesh out of this header)
 
 // Moments and a histogram of relative resolution 2^-12 (any scale, relative_histogram.h) of one
 // error quantity. A value that is not finite is counted in `non_finite` and nowhere else (it

@@ -11,7 +11,7 @@
 #include "engine/io/input_file.h"
 #include "engine/io/number_text.h"
 #include "engine/io/output_files.h"
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 
 namespace gearmc {
 namespace {

@@ -3,7 +3,7 @@
 // that the committed page equals this output).
 #include <iostream>
 
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 
 int main() {
   std::cout << gearmc::range_reference_markdown();

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 
 namespace gearmc {
 namespace {

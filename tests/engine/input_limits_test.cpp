@@ -21,8 +21,8 @@
 #include "engine/effects/effect_config.h"
 #include "engine/io/input_error.h"
 #include "engine/io/input_file.h"
+#include "engine/io/parameter_ranges.h"
 #include "engine/readings/readings_csv.h"
-#include "engine/scenario/parameter_ranges.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
 

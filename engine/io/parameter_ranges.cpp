@@ -3,7 +3,7 @@
 // effects" table, ISO 1328-1:2013's scope (z 5–1000, d 5–15 000 mm, m_n 0.5–70 mm,
 // b 4–1 200 mm) and ISO 53 (basic rack). Valid ranges are wide (a value beyond them is not a
 // gear or not a CMM); usual ranges are what such gears and machines have.
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 
 #include <charconv>
 #include <cmath>
@@ -214,7 +214,7 @@ std::string warning_text(double value, const ParameterRange& range) {
 std::string range_reference_markdown() {
   std::string md =
       "# Scenario and readings numbers: units and ranges\n\n"
-      "Generated from `engine/scenario/parameter_ranges.cpp` (the tables the readers check "
+      "Generated from `engine/io/parameter_ranges.cpp` (the tables the readers check "
       "against) by `scripts/update-docs`; a test fails when this page and the tables differ. "
       "A value outside the **valid** range is an error (exit 2, with file:line:column, the key, "
       "the value and the range); a value outside the **usual** range is accepted with a "
