@@ -6,7 +6,6 @@
 #include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
-#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -14,6 +13,7 @@
 #include <utility>
 
 #include "engine/io/number_text.h"
+#include "gears/check.h"
 
 namespace gearmc {
 namespace {
@@ -258,7 +258,7 @@ std::string YamlMap::child_path(const std::string& key) const {
 }
 
 void YamlMap::restrict_keys(const std::vector<std::string>& keys) {
-  assert(!keys.empty());
+  GEARMC_CHECK(!keys.empty(), "a restricted map needs its allowed keys");
   for (const Entry& entry : entries_) {
     if (std::find(keys.begin(), keys.end(), entry.key) != keys.end()) continue;
     const std::string owner = path().empty() ? "the top level" : path();
@@ -269,10 +269,11 @@ void YamlMap::restrict_keys(const std::vector<std::string>& keys) {
   allowed_keys_ = keys;
 }
 
-void YamlMap::check_lookup([[maybe_unused]] const std::string& key) const {
+void YamlMap::check_lookup(const std::string& key) const {
   // Looking up an undeclared key is a parser bug: it could never be given.
-  assert(allowed_keys_.empty() ||
-         std::find(allowed_keys_.begin(), allowed_keys_.end(), key) != allowed_keys_.end());
+  GEARMC_CHECK(allowed_keys_.empty() || std::find(allowed_keys_.begin(), allowed_keys_.end(),
+                                                  key) != allowed_keys_.end(),
+               "a key looked up that the map did not declare");
 }
 
 bool YamlMap::has(const std::string& key) const { return find(key).has_value(); }
