@@ -30,7 +30,8 @@ struct FlankMeshSurface {
   std::string mesh_path;  // as opened: a relative path is taken from the scenario file's folder
   MeshContactPoint contact = MeshContactPoint::kSmoothed;
   // Read and checked (finite coordinates, some vertex within kMeshSearchMm of the nominal flank)
-  // when the scenario is parsed; shared, read-only.
+  // when the scenario is parsed; shared, read-only. TriangleMesh is only declared here
+  // (surfaces/triangle_mesh_fwd.h): code that walks the mesh includes surfaces/flank_mesh.h.
   std::shared_ptr<const TriangleMesh> mesh;
 };
 
