@@ -23,11 +23,11 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
+#include "gears/check.h"
 #include "gears/random_stream.h"
 
 namespace gearmc {
@@ -48,7 +48,8 @@ double knot(int i, int n, double t0, double t1) {
 
 CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients)
     : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
-  assert(c_.size() >= 4 && t1_ > t0_);
+  GEARMC_CHECK(c_.size() >= 4 && t1_ > t0_,
+               "a cubic B-spline needs at least 4 coefficients and t1 > t0");
   const int spans = static_cast<int>(c_.size()) - 3;
   h_ = (t1_ - t0_) / spans;
   poly_.resize(spans);
@@ -235,7 +236,8 @@ double FlankDeviation::d2_dL2(double L) const { return profile_form.second_deriv
 double FlankDeviation::d2_dz2(double z) const { return helix_form.second_derivative(z); }
 
 TraceEvaluation evaluate_trace(std::span<const double> x, std::span<const double> d) {
-  assert(x.size() == d.size() && x.size() >= 2);
+  GEARMC_CHECK(x.size() == d.size() && x.size() >= 2,
+               "a trace needs as many deviations as positions, at least 2");
   // Trapezoid weights: the weighted least-squares line is the continuous one (ISO defines the
   // mean line over the trace, not over a sample) to O(h^2); plain sums would be off by O(h),
   // e.g. 0.3 µm of slope for 200 samples of a trace with 5 µm at its ends.

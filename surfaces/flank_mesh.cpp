@@ -10,7 +10,6 @@
 #include <unistd.h>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cassert>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -20,7 +19,12 @@
 #include <numbers>
 #include <system_error>
 
+#include "gears/check.h"
+
 namespace gearmc {
+
+std::size_t triangle_count(const TriangleMesh& mesh) { return mesh.n_faces(); }
+
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -111,7 +115,7 @@ constexpr std::streamsize kTextPrecision = 17;
 
 FlankMeshSpec whole_flank_spec(const InvoluteGear& gear, double roll_length_step_mm,
                                double z_step_mm) {
-  assert(roll_length_step_mm > 0.0 && z_step_mm > 0.0);
+  GEARMC_CHECK(roll_length_step_mm > 0.0 && z_step_mm > 0.0, "mesh steps must be > 0");
   FlankMeshSpec spec;
   spec.roll_length_min_mm = gear.form_roll_length_mm();
   spec.roll_length_max_mm = gear.tip_roll_length_mm();
@@ -127,7 +131,7 @@ FlankMeshSpec whole_flank_spec(const InvoluteGear& gear, double roll_length_step
 
 TriangleMesh mesh_flank(const AnalyticFlank& flank, const FlankMeshSpec& spec) {
   const int nL = spec.roll_length_samples, nz = spec.z_samples;
-  assert(nL >= 2 && nz >= 2);
+  GEARMC_CHECK(nL >= 2 && nz >= 2, "a flank mesh needs at least 2 x 2 samples");
   TriangleMesh mesh;
   mesh.reserve(static_cast<size_t>(nL) * nz, 3 * static_cast<size_t>(nL) * nz,
                2 * static_cast<size_t>(nL) * nz);
@@ -168,8 +172,9 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
   const int teeth = gear.teeth();
   const int nL = spec.profile_samples, nt = spec.tip_samples, nr = spec.root_samples;
   const int nz = spec.face_samples;
-  assert(nL >= 2 && nt >= 0 && nr >= 0 && nz >= 2);
-  assert(static_cast<int>(perturbed.flanks.size()) == 2 * teeth);
+  GEARMC_CHECK(nL >= 2 && nt >= 0 && nr >= 0 && nz >= 2, "gear mesh sample counts out of range");
+  GEARMC_CHECK(static_cast<int>(perturbed.flanks.size()) == 2 * teeth,
+               "a perturbed gear needs two flanks per tooth");
   const int per_tooth = 2 * nL + nt + nr;
   const int M = teeth * per_tooth;  // vertices per section
   const double L_form = gear.form_roll_length_mm(), L_tip = gear.tip_roll_length_mm();

@@ -21,15 +21,16 @@
 #include "gears/involute_gear.h"
 #include "gears/normal_expression.h"
 #include "surfaces/analytic_flank.h"
+#include "surfaces/triangle_mesh_fwd.h"
 
 namespace gearmc {
 
-// Double-precision points and normals (OpenMesh's default is float).
+// Double-precision points and normals (OpenMesh's default is float). TriangleMesh, the mesh
+// with these traits, is named in surfaces/triangle_mesh_fwd.h.
 struct TriangleMeshTraits : public OpenMesh::DefaultTraits {
   typedef OpenMesh::Vec3d Point;
   typedef OpenMesh::Vec3d Normal;
 };
-using TriangleMesh = OpenMesh::TriMesh_ArrayKernelT<TriangleMeshTraits>;
 
 // ---------------------------------------------------------------------------------------------
 // Meshing

@@ -17,9 +17,9 @@
 #include "engine/cli/run_command.h"
 #include "engine/cli/simulate_command.h"
 #include "engine/cli/uncertainty_command.h"
-#include "engine/report/provenance.h"
-#include "engine/report/version.h"
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
+#include "engine/io/provenance.h"
+#include "engine/io/version.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {

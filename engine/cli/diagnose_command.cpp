@@ -13,12 +13,12 @@
 #include "engine/diagnose/diagnosis_report.h"
 #include "engine/diagnose/fitted_scenario.h"
 #include "engine/diagnose/readings_check.h"
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
+#include "engine/io/provenance.h"
 #include "engine/readings/dmis_results.h"
 #include "engine/readings/readings_csv.h"
-#include "engine/report/output_files.h"
-#include "engine/report/provenance.h"
 #include "engine/report/svg_plot.h"
-#include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {

@@ -3,9 +3,9 @@
 
 #include <ostream>
 
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
 #include "engine/measure/measurement_model.h"
-#include "engine/report/output_files.h"
-#include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 #include "gears/normal_expression.h"
 #include "surfaces/flank_mesh.h"

@@ -4,12 +4,11 @@
 #include <ostream>
 #include <sstream>
 
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
+#include "engine/io/provenance.h"
 #include "engine/probing/contact.h"
 #include "engine/probing/dmis_plan.h"
-#include "engine/report/html_report.h"
-#include "engine/report/output_files.h"
-#include "engine/report/provenance.h"
-#include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <ostream>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 namespace gearmc {
 namespace {

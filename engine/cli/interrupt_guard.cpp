@@ -3,7 +3,7 @@
 
 #include <csignal>
 
-#include "engine/report/output_files.h"
+#include "engine/io/output_files.h"
 
 namespace gearmc {
 namespace {

@@ -1,5 +1,6 @@
-// `gearmc run`: checks, the Monte-Carlo batch, output files and the terminal summary (see
-// run_command.h); what is written and printed is composed in engine/report/run_report.
+// `gearmc run`: argument checks, the Monte-Carlo batch, output files and printing (see
+// run_command.h); what is written and printed is composed in engine/report (run_report.h,
+// run_terminal.h).
 #include "engine/cli/run_command.h"
 #include "engine/cli/interrupt_guard.h"
 
@@ -14,10 +15,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
+#include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
-#include "engine/report/output_files.h"
 #include "engine/report/run_report.h"
-#include "engine/scenario/input_error.h"
+#include "engine/report/run_terminal.h"
 
 namespace gearmc {
 namespace {
@@ -29,28 +32,6 @@ namespace fs = std::filesystem;
 constexpr double kPointRowBytes = 330.0;
 // --points refuses a file larger than this unless --force.
 constexpr double kPointsLimitBytes = 4.0e9;
-
-void write_point_row(std::ostream& f, const ProbedPoint& p) {
-  const ContactResult& c = p.contact;
-  f << p.gear << ',' << p.tooth << ',' << side_letter(p.side) << ',' << p.i << ',' << p.j;
-  auto v3 = [&](const Eigen::Vector3d& v) { f << ',' << v.x() << ',' << v.y() << ',' << v.z(); };
-  v3(p.p);
-  v3(p.n);
-  if (c.status == ContactResult::Status::kOk) {
-    v3(c.contact);
-    v3(c.centre);
-    v3(c.reported);
-    f << ',' << c.delta_um << ',' << c.normal_error_um << ",ok\n";
-  } else {
-    f << ",,,,,,,,,,,";
-    f << ','
-      << (c.status == ContactResult::Status::kEdge        ? "edge"
-          : c.status == ContactResult::Status::kCollision ? c.collision
-          : *c.failure != '\0'                            ? c.failure
-                                                          : "not_converged")
-      << '\n';
-  }
-}
 
 // The default folder results/<name> may hold the results of another scenario file with the same
 // `name:`; overwriting them silently would lose them. (An explicit --out is the user's choice.)
@@ -104,10 +85,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   prepare_output_folder(folder.dir, &folder.created);
   const fs::path& dir = folder.dir;
 
-  out << "gearmc run: " << scenario.name << ", " << (o.only_gear ? 1 : scenario.gears)
-      << (o.only_gear ? " gear (--only-gear " + std::to_string(*o.only_gear) + ")" : " gears")
-      << ", " << mc.probed_teeth() << " teeth, " << mc.points_per_flank() << " points per flank, R "
-      << scenario.stylus_radius_mm << " mm, seed " << scenario.seed << "\n";
+  out << run_header_line(scenario, mc, o.only_gear) << "\n";
   if (o.points) {
     out << "points.csv: " << std::setprecision(3) << planned_points << " rows, about "
         << planned_points * kPointRowBytes / 1e6 << " MB\n"
@@ -124,8 +102,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
                 << provenance_line(
                        make_provenance(o.command_line, scenario.source_path, scenario.source_text))
                 << "\n";
-    points_file << "gear,tooth,flank,i,j,px,py,pz,nx,ny,nz,cx,cy,cz,ox,oy,oz,ex,ey,ez,delta_um,"
-                   "normal_err_um,status\n";
+    points_file << points_csv_header();
   }
 
   RunOptions run;
@@ -197,21 +174,9 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   files.commit();
   folder.created = false;  // keep it: it holds the results now
 
-  out << "contacts " << r.contacts << " (failed " << r.failed_contacts << ", edge "
-      << r.edge_contacts << ", collisions " << r.collisions << ") in " << std::fixed
-      << std::setprecision(2) << r.wall_s << " s\n"
-      << std::defaultfloat;
+  out << run_contacts_line(r) << "\n";
   for (const std::string& w : view.warnings) err << "gearmc: warning: " << w << "\n";
-  for (const FlankMeshSurface& surface : scenario.surfaces) {
-    out << "flank " << surface.tooth << side_letter(surface.side) << " is the mesh "
-        << surface.mesh_path << " (" << surface.mesh->n_faces() << " triangles, "
-        << (surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facet")
-        << " contact point) in every gear\n";
-  }
-  print_run_tables(out, scenario, r, view);
-  for (int s = 0; s < 2; ++s) {
-    out << "flank max " << (s == 0 ? "L" : "R") << " law: " << view.laws[s].sentence << "\n";
-  }
+  print_run_summary(out, scenario, r, view);
   out << "report: " << dir.string() << "/report.html\n";
   return 0;
 }

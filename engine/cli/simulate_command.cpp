@@ -3,10 +3,11 @@
 
 #include <filesystem>
 
+#include "engine/effects/measurement_effect.h"
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
+#include "engine/io/provenance.h"
 #include "engine/mc/simulate.h"
-#include "engine/report/output_files.h"
-#include "engine/report/provenance.h"
-#include "engine/scenario/input_error.h"
 
 namespace gearmc {
 

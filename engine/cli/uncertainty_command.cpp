@@ -12,9 +12,9 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
-#include "engine/report/output_files.h"
-#include "engine/report/provenance.h"
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
+#include "engine/io/provenance.h"
 #include "engine/uncertainty/evaluation.h"
 
 namespace gearmc {

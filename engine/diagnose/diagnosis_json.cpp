@@ -4,7 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "engine/report/html_report.h"
+#include "engine/io/output_files.h"
 
 namespace gearmc {
 namespace {

@@ -9,8 +9,8 @@
 #include <tuple>
 
 #include "engine/diagnose/linear_model.h"
+#include "engine/io/input_error.h"
 #include "engine/measure/gear_measurement.h"
-#include "engine/scenario/input_error.h"
 
 namespace gearmc {
 namespace {

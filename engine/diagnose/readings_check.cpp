@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 namespace gearmc {
 namespace {

@@ -4,8 +4,8 @@
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
-#include "engine/scenario/parameter_ranges.h"
-#include "engine/scenario/scenario_keys.h"
+#include "engine/io/parameter_ranges.h"
+#include "engine/io/scenario_keys.h"
 
 namespace gearmc {
 namespace {

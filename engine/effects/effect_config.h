@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/effects/measurement_effect.h"
-#include "engine/scenario/yaml_reader.h"
+#include "engine/io/yaml_reader.h"
 
 namespace gearmc {
 

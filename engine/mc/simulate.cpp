@@ -4,8 +4,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/effects/measurement_effect.h"
+#include "engine/io/input_error.h"
 #include "engine/measure/gear_measurement.h"
-#include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {

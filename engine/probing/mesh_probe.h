@@ -17,22 +17,12 @@
 #include <vector>
 
 #include "engine/probing/contact.h"
+#include "engine/probing/mesh_contact_point.h"
 #include "gears/involute_gear.h"
 #include "surfaces/flank_mesh.h"
 #include "surfaces/mesh_contact.h"
 
 namespace gearmc {
-
-// Which point of a mesh contact is the true contact point C.
-enum class MeshContactPoint {
-  // O - R nu, nu the interpolated angle-weighted vertex normal at the facet contact: an estimate
-  // of the contact with the smooth surface the mesh samples, converging as O(h^2) with the mesh
-  // step h (surfaces/mesh_contact.h). For meshes of smooth flanks (CAD, fitted scans): default.
-  kSmoothed,
-  // The point of the triangles the sphere touches: exact for the piecewise-planar surface, but
-  // it follows the facet normals, so on a mesh of a smooth flank it converges only as O(h).
-  kFacets,
-};
 
 // Where a point x (datum frame, mm) lies relative to the nominal flank `side` of `tooth`: the
 // roll length L and height z of the nominal flank point whose normal passes through x, and the

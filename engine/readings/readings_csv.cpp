@@ -7,10 +7,11 @@
 #include <set>
 #include <sstream>
 
-#include "engine/report/html_report.h"
-#include "engine/scenario/input_error.h"
-#include "engine/scenario/input_file.h"
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/input_error.h"
+#include "engine/io/input_file.h"
+#include "engine/io/number_text.h"
+#include "engine/io/output_files.h"
+#include "engine/io/parameter_ranges.h"
 
 namespace gearmc {
 namespace {
@@ -18,12 +19,6 @@ namespace {
 const std::vector<std::string> kColumns = {"gear",  "tooth", "flank", "i",  "j",
                                            "order", "px",    "py",    "pz", "nx",
                                            "ny",    "nz",    "cx",    "cy", "cz"};
-
-std::string number_text(double x) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x);
-  return std::string(buf, r.ptr);
-}
 
 std::vector<std::string> split(const std::string& line, std::vector<int>* columns) {
   std::vector<std::string> fields;
@@ -81,7 +76,7 @@ double measured_deviation_um(const ReadingRow& row, double stylus_radius_mm) {
 
 std::string format_readings(const Readings& readings) {
   std::ostringstream out;
-  out << "# gearmc readings v1\n# stylus_radius_mm=" << number_text(readings.stylus_radius_mm)
+  out << "# gearmc readings v1\n# stylus_radius_mm=" << shortest_text(readings.stylus_radius_mm)
       << "\n";
   for (const std::string& comment : readings.comments) {
     // One line each, and never a key line: '=' and line breaks are replaced.
@@ -99,9 +94,9 @@ std::string format_readings(const Readings& readings) {
     out << r.gear << ',' << r.tooth << ',' << (r.side == FlankSide::kRight ? 'R' : 'L') << ','
         << r.i << ',' << r.j << ',' << r.order;
     for (const Eigen::Vector3d* v : {&r.p, &r.n, &r.c}) {
-      for (int a = 0; a < 3; ++a) out << ',' << number_text((*v)[a]);
+      for (int a = 0; a < 3; ++a) out << ',' << shortest_text((*v)[a]);
     }
-    if (readings.has_ref_dev) out << ',' << number_text(r.ref_dev_um.value_or(0.0));
+    if (readings.has_ref_dev) out << ',' << shortest_text(r.ref_dev_um.value_or(0.0));
     out << "\n";
   }
   return out.str();
@@ -251,7 +246,7 @@ Readings parse_readings(const std::string& text, const std::string& source) {
     // The reading itself: far off means a stylus radius or coordinates in other units.
     const double e = measured_deviation_um(r, readings.stylus_radius_mm);
     check_ranged(e, ranges.at("reading_um"), {source, line_no, cols[12]},
-                 "(c - p)·n - R = " + number_text(e) + " µm", nullptr);
+                 "(c - p)·n - R = " + shortest_text(e) + " µm", nullptr);
     r.line = line_no;
     readings.rows.push_back(r);
   }

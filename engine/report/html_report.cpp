@@ -7,6 +7,7 @@
 #include <system_error>
 #include <utility>
 
+#include "engine/io/output_files.h"
 #include "engine/report/svg_plot.h"
 
 namespace gearmc {
@@ -174,30 +175,6 @@ std::string HtmlReport::html() const {
 
 void HtmlReport::write(const std::filesystem::path& file) const {
   write_file_atomically(file, html());
-}
-
-void write_file_atomically(const std::filesystem::path& file, std::string_view content) {
-  std::filesystem::path temporary = file;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (out) {
-      out.write(content.data(), static_cast<std::streamsize>(content.size()));
-      out.close();  // close() reports the last write's failure (e.g. a full disk) via failbit
-    }
-    if (out.fail()) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw std::runtime_error("cannot write " + file.string());
-    }
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, file, error);
-  if (error) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw std::runtime_error("cannot write " + file.string() + ": " + error.message());
-  }
 }
 
 }  // namespace gearmc

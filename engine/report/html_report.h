@@ -66,10 +66,4 @@ class HtmlReport {
   std::vector<Anchor> anchors_;
 };
 
-// Writes `content` to `file` atomically: to "<file>.tmp" in the same directory, flushed and
-// closed, then renamed over `file` (std::filesystem::rename, atomic on POSIX within one file
-// system). On failure removes the temporary file and throws std::runtime_error naming the file;
-// an existing `file` is left untouched. The directory must exist.
-void write_file_atomically(const std::filesystem::path& file, std::string_view content);
-
 }  // namespace gearmc

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "engine/effects/measurement_effect.h"
 #include "engine/report/html_report.h"
 #include "engine/report/svg_plot.h"
 #include "engine/stats/stats_json.h"
@@ -277,7 +278,7 @@ nlohmann::ordered_json run_summary_json(const Scenario& scenario, const MonteCar
          {"flank", std::string(1, side_letter(surface.side))},
          {"mesh", surface.mesh_path},
          {"contact", surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facets"},
-         {"triangles", surface.mesh->n_faces()}});
+         {"triangles", triangle_count(*surface.mesh)}});
   }
   summary["mesh_surfaces"] = mesh_surfaces;
   summary["quantile_relative_resolution"] = RelativeHistogram::kRelativeResolution;
@@ -489,7 +490,7 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
   for (const FlankMeshSurface& surface : scenario.surfaces) {
     std::ostringstream mesh;
     mesh << "Flank " << surface.tooth << side_letter(surface.side) << " is the mesh "
-         << surface.mesh_path << " (" << surface.mesh->n_faces() << " triangles, "
+         << surface.mesh_path << " (" << triangle_count(*surface.mesh) << " triangles, "
          << (surface.contact == MeshContactPoint::kSmoothed ? "smoothed" : "facet")
          << " contact point) in every gear; its random deviations are not used.";
     report.paragraph(mesh.str());

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
-#include "engine/report/provenance.h"
 #include "engine/stats/distribution_fit.h"
 #include "engine/stats/histogram_bins.h"
 

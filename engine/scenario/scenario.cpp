@@ -6,8 +6,6 @@
 // The schema is documented with each section reader below.
 #include "engine/scenario/scenario.h"
 
-#include "engine/effects/effect_config.h"
-
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -21,11 +19,14 @@
 #include <utility>
 #include <vector>
 
-#include "engine/scenario/input_error.h"
-#include "engine/scenario/input_file.h"
-#include "engine/scenario/parameter_ranges.h"
-#include "engine/scenario/scenario_keys.h"
-#include "engine/scenario/yaml_reader.h"
+#include "engine/effects/effect_config.h"
+#include "engine/effects/measurement_effect.h"
+#include "engine/io/input_error.h"
+#include "engine/io/input_file.h"
+#include "engine/io/parameter_ranges.h"
+#include "engine/io/scenario_keys.h"
+#include "engine/io/yaml_reader.h"
+#include "engine/probing/mesh_probe.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
 
@@ -526,6 +527,8 @@ void check_tolerances(Scenario& scenario, const YamlMap& gear_map,
 }
 
 }  // namespace
+
+Scenario::Scenario() : effects(std::make_shared<const EffectChain>()) {}
 
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source_name) {
   // Every user string may end up in JSON outputs and reports: the whole text must be UTF-8.

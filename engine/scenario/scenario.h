@@ -9,14 +9,16 @@
 #include <string>
 #include <vector>
 
-#include "engine/effects/measurement_effect.h"
-#include "engine/probing/mesh_probe.h"
+#include "engine/probing/mesh_contact_point.h"
 #include "engine/probing/probing_grid.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
+#include "surfaces/triangle_mesh_fwd.h"
 
 namespace gearmc {
+
+class EffectChain;  // engine/effects/measurement_effect.h
 
 // A flank whose real surface is a triangle mesh file (`surfaces:`, e.g. a scanned or CAD flank):
 // in every gear of a run it is probed instead of the analytic perturbed flank, so that flank's
@@ -28,12 +30,14 @@ struct FlankMeshSurface {
   std::string mesh_path;  // as opened: a relative path is taken from the scenario file's folder
   MeshContactPoint contact = MeshContactPoint::kSmoothed;
   // Read and checked (finite coordinates, some vertex within kMeshSearchMm of the nominal flank)
-  // when the scenario is parsed; shared, read-only.
+  // when the scenario is parsed; shared, read-only. TriangleMesh is only declared here
+  // (surfaces/triangle_mesh_fwd.h): code that walks the mesh includes surfaces/flank_mesh.h.
   std::shared_ptr<const TriangleMesh> mesh;
 };
 
 struct Scenario {
-  std::string name;         // from `name:`, else the file's stem
+  Scenario();        // effects: an empty chain (the chain's type is complete only in scenario.cpp)
+  std::string name;  // from `name:`, else the file's stem
   std::string source_path;  // file it was read from ("<built-in>" for the reference)
   std::string source_text;  // the YAML text itself (reports show it)
   std::uint64_t seed = 1;
@@ -47,9 +51,11 @@ struct Scenario {
   double stylus_radius_mm = 0.5;  // `stylus: radius_mm` (P1: 0.5 mm)
   int gears = 50;                 // `run: gears` (P1: 50)
   std::vector<FlankMeshSurface> surfaces;  // `surfaces:` (none: every flank is analytic)
-  // `effects:` — the measurement effects, in physical order (empty: δRcomp alone). Shared,
-  // read-only; never null.
-  std::shared_ptr<const EffectChain> effects = std::make_shared<const EffectChain>();
+  // `effects:` — the measurement effects, in physical order (empty: δRcomp alone), read by the
+  // effects module (parse_effects) from the section the scenario hands over. Shared, read-only;
+  // never null (a default Scenario holds an empty chain). Code that uses the chain includes
+  // engine/effects/measurement_effect.h.
+  std::shared_ptr<const EffectChain> effects;
   // Values that are valid but outside their usual range (parameter_ranges.h), each a whole
   // located message "file:line:col: key: …"; the caller prints them (they are not errors).
   std::vector<std::string> warnings;

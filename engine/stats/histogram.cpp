@@ -8,17 +8,12 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/io/number_text.h"
+
 namespace gearmc {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Shortest decimal text that reads back as the same double.
-std::string shortest(double x) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, result.ptr);
-}
 
 }  // namespace
 
@@ -137,9 +132,10 @@ std::size_t Histogram::rebin_factor(double display_width_um) const {
   if (!(rounded >= 1.0) || std::abs(ratio - rounded) > 1e-9 * rounded ||
       rounded > static_cast<double>(counts_.size()) ||
       counts_.size() % static_cast<std::size_t>(rounded) != 0) {
-    throw std::invalid_argument("Histogram: display width " + shortest(display_width_um) +
-                                " is not a whole multiple of the bin width " + shortest(width_) +
-                                " that divides the " + std::to_string(counts_.size()) + " bins");
+    throw std::invalid_argument("Histogram: display width " + shortest_text(display_width_um) +
+                                " is not a whole multiple of the bin width " +
+                                shortest_text(width_) + " that divides the " +
+                                std::to_string(counts_.size()) + " bins");
   }
   return static_cast<std::size_t>(rounded);
 }
@@ -174,8 +170,8 @@ double Histogram::mode(double display_width_um) const {
 std::string Histogram::to_csv() const {
   std::string csv = "bin_lo_um,bin_hi_um,count\n";
   for (std::size_t i = 0; i < counts_.size(); ++i) {
-    csv +=
-        shortest(edge(i)) + ',' + shortest(edge(i + 1)) + ',' + std::to_string(counts_[i]) + '\n';
+    csv += shortest_text(edge(i)) + ',' + shortest_text(edge(i + 1)) + ',' +
+           std::to_string(counts_[i]) + '\n';
   }
   csv += "underflow,," + std::to_string(underflow_) + '\n';
   csv += "overflow,," + std::to_string(overflow_) + '\n';

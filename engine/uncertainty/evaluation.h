@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/report/provenance.h"
+#include "engine/io/provenance.h"
 #include "engine/uncertainty/gum.h"
 #include "engine/uncertainty/mcm.h"
 #include "engine/uncertainty/model.h"

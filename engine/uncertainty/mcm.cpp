@@ -334,8 +334,9 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
         for (double v : ye) grand += v;
         grand /= double(ye.size());
         double ss = 0.0;
-        for (std::size_t b = 0; b < ye.size(); ++b) {
-          ss += double(B - 1) * yu[b] * yu[b] + double(B) * (ye[b] - grand) * (ye[b] - grand);
+        for (std::size_t blk = 0; blk < ye.size(); ++blk) {
+          ss +=
+              double(B - 1) * yu[blk] * yu[blk] + double(B) * (ye[blk] - grand) * (ye[blk] - grand);
         }
         out.delta = numerical_tolerance(std::sqrt(ss / double(to - 1)), o.significant_digits);
         out.two_s_estimate = 2 * sd_of_average(ye);

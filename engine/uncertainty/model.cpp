@@ -7,8 +7,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "engine/scenario/input_file.h"
-#include "engine/scenario/yaml_reader.h"
+#include "engine/io/input_file.h"
+#include "engine/io/yaml_reader.h"
 #include "engine/uncertainty/model_function.h"
 
 namespace gearmc::uncertainty {

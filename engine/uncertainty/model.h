@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 #include "engine/uncertainty/laws.h"
 
 namespace gearmc::uncertainty {

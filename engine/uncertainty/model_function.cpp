@@ -8,7 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 #include "engine/uncertainty/model.h"
 
 namespace gearmc::uncertainty {

@@ -4,7 +4,8 @@
 // page equals this output).
 #include <iostream>
 
-#include "engine/scenario/scenario_keys.h"
+#include "engine/io/parameter_ranges.h"
+#include "engine/io/scenario_keys.h"
 
 int main() {
   std::cout << gearmc::scenario_keys_markdown();

@@ -2,7 +2,7 @@
 // scenario (P1's Table 1 and tolerances) and one clear message for bad input.
 #include <gtest/gtest.h>
 
-#include "engine/report/provenance.h"
+#include "engine/io/provenance.h"
 #include "tests/support/run_gearmc.h"
 
 #include <nlohmann/json.hpp>

@@ -28,8 +28,8 @@
 #include "engine/diagnose/point_law_stage.h"
 #include "engine/diagnose/report_plot_data.h"
 #include "engine/effects/effect_config.h"
+#include "engine/io/input_error.h"
 #include "engine/mc/simulate.h"
-#include "engine/scenario/input_error.h"
 #include "engine/stats/histogram.h"
 
 namespace gearmc {

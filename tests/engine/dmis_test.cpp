@@ -14,10 +14,10 @@
 #include <sstream>
 
 #include "engine/effects/effect_config.h"
+#include "engine/io/input_error.h"
 #include "engine/mc/simulate.h"
 #include "engine/probing/dmis_plan.h"
 #include "engine/readings/dmis_results.h"
-#include "engine/scenario/input_error.h"
 #include "tests/support/run_gearmc.h"
 
 namespace gearmc {

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "engine/scenario/parameter_ranges.h"
-#include "engine/scenario/scenario_keys.h"
+#include "engine/io/parameter_ranges.h"
+#include "engine/io/scenario_keys.h"
 
 namespace gearmc {
 namespace {

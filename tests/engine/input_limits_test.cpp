@@ -19,10 +19,10 @@
 #include <string>
 
 #include "engine/effects/effect_config.h"
+#include "engine/io/input_error.h"
+#include "engine/io/input_file.h"
+#include "engine/io/parameter_ranges.h"
 #include "engine/readings/readings_csv.h"
-#include "engine/scenario/input_error.h"
-#include "engine/scenario/input_file.h"
-#include "engine/scenario/parameter_ranges.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
 

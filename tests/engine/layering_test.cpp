@@ -1,15 +1,28 @@
 // The layering rules of docs/architecture.md, checked on the sources: `gears/` and `surfaces/`
-// never include `engine/`, and nothing outside `engine/cli/` includes `engine/cli/` (the command
-// line is the top layer). A violation names the file and the include.
+// never include `engine/`, nothing outside `engine/cli/` includes `engine/cli/` (the command line
+// is the top layer), and inside `engine/` a file in `engine/Y/` includes `engine/X/…` only when
+// the "Engine layers" table lets Y use X. The table is read from docs/architecture.md (the build
+// reads the same table to link the layers' libraries); its "may use" entries must name rows
+// above (the layers are acyclic, lowest first) and every `engine/` sub-folder must have a row.
+// A violation names the file, the line and the include.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
 namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
 
 int check_folder(const std::string& folder, const std::string& forbidden,
                  const std::string& allowed_prefix) {
@@ -41,6 +54,150 @@ TEST(Layering, GearsAndSurfacesNeverIncludeEngine) {
 TEST(Layering, NothingOutsideTheCommandLineIncludesIt) {
   EXPECT_GT(check_folder("engine", "engine/cli/", "engine/cli/"), 50);
   EXPECT_GT(check_folder("tests", "engine/cli/", ""), 20);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The engine's layer table
+
+struct LayerTable {
+  std::vector<std::string> order;                     // rows, lowest first
+  std::map<std::string, std::set<std::string>> uses;  // folder -> folders it may use
+  std::vector<std::string> problems;                  // entries that do not name a row above
+};
+
+// Rows "| `engine/<folder>/` | job | `a` `b` … |" of `markdown`; the last cell lists the folders
+// the row's folder may use ("—" for none).
+LayerTable parse_layer_table(const std::string& markdown) {
+  LayerTable table;
+  const std::regex row(R"(^\| `engine/([a-z_]+)/` \|.*\|([^|]*)\|\s*$)");
+  const std::regex used("`([a-z_]+)`");
+  std::istringstream in(markdown);
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_match(line, m, row)) continue;
+    const std::string folder = m[1];
+    const std::string cell = m[2];
+    std::set<std::string>& allowed = table.uses[folder];
+    for (std::sregex_iterator it(cell.begin(), cell.end(), used), end; it != end; ++it) {
+      const std::string x = (*it)[1];
+      if (std::find(table.order.begin(), table.order.end(), x) == table.order.end()) {
+        table.problems.push_back("engine/" + folder + " may use '" + x +
+                                 "', which is not a layer above it in the table");
+      }
+      allowed.insert(x);
+    }
+    table.order.push_back(folder);
+  }
+  return table;
+}
+
+// Violations of `table` in one file's text: each "path:line: engine/Y includes engine/X (…)"
+// for an include of another engine folder X that Y may not use. `path` is relative to the
+// repository ("engine/Y/…").
+std::vector<std::string> layer_violations(const LayerTable& table, const std::string& path,
+                                          const std::string& text) {
+  std::vector<std::string> found;
+  const std::regex own(R"(^engine/([a-z_]+)/)");
+  std::smatch m;
+  if (!std::regex_search(path, m, own)) return found;
+  const std::string y = m[1];
+  const auto allowed = table.uses.find(y);
+  const std::regex include(R"(^\s*#\s*include\s*"engine/([a-z_]+)/)");
+  std::istringstream in(text);
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    std::smatch inc;
+    if (!std::regex_search(line, inc, include)) continue;
+    const std::string x = inc[1];
+    if (x == y) continue;
+    if (allowed == table.uses.end() || !allowed->second.contains(x)) {
+      found.push_back(path + ":" + std::to_string(line_no) + ": engine/" + y + " includes engine/" +
+                      x + " (" + line + "), which its layer may not use");
+    }
+  }
+  return found;
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+LayerTable repository_table() {
+  return parse_layer_table(read_text(fs::path(GEARMC_SOURCE_DIR) / "docs" / "architecture.md"));
+}
+
+TEST(Layering, TheTableIsOrderedLowestFirstAndNamesEveryEngineFolder) {
+  const LayerTable table = repository_table();
+  EXPECT_GE(table.order.size(), 10u);
+  EXPECT_TRUE(table.problems.empty()) << ::testing::PrintToString(table.problems);
+  ASSERT_FALSE(table.order.empty());
+  EXPECT_EQ(table.order.front(), "io");  // the bottom layer
+  EXPECT_EQ(table.order.back(), "cli");  // the top
+  for (const auto& entry : fs::directory_iterator(fs::path(GEARMC_SOURCE_DIR) / "engine")) {
+    if (!entry.is_directory()) continue;
+    const std::string folder = entry.path().filename().string();
+    EXPECT_TRUE(table.uses.contains(folder)) << "engine/" << folder << " has no row in the table";
+  }
+}
+
+TEST(Layering, EveryEngineIncludeFollowsTheTable) {
+  const LayerTable table = repository_table();
+  const fs::path root(GEARMC_SOURCE_DIR);
+  int files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root / "engine")) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".cpp" && ext != ".h" && ext != ".in") continue;
+    ++files;
+    const std::string rel = fs::relative(entry.path(), root).string();
+    for (const std::string& v : layer_violations(table, rel, read_text(entry.path()))) {
+      ADD_FAILURE() << v;
+    }
+  }
+  EXPECT_GT(files, 80);
+}
+
+// The checker on synthetic text, so that a test shows it can fail.
+TEST(Layering, TheCheckerFindsAnIncludeAgainstTheTable) {
+  const LayerTable table = parse_layer_table(
+      "| layer | job | may use |\n|---|---|---|\n"
+      "| `engine/io/` | bottom | — |\n"
+      "| `engine/effects/` | effects | `io` |\n"
+      "| `engine/scenario/` | input | `io` `effects` |\n");
+  EXPECT_TRUE(table.problems.empty());
+  EXPECT_THAT(table.order, ElementsAre("io", "effects", "scenario"));
+
+  // Allowed: own folder, a folder the row lists, non-engine headers.
+  EXPECT_TRUE(layer_violations(table, "engine/scenario/scenario.cpp",
+                               "#include \"engine/scenario/scenario.h\"\n"
+                               "#include \"engine/effects/effect_config.h\"\n"
+                               "#include \"engine/io/input_error.h\"\n#include <vector>\n"
+                               "#include \"gears/involute_gear.h\"\n")
+                  .empty());
+  // Against the table: effects includes scenario (a layer above), io includes effects.
+  const std::vector<std::string> upward = layer_violations(
+      table, "engine/effects/effect_config.h",
+      "// reads\n#include \"engine/io/yaml_reader.h\"\n#include \"engine/scenario/scenario.h\"\n");
+  ASSERT_EQ(upward.size(), 1u);
+  EXPECT_THAT(upward[0], HasSubstr("engine/effects/effect_config.h:3: engine/effects includes "
+                                   "engine/scenario"));
+  EXPECT_EQ(
+      layer_violations(table, "engine/io/x.cpp", "  #  include \"engine/effects/e.h\"\n").size(),
+      1u);
+  // A folder without a row may include no other engine folder.
+  EXPECT_EQ(layer_violations(table, "engine/newthing/a.cpp", "#include \"engine/io/a.h\"\n").size(),
+            1u);
+}
+
+TEST(Layering, TheTableRefusesAUseOfALayerNotAbove) {
+  const LayerTable table = parse_layer_table(
+      "| `engine/io/` | bottom | `scenario` |\n"
+      "| `engine/scenario/` | input | `io` |\n");
+  ASSERT_EQ(table.problems.size(), 1u);
+  EXPECT_THAT(table.problems[0], HasSubstr("engine/io may use 'scenario'"));
 }
 
 }  // namespace

@@ -21,9 +21,9 @@
 
 #include <unistd.h>
 
+#include "engine/io/input_error.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/mesh_probe.h"
-#include "engine/scenario/input_error.h"
 #include "engine/scenario/scenario.h"
 #include "surfaces/flank_mesh.h"
 #include "tests/support/run_compare.h"

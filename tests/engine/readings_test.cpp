@@ -5,8 +5,8 @@
 
 #include <string>
 
+#include "engine/io/input_error.h"
 #include "engine/readings/readings_csv.h"
-#include "engine/scenario/input_error.h"
 
 namespace gearmc {
 namespace {

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/io/output_files.h"
 #include "engine/report/html_report.h"
 #include "engine/report/svg_plot.h"
 #include "engine/stats/histogram.h"

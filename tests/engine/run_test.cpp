@@ -15,8 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
-#include "engine/report/provenance.h"
 #include "tests/support/run_compare.h"
 #include "tests/support/run_gearmc.h"
 

@@ -1,4 +1,4 @@
-// The scenario key table (engine/scenario/scenario_keys.h) against the readers and the C++
+// The scenario key table (engine/io/scenario_keys.h) against the readers and the C++
 // defaults: every number of the scenario's range tables has a key, every numeric key a range;
 // a scenario that leaves a key out gets the table's default (read back from the parsed
 // Scenario), which is also the default of the struct the C++ API builds; an unknown key is
@@ -11,10 +11,10 @@
 #include "engine/effects/measurement_effect.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
-#include "engine/scenario/input_error.h"
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/input_error.h"
+#include "engine/io/parameter_ranges.h"
+#include "engine/io/scenario_keys.h"
 #include "engine/scenario/scenario.h"
-#include "engine/scenario/scenario_keys.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"

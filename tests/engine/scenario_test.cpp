@@ -13,9 +13,9 @@
 #include <sstream>
 #include <string>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
+#include "engine/io/yaml_reader.h"
 #include "engine/scenario/scenario.h"
-#include "engine/scenario/yaml_reader.h"
 
 #ifndef GEARMC_SOURCE_DIR
 #error "GEARMC_SOURCE_DIR (the repository root) must be defined"

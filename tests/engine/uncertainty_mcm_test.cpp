@@ -67,7 +67,9 @@ double se_mean(const McmOutput& o) { return o.u / std::sqrt(double(o.sorted.size
 double se_u(const McmOutput& o) {
   return o.u * std::sqrt((kurtosis(o.sorted) - 1) / (4.0 * double(o.sorted.size())));
 }
-double se_quantile(double p, double f, std::size_t M) { return std::sqrt(p * (1 - p) / M) / f; }
+double se_quantile(double p, double f, std::size_t M) {
+  return std::sqrt(p * (1 - p) / static_cast<double>(M)) / f;
+}
 
 TEST(UncertaintyMcm, NumericalToleranceBlockSizeAndIntervals) {
   EXPECT_DOUBLE_EQ(numerical_tolerance(0.00035, 2), 5e-6);
@@ -227,7 +229,9 @@ TEST(UncertaintyMcm, AdaptiveStopsByItsRule) {
            two_s([](const BlockValues& v) { return v.short_hi[0]; }) <= delta;
   };
   EXPECT_TRUE(rule_holds(r.blocks));
-  if (r.blocks > 2) EXPECT_FALSE(rule_holds(r.blocks - 1));
+  if (r.blocks > 2) {
+    EXPECT_FALSE(rule_holds(r.blocks - 1));
+  }
   EXPECT_EQ(r.outputs[0].delta, 0.05);
 }
 

@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/io/input_error.h"
+#include "engine/io/input_file.h"
 #include "engine/readings/readings_csv.h"
-#include "engine/scenario/input_error.h"
-#include "engine/scenario/input_file.h"
 #include "engine/scenario/scenario.h"
 #include "engine/uncertainty/gum.h"
 #include "engine/uncertainty/mcm.h"

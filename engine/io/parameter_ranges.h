@@ -3,7 +3,9 @@
 // usual range (outside it but valid: a warning at the key), with the reason for both; numbers
 // that parse but are almost surely a unit slip (radians for degrees, mm for µm) carry the hint.
 // One table per section, so the reference documentation can be generated from them
-// (all_range_tables()).
+// (all_range_tables()). The tables are data shared by three readers (scenario, effects and
+// readings), so they live with the YAML reader in the bottom layer (engine/io): no reader has to
+// reach sideways into another for its ranges, and the reference page has one source.
 #pragma once
 
 #include <cstdint>
@@ -11,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scenario/yaml_reader.h"
+#include "engine/io/yaml_reader.h"
 
 namespace gearmc {
 

@@ -1,5 +1,5 @@
 // The version of this gearmc build: CMake's project(VERSION) and the git commit the build was
-// made from (written at build time by engine/report/version.cmake; "unknown" outside a git
+// made from (written at build time by engine/io/version.cmake; "unknown" outside a git
 // checkout, with "-dirty" when the work tree had uncommitted changes).
 #pragma once
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 namespace gearmc {
 

@@ -1,5 +1,5 @@
 // Safe reading of input files and UTF-8 checking (see input_file.h).
-#include "engine/scenario/input_file.h"
+#include "engine/io/input_file.h"
 
 #include <sys/stat.h>
 

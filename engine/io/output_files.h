@@ -1,12 +1,15 @@
 // A set of output files of one command written all-or-nothing (docs/formats.md: nothing is
 // half-written): each file is written as "<name>.partial" in the output folder and all are
 // renamed to their names together by commit(); if the object is destroyed before commit()
-// (an exception), the partial files are removed. Used by `run` and `diagnose`.
+// (an exception), the partial files are removed. Used by `run` and `diagnose`. A single file
+// is written atomically with write_file_atomically (temporary name, then rename). The bottom
+// layer (engine/io): every module that writes an output uses these, none writes its own.
 #pragma once
 
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gearmc {
@@ -25,6 +28,12 @@ void check_output_file(const std::filesystem::path& file, const std::string& opt
 // Removes `dir` if it is empty (a folder a failed or interrupted command created); errors are
 // ignored.
 void remove_if_empty(const std::filesystem::path& dir);
+
+// Writes `content` to `file` atomically: to "<file>.tmp" in the same directory, flushed and
+// closed, then renamed over `file` (std::filesystem::rename, atomic on POSIX within one file
+// system). On failure removes the temporary file and throws std::runtime_error naming the file;
+// an existing `file` is left untouched. The directory must exist.
+void write_file_atomically(const std::filesystem::path& file, std::string_view content);
 
 class OutputFiles {
  public:

@@ -1,11 +1,11 @@
 // The table of scenario keys and the reference page made from it (see scenario_keys.h). The
 // defaults are the readers' own: scenario.cpp and effect_config.cpp read them from here.
-#include "engine/scenario/scenario_keys.h"
+#include "engine/io/scenario_keys.h"
 
 #include <charconv>
 #include <stdexcept>
 
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 #include "gears/tolerances.h"
 
 namespace gearmc {
@@ -340,9 +340,9 @@ std::string scenario_keys_markdown() {
   };
   std::string md =
       "# Scenario keys: types, defaults, units and ranges\n\n"
-      "Generated from `engine/scenario/scenario_keys.cpp` (the key table the scenario readers "
+      "Generated from `engine/io/scenario_keys.cpp` (the key table the scenario readers "
       "take their key lists, choices and defaults from) and "
-      "`engine/scenario/parameter_ranges.cpp` (the ranges they check numbers against) by "
+      "`engine/io/parameter_ranges.cpp` (the ranges they check numbers against) by "
       "`scripts/update-docs`; a test fails when this page and the tables differ. List items "
       "are written without an index (`surfaces.tooth` is the `tooth` of each `surfaces:` "
       "item). A key not in this table is an error (exit 2, with a \"did you mean\").\n\n"

@@ -3,12 +3,14 @@
 // effects" table, ISO 1328-1:2013's scope (z 5–1000, d 5–15 000 mm, m_n 0.5–70 mm,
 // b 4–1 200 mm) and ISO 53 (basic rack). Valid ranges are wide (a value beyond them is not a
 // gear or not a CMM); usual ranges are what such gears and machines have.
-#include "engine/scenario/parameter_ranges.h"
+#include "engine/io/parameter_ranges.h"
 
 #include <charconv>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "engine/io/number_text.h"
 
 namespace gearmc {
 namespace {
@@ -18,15 +20,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 NumberRange closed(double lo, double hi) { return NumberRange::closed(lo, hi); }
 NumberRange above(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
 
-std::string number(double value) {
-  char buffer[64];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, r.ptr);
-}
-
 std::string with_unit(double value, const std::string& unit) {
-  if (unit.empty()) return number(value);
-  return number(value) + (unit == "%" ? "" : " ") + unit;
+  if (unit.empty()) return shortest_text(value);
+  return shortest_text(value) + (unit == "%" ? "" : " ") + unit;
 }
 
 }  // namespace
@@ -196,7 +192,8 @@ std::vector<const RangeTable*> all_range_tables() {
 std::string describe_range(const ParameterRange& range) {
   std::string text = range.valid.describe();
   if (range.integer) {
-    text = "an integer from " + number(range.valid.min) + " to " + number(range.valid.max);
+    text = "an integer from " + shortest_text(range.valid.min) + " to " +
+           shortest_text(range.valid.max);
   }
   if (!range.unit.empty()) text += " " + range.unit;
   return text + " (" + range.why + ")";
@@ -206,8 +203,8 @@ namespace {
 
 std::string warning_text(double value, const ParameterRange& range) {
   std::string text = with_unit(value, range.unit) + " is outside the usual range " +
-                     number(range.usual_min) + " … " + with_unit(range.usual_max, range.unit) +
-                     " (" + range.why + ")";
+                     shortest_text(range.usual_min) + " … " +
+                     with_unit(range.usual_max, range.unit) + " (" + range.why + ")";
   if (!range.slip.empty()) text += "; " + range.slip;
   return text;
 }
@@ -217,7 +214,7 @@ std::string warning_text(double value, const ParameterRange& range) {
 std::string range_reference_markdown() {
   std::string md =
       "# Scenario and readings numbers: units and ranges\n\n"
-      "Generated from `engine/scenario/parameter_ranges.cpp` (the tables the readers check "
+      "Generated from `engine/io/parameter_ranges.cpp` (the tables the readers check "
       "against) by `scripts/update-docs`; a test fails when this page and the tables differ. "
       "A value outside the **valid** range is an error (exit 2, with file:line:column, the key, "
       "the value and the range); a value outside the **usual** range is accepted with a "
@@ -236,12 +233,12 @@ std::string range_reference_markdown() {
     md += "| key | unit | valid | usual | why | a value outside the usual range may be |\n";
     md += "|---|---|---|---|---|---|\n";
     for (const ParameterRange& r : table->entries) {
-      const std::string valid = r.integer
-                                    ? "integer " + number(r.valid.min) + " … " + number(r.valid.max)
-                                    : r.valid.describe();
+      const std::string valid =
+          r.integer ? "integer " + shortest_text(r.valid.min) + " … " + shortest_text(r.valid.max)
+                    : r.valid.describe();
       md += "| `" + r.key + "` | " + cell(r.unit) + " | " + cell(valid) + " | " +
-            number(r.usual_min) + " … " + number(r.usual_max) + " | " + cell(r.why) + " | " +
-            cell(r.slip) + " |\n";
+            shortest_text(r.usual_min) + " … " + shortest_text(r.usual_max) + " | " + cell(r.why) +
+            " | " + cell(r.slip) + " |\n";
     }
   }
   return md;

@@ -1,12 +1,12 @@
 // Provenance of an output (see provenance.h).
-#include "engine/report/provenance.h"
+#include "engine/io/provenance.h"
 
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
 
-#include "engine/report/version.h"
+#include "engine/io/version.h"
 
 namespace gearmc {
 

@@ -1,5 +1,5 @@
 // All-or-nothing output files (see output_files.h).
-#include "engine/report/output_files.h"
+#include "engine/io/output_files.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -7,8 +7,10 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
+#include <system_error>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 namespace gearmc {
 
@@ -92,6 +94,30 @@ void OutputFiles::write(const std::string& name, const std::string& content) {
 void OutputFiles::commit() {
   for (const auto& name : pending_) fs::rename(partial(name), dir_ / name);
   pending_.clear();
+}
+
+void write_file_atomically(const std::filesystem::path& file, std::string_view content) {
+  std::filesystem::path temporary = file;
+  temporary += ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (out) {
+      out.write(content.data(), static_cast<std::streamsize>(content.size()));
+      out.close();  // close() reports the last write's failure (e.g. a full disk) via failbit
+    }
+    if (out.fail()) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw std::runtime_error("cannot write " + file.string());
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, file, error);
+  if (error) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw std::runtime_error("cannot write " + file.string() + ": " + error.message());
+  }
 }
 
 }  // namespace gearmc

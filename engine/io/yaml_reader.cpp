@@ -1,17 +1,19 @@
 // Strict, located conversions of YAML nodes into typed values and the declared-keys mapping
 // reader (see yaml_reader.h). Every failure is an InputError naming file:line:column (yaml-cpp
 // marks are 0-based; messages are 1-based), the dotted key, the value and what was expected.
-#include "engine/scenario/yaml_reader.h"
+#include "engine/io/yaml_reader.h"
 
 #include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
-#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <sstream>
 #include <system_error>
 #include <utility>
+
+#include "engine/io/number_text.h"
+#include "gears/check.h"
 
 namespace gearmc {
 namespace {
@@ -19,12 +21,6 @@ namespace {
 InputLocation location_of(const YAML::Mark& mark, const std::string& file) {
   if (mark.is_null()) return {file, 0, 0};
   return {file, mark.line + 1, mark.column + 1};
-}
-
-std::string format_number(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
 }
 
 std::string join(const std::vector<std::string>& words, const std::string& separator) {
@@ -100,11 +96,11 @@ bool NumberRange::contains(double value) const {
 std::string NumberRange::describe() const {
   const bool has_min = std::isfinite(min);
   const bool has_max = std::isfinite(max);
-  const std::string lower = (min_inclusive ? ">= " : "> ") + format_number(min);
-  const std::string upper = (max_inclusive ? "<= " : "< ") + format_number(max);
+  const std::string lower = (min_inclusive ? ">= " : "> ") + shortest_text(min);
+  const std::string upper = (max_inclusive ? "<= " : "< ") + shortest_text(max);
   if (has_min && has_max) {
     if (min_inclusive && max_inclusive) {
-      return "a number from " + format_number(min) + " to " + format_number(max);
+      return "a number from " + shortest_text(min) + " to " + shortest_text(max);
     }
     return "a number " + lower + " and " + upper;
   }
@@ -262,7 +258,7 @@ std::string YamlMap::child_path(const std::string& key) const {
 }
 
 void YamlMap::restrict_keys(const std::vector<std::string>& keys) {
-  assert(!keys.empty());
+  GEARMC_CHECK(!keys.empty(), "a restricted map needs its allowed keys");
   for (const Entry& entry : entries_) {
     if (std::find(keys.begin(), keys.end(), entry.key) != keys.end()) continue;
     const std::string owner = path().empty() ? "the top level" : path();
@@ -273,10 +269,11 @@ void YamlMap::restrict_keys(const std::vector<std::string>& keys) {
   allowed_keys_ = keys;
 }
 
-void YamlMap::check_lookup([[maybe_unused]] const std::string& key) const {
+void YamlMap::check_lookup(const std::string& key) const {
   // Looking up an undeclared key is a parser bug: it could never be given.
-  assert(allowed_keys_.empty() ||
-         std::find(allowed_keys_.begin(), allowed_keys_.end(), key) != allowed_keys_.end());
+  GEARMC_CHECK(allowed_keys_.empty() || std::find(allowed_keys_.begin(), allowed_keys_.end(),
+                                                  key) != allowed_keys_.end(),
+               "a key looked up that the map did not declare");
 }
 
 bool YamlMap::has(const std::string& key) const { return find(key).has_value(); }

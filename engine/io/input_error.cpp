@@ -1,7 +1,7 @@
 // The one error type for bad user input (docs/architecture.md, principle 4): composes its message
 // from the place (file:line:column), the dotted key, the offending value, what was expected and an
 // optional "did you mean" hint; and the edit-distance search behind those hints.
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 #include <algorithm>
 #include <cstddef>

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "engine/scenario/input_error.h"
+#include "engine/io/input_error.h"
 
 namespace gearmc {
 

@@ -1,0 +1,30 @@
+// GEARMC_CHECK(condition, message): an invariant check that stays on in every build, Release
+// (NDEBUG) included. A broken invariant is a bug in gearmc, not bad input (docs/architecture.md,
+// principle 4: bad input is an InputError; a broken invariant stops the program): the check
+// prints "<file>:<line>: gearmc internal error: <message> (failed: <condition>)" to stderr and
+// aborts. Use it where continuing would compute a wrong number; the condition should be cheap.
+// In gears/ so that gears/, surfaces/ and engine/ can all use it (gears/ is the lowest library).
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace gearmc::detail {
+
+[[noreturn]] inline void check_failed(const char* file, int line, const char* condition,
+                                      const char* message) {
+  std::fprintf(stderr, "%s:%d: gearmc internal error: %s (failed: %s)\n", file, line, message,
+               condition);
+  std::fflush(stderr);
+  std::abort();
+}
+
+}  // namespace gearmc::detail
+
+// `message`: a string literal (or other const char*) saying what should have held.
+#define GEARMC_CHECK(condition, message)                                       \
+  do {                                                                         \
+    if (!(condition)) [[unlikely]] {                                           \
+      ::gearmc::detail::check_failed(__FILE__, __LINE__, #condition, message); \
+    }                                                                          \
+  } while (false)
