@@ -59,11 +59,11 @@ void GearMeasurement::measure_flank(
     }
     m.contributions = {};
     if (r.status == ContactResult::Status::kOk) {
-      m.context = point_context(fp.point, fp.normal, (r.centre - r.contact).normalized(), q.order,
-                                model_.sequence_length(), flank.tooth, flank.side, R);
       m.recorded_centre = r.centre;
       m.total_error_um = r.normal_error_um;
       if (with_effects) {
+        m.context = point_context(fp.point, fp.normal, (r.centre - r.contact).normalized(), q.order,
+                                  model_.sequence_length(), flank.tooth, flank.side, R);
         RandomStream rng = point_effect_stream(model_.scenario().seed, k_, q.order);
         m.recorded_centre = effects.apply(m.context, effect_values_, r.centre, rng, contributions);
         for (double c : contributions) m.total_error_um += c;

@@ -30,7 +30,7 @@ struct PointMeasurement {
   const PlanPoint* plan = nullptr;
   ContactResult contact;
   // Only when the contact is valid (contact.status == kOk):
-  PointContext context;                                       // as the effects see the point
+  PointContext context;  // as the effects see the point (only when effects were applied)
   Eigen::Vector3d recorded_centre = Eigen::Vector3d::Zero();  // what the CMM records, mm
   std::span<const double> contributions;  // kDrawn: each effect's change of the reading, µm
   // The total point error along n, µm: (E' − C)·n with E' = c − R n the point reported from the

@@ -91,8 +91,6 @@ TEST(GearMeasurement, NominalGearWithoutEffectsReadsZeroError) {
     EXPECT_LT((m.recorded_centre - (m.plan->nominal.point + R * m.plan->nominal.normal)).norm(),
               1e-9);
     EXPECT_NEAR(m.total_error_um, 0.0, 1e-6);
-    EXPECT_EQ(m.context.order, m.plan->order);
-    EXPECT_EQ(m.context.sequence_length, 300);
     EXPECT_TRUE(m.contributions.empty());
     ++points;
   });
@@ -111,6 +109,11 @@ TEST(GearMeasurement, FixedScaleEffectMovesTheRecordedCentreByItsFormula) {
   const double R = s.stylus_radius_mm;
   GearMeasurement(model, 0, EffectMode::kDrawn).measure([&](const PointMeasurement& m) {
     ASSERT_TRUE(m.valid());
+    // The effects' view of the point: its place in the probing sequence and its azimuth.
+    EXPECT_EQ(m.context.order, m.plan->order);
+    EXPECT_EQ(m.context.sequence_length, 300);
+    EXPECT_EQ(m.context.azimuth_rad,
+              std::atan2(-m.plan->nominal.normal.y(), -m.plan->nominal.normal.x()));
     const Eigen::Vector3d centre = m.plan->nominal.point + R * m.plan->nominal.normal;
     EXPECT_LT((m.recorded_centre - 1.00001 * centre).norm(), 1e-9);
     const double expected_um = 1000.0 * 1e-5 * centre.dot(m.plan->nominal.normal);
