@@ -25,19 +25,16 @@
 #include "engine/effects/measurement_effect.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/text_files.h"
 
 namespace gearmc {
 namespace {
 
+using testing_support::read_text;
+using testing_support::write_text;
+
 namespace fs = std::filesystem;
 using testing_support::run_gearmc;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::size_t count_of(const std::string& text, const std::string& part) {
   std::size_t n = 0;
@@ -45,11 +42,6 @@ std::size_t count_of(const std::string& text, const std::string& part) {
     ++n;
   }
   return n;
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
 }
 
 std::string scenario_text(const std::string& name) {

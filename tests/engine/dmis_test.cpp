@@ -19,19 +19,16 @@
 #include "engine/probing/dmis_plan.h"
 #include "engine/readings/dmis_results.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/text_files.h"
 
 namespace gearmc {
 namespace {
 
+using testing_support::read_text;
+using testing_support::write_text;
+
 namespace fs = std::filesystem;
 using testing_support::run_gearmc;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::string full(const Eigen::Vector3d& v) {
   std::ostringstream s;

@@ -12,18 +12,15 @@
 
 #include "engine/io/parameter_ranges.h"
 #include "engine/io/scenario_keys.h"
+#include "tests/support/text_files.h"
 
 namespace gearmc {
 namespace {
 
-namespace fs = std::filesystem;
+using testing_support::read_text;
+using testing_support::write_text;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+namespace fs = std::filesystem;
 
 TEST(Docs, ScenarioKeysPageIsTheKeyAndRangeTables) {
   const fs::path page = fs::path(GEARMC_SOURCE_DIR) / "docs" / "scenario-keys.md";

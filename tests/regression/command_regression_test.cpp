@@ -34,20 +34,17 @@
 
 #include "tests/regression/reference_compare.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/text_files.h"
 
 namespace gearmc {
 namespace {
 
+using testing_support::read_text;
+using testing_support::write_text;
+
 namespace fs = std::filesystem;
 using nlohmann::ordered_json;
 using testing_support::run_gearmc;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::vector<std::string> split(const std::string& line, char separator) {
   std::vector<std::string> fields;
