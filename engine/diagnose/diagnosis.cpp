@@ -420,12 +420,13 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
 
   State state(residuals, noise, options);
   state.rows = rows;
-  select_and_fit(state, out);                   // 2–4
-  assess_ambiguity(state, out);                 // 7
-  apply_point_law(state, out);                  // 4b
-  diagnosis_stages::measure_gap(state, out);    // 5 (diagnosis_gap.cpp)
-  diagnosis_stages::simulate_null(state, out);  // 5–6
-  diagnosis_stages::make_verdict(state, out);   // 8
+  select_and_fit(state, out);                        // 2–4
+  diagnosis_stages::per_gear_variation(state, out);  // 4c (per_gear.cpp)
+  assess_ambiguity(state, out);                      // 7
+  apply_point_law(state, out);                       // 4b
+  diagnosis_stages::measure_gap(state, out);         // 5 (diagnosis_gap.cpp)
+  diagnosis_stages::simulate_null(state, out);       // 5–6
+  diagnosis_stages::make_verdict(state, out);        // 8
   return out;
 }
 

@@ -114,6 +114,17 @@ struct FittedEffect {
   // values (noise: σ of the readings' whole Gaussian part; step: q), not increments.
   bool absolute = false;
   std::vector<Ambiguity> ambiguous;  // empty: identified on this plan
+  // Readings of several gears (or repeated measurements, numbered as gears): whether the
+  // effect's value differs from gear to gear (diagnosis_stages.h per_gear_variation: an F test
+  // of one value per gear against one shared value, the other effects kept shared), its p-value,
+  // and the coefficients fitted per gear (in the effect's coefficient units) when it varies.
+  struct GearValues {
+    int gear = 0;
+    std::vector<FittedValue> coefficients;
+  };
+  bool varies_per_gear = false;
+  double per_gear_p = kNotAvailable;  // NaN: one gear only, or not a linear effect
+  std::vector<GearValues> per_gear;
 };
 
 struct GapStatistics {

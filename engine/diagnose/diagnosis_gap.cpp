@@ -359,7 +359,8 @@ void make_verdict(const State& state, Diagnosis& out) {
   const double excess = r.squaredNorm() - rows * v0;
   const double explained = stage.chosen > 0 ? r.squaredNorm() - r_after_c.squaredNorm() +
                                                   rows * (law_after.variance_um2() - v0)
-                                            : r.squaredNorm() - state.fit.rss;
+                           : state.per_gear_fit ? r.squaredNorm() - r_after_c.squaredNorm()
+                                                : r.squaredNorm() - state.fit.rss;
   if (excess > 0.0) {
     out.explained_fraction = std::clamp(explained / excess, 0.0, 1.0);
   } else if (!out.effects.empty()) {

@@ -132,6 +132,16 @@ std::string diagnosis_json(const Diagnosis& d) {
     }
     evidence["ambiguous"] = ambiguous;
     je["evidence"] = evidence;
+    if (std::isfinite(e.per_gear_p)) {
+      Json gears = Json::array();
+      for (const FittedEffect::GearValues& g : e.per_gear) {
+        gears.push_back({{"gear", g.gear},
+                         {"coefficients", values_json(g.coefficients, false)},
+                         {"std_errors", values_json(g.coefficients, true)}});
+      }
+      je["per_gear"] = {
+          {"varies", e.varies_per_gear}, {"p_value", number(e.per_gear_p)}, {"gears", gears}};
+    }
     effects.push_back(je);
   }
   j["effects"] = effects;

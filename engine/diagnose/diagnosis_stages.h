@@ -37,6 +37,9 @@ struct State {
   int p_after = 0;
   double mean_after = 0.0;
   Eigen::VectorXd r_after;
+  // Step 4c: true when an effect's values are fitted per gear (x_after, p_after and r_after then
+  // hold that fit).
+  bool per_gear_fit = false;
 };
 
 // Gap statistics of residual vector r (dof = points − fitted parameters) against the centred
@@ -45,6 +48,14 @@ GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, const ResidualLa
 // The centred law of a residual under the noise floor: the model's per-point law, or a Gaussian
 // of the floor's σ when the floor carries none (given, or estimated from the residuals).
 ResidualLaw floor_law(const NoiseFloor& noise);
+
+// Step 4c: for readings of several gears, whether each selected linear effect's value varies from
+// gear to gear: the selected effects are fitted again with that effect's columns split into one
+// copy per gear (the others shared), and the F test of the drop in RSS, with (G − 1)·q and
+// n − rank degrees of freedom, decides at the selection's α (FittedEffect::varies_per_gear).
+// The effects found to vary are then fitted per gear in the "after" state (x_after, p_after,
+// r_after): the gap after is judged with one value per gear for them.
+void per_gear_variation(State& state, Diagnosis& out);
 
 // Step 5: the gap before and after and the held-out RMS.
 void measure_gap(const State& state, Diagnosis& out);

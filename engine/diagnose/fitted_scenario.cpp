@@ -270,6 +270,35 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
           }
           const EffectParameter* mine = model_parameter(own, v.name);
           YAML::Node value = shifted(mine, increment);
+          // Different from gear to gear: a normal law with the shared value as its mean and the
+          // spread of the per-gear values as its standard deviation.
+          if (e.varies_per_gear && e.per_gear.size() >= 2) {
+            std::vector<double> per_gear;
+            for (const FittedEffect::GearValues& g : e.per_gear) {
+              for (const FittedValue& c : g.coefficients) {
+                if (c.name == v.name && c.estimable) per_gear.push_back(c.value);
+              }
+            }
+            if (per_gear.size() >= 2) {
+              double mean = 0.0, ss = 0.0;
+              for (double x : per_gear) mean += x;
+              mean /= static_cast<double>(per_gear.size());
+              for (double x : per_gear) ss += (x - mean) * (x - mean);
+              const double sd = std::sqrt(ss / static_cast<double>(per_gear.size() - 1));
+              const double centre = (mine ? mine->nominal() : 0.0) + increment;
+              YAML::Node law = flow_map();
+              YAML::Node pair(YAML::NodeType::Sequence);
+              pair.SetStyle(YAML::EmitterStyle::Flow);
+              pair.push_back(number_node(centre));
+              pair.push_back(number_node(sd));
+              law["normal"] = pair;
+              value = law;
+              result.notes.push_back(e.name + "." + v.name +
+                                     " differs from gear to gear: written as a normal law, "
+                                     "sd = the spread of the " +
+                                     std::to_string(per_gear.size()) + " per-gear values");
+            }
+          }
           if (e.name == "step_quantization" && v.name == "step_um" && value.IsScalar() &&
               std::stod(value.Scalar()) < 0.0) {
             result.notes.push_back("step_quantization: the fitted step_um " +
