@@ -109,6 +109,54 @@ TEST(PointTable, DeviationColumnInInchTableWithTabs) {
   expect_near(r.rows[0].c, {25.4, 50.8, 13.203}, 1e-12);
   EXPECT_NEAR(measured_deviation_um(r.rows[0], 0.5), 3.0, 1e-9);
   EXPECT_NEAR(measured_deviation_um(r.rows[1], 0.5), -0.1, 1e-9);
+  // The separator named in the mapping (as the word or a YAML tab escape) reads the same; ';'
+  // finds no such row (one field per line).
+  for (const std::string sep : {"tab", "\"\\t\""}) {
+    const Readings named = parse_point_table(
+        table, "t.txt", parse_point_table_columns(mapping + "separator: " + sep + "\n", "m.yaml"),
+        0.5);
+    ASSERT_EQ(named.rows.size(), 2u) << sep;
+    EXPECT_EQ(named.rows[0].c, r.rows[0].c) << sep;
+  }
+  try {
+    parse_point_table(table, "t.txt",
+                      parse_point_table_columns(mapping + "separator: \";\"\n", "m.yaml"), 0.5);
+    ADD_FAILURE() << "a tab table read with separator ';'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("m.yaml:2:9: columns.gear: got 'Gear', expected a column "
+                                         "of the header line of t.txt (line 1, separator ;)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(PointTable, TheExampleOfTheFormatsPageReadsAsItSays) {
+  // docs/formats.md's example mapping and table (the first two code blocks of the section): two
+  // readings, e = (E − p)·n = 1.5 µm and −0.5 µm as the page says (by hand: E − p = (0.9, −1.2,
+  // 0) µm along n = (0.6, −0.8, 0) gives 0.54 + 0.96 = 1.5; (−0.3, −0.4, 0) µm along (0.6, 0.8, 0)
+  // gives −0.18 − 0.32 = −0.5).
+  std::ifstream in(fs::path(GEARMC_SOURCE_DIR) / "docs" / "formats.md");
+  std::stringstream page;
+  page << in.rdbuf();
+  const std::string md = page.str();
+  const std::size_t section = md.find("## CMM point table and its column mapping");
+  ASSERT_NE(section, std::string::npos);
+  const auto block = [&](std::size_t from, std::size_t* end) {
+    const std::size_t open = md.find("```", from);
+    const std::size_t body = md.find('\n', open) + 1;
+    *end = md.find("```", body);
+    return md.substr(body, *end - body);
+  };
+  std::size_t end = 0;
+  const std::string mapping = block(section, &end);
+  const std::string table = block(end + 3, &end);
+  const Readings r = parse_point_table(table, "table.csv",
+                                       parse_point_table_columns(mapping, "mapping.yaml"), 0.5);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[0].side, FlankSide::kLeft);
+  EXPECT_EQ(r.rows[1].side, FlankSide::kRight);
+  EXPECT_NEAR(measured_deviation_um(r.rows[0], 0.5), 1.5, 1e-6);
+  EXPECT_NEAR(measured_deviation_um(r.rows[1], 0.5), -0.5, 1e-6);
 }
 
 // A number as a German export writes it: 17 significant digits, decimal comma.
