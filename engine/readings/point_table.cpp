@@ -55,31 +55,38 @@ std::vector<Field> split(const std::string& line, char separator) {
   return out;
 }
 
-// The lines of a text with their 1-based numbers; ends are "\n", "\r\n" or a lone "\r".
+// The lines of a text, one at a time (a table may be 1 GiB), with their 1-based numbers; ends
+// are "\n", "\r\n" or a lone "\r"; a UTF-8 byte order mark (Windows exports) is skipped.
 struct Line {
   std::string text;
   int number = 0;
 };
 
-std::vector<Line> lines_of(const std::string& text, const std::string& source) {
-  std::vector<Line> out;
-  std::size_t pos = 0;
-  int number = 0;
-  if (text.rfind("\xEF\xBB\xBF", 0) == 0) pos = 3;  // a UTF-8 byte order mark (Windows exports)
-  while (pos < text.size()) {
-    ++number;
-    std::size_t end = text.find_first_of("\r\n", pos);
-    if (end == std::string::npos) end = text.size();
-    if (end - pos > kMaxTableLineBytes) {
-      throw InputError({source, number, static_cast<int>(kMaxTableLineBytes) + 1},
+class LineReader {
+ public:
+  LineReader(const std::string& text, const std::string& source) : text_(text), source_(source) {
+    if (text_.rfind("\xEF\xBB\xBF", 0) == 0) pos_ = 3;
+  }
+  bool next(Line* line) {
+    if (pos_ >= text_.size()) return false;
+    ++line->number;
+    std::size_t end = text_.find_first_of("\r\n", pos_);
+    if (end == std::string::npos) end = text_.size();
+    if (end - pos_ > kMaxTableLineBytes) {
+      throw InputError({source_, line->number, static_cast<int>(kMaxTableLineBytes) + 1},
                        "a line of at most " + std::to_string(kMaxTableLineBytes) +
                            " bytes, but this line is longer (is it a point table?)");
     }
-    out.push_back({text.substr(pos, end - pos), number});
-    pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+    line->text.assign(text_, pos_, end - pos_);
+    pos_ = end + (end + 1 < text_.size() && text_[end] == '\r' && text_[end + 1] == '\n' ? 2 : 1);
+    return true;
   }
-  return out;
-}
+
+ private:
+  const std::string& text_;
+  const std::string& source_;
+  std::size_t pos_ = 0;
+};
 
 bool skipped(const std::string& line) {
   const std::size_t b = line.find_first_not_of(" \t");
@@ -187,14 +194,19 @@ PointTableColumns read_point_table_columns(const std::string& path) {
 
 Readings parse_point_table(const std::string& text, const std::string& source,
                            const PointTableColumns& columns, double stylus_radius_mm) {
-  const std::vector<Line> lines = lines_of(text, source);
-  auto row_at = lines.begin();
-  while (row_at != lines.end() && skipped(row_at->text)) ++row_at;
-  if (row_at == lines.end()) {
-    throw InputError({source, lines.empty() ? 1 : lines.back().number, 1},
+  LineReader in(text, source);
+  Line header_line;
+  bool found_header = false;
+  while (in.next(&header_line)) {
+    if (!skipped(header_line.text)) {
+      found_header = true;
+      break;
+    }
+  }
+  if (!found_header) {
+    throw InputError({source, std::max(header_line.number, 1), 1},
                      source + ": no header line (the column names) and no rows in this table");
   }
-  const Line& header_line = *row_at++;
   const std::vector<Mapped> mapped = mapped_columns(columns);
 
   // The separator: as the mapping says, else the candidate that finds the most mapped names in
@@ -239,11 +251,14 @@ Readings parse_point_table(const std::string& text, const std::string& source,
     }
     const auto found = std::find(names.begin(), names.end(), col.name);
     if (found == names.end()) {
-      throw InputError(where, m.key, col.name,
-                       "a column of the header line of " + source + " (line " +
-                           std::to_string(header_line.number) + ", separator " +
-                           separator_name(separator) + ")",
-                       did_you_mean(col.name, names));
+      // A header of one column: the separator is wrong, no name is a likely typo.
+      const bool one_column = names.size() == 1;
+      throw InputError(
+          where, m.key, col.name,
+          "a column of the header line of " + source + " (line " +
+              std::to_string(header_line.number) + ", separator " + separator_name(separator) +
+              (one_column ? ", which makes it one column: is the separator right?)" : ")"),
+          one_column ? "" : did_you_mean(col.name, names));
     }
     if (const auto again = std::find(found + 1, names.end(), col.name); again != names.end()) {
       throw InputError({source, header_line.number, header[again - names.begin()].column},
@@ -263,8 +278,8 @@ Readings parse_point_table(const std::string& text, const std::string& source,
   Readings readings;
   readings.stylus_radius_mm = stylus_radius_mm;
   std::set<int> orders;
-  for (; row_at != lines.end(); ++row_at) {
-    const Line& line = *row_at;
+  Line line = header_line;
+  while (in.next(&line)) {
     if (skipped(line.text)) continue;
     const std::vector<Field> f = split(line.text, separator);
     if (f.size() != header.size()) {
@@ -365,7 +380,7 @@ Readings parse_point_table(const std::string& text, const std::string& source,
     readings.rows.push_back(r);
   }
   if (readings.rows.empty()) {
-    throw InputError({source, lines.back().number + 1, 1},
+    throw InputError({source, line.number + 1, 1},
                      source + ": the point table has no rows after its header line (line " +
                          std::to_string(header_line.number) + ")");
   }

@@ -54,7 +54,7 @@ TEST(PointTable, GermanStyleTableGivesTheHandComputedReadings) {
   //  line 7: n = (0, 0, 1.0004): |n| − 1 = 4e-4 < 1e-3, normalised to (0, 0, 1);
   //          p = (0, 0, 10) mm, E = (0, 0, 10.0008) mm → c = (0, 0, 10.5008) mm, e = 0.8 µm.
   const std::string table =
-      "# Messprotokoll Zahnrad, Export\r\n"
+      "\xEF\xBB\xBF# Messprotokoll Zahnrad, Export\r\n"  // with a UTF-8 byte order mark
       "Nr;Flanke;Zahn;J;I;X_soll;Y_soll;Z_soll;X_ist;Y_ist;Z_ist;NX;NY;NZ;Kommentar\r\n"
       "\r\n"
       "5;L;1;0;2;30000,0;4000,0;5000,0;30001,5;4000,0;5000,0;1;0;0;ok\r\n"
@@ -123,8 +123,10 @@ TEST(PointTable, DeviationColumnInInchTableWithTabs) {
                       parse_point_table_columns(mapping + "separator: \";\"\n", "m.yaml"), 0.5);
     ADD_FAILURE() << "a tab table read with separator ';'";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("m.yaml:2:9: columns.gear: got 'Gear', expected a column "
-                                         "of the header line of t.txt (line 1, separator ;)"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "m.yaml:2:9: columns.gear: got 'Gear', expected a column "
+                  "of the header line of t.txt (line 1, separator ;, which makes it one "
+                  "column: is the separator right?)"),
               std::string::npos)
         << e.what();
   }
