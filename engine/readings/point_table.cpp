@@ -178,7 +178,6 @@ PointTableColumns parse_point_table_columns(const std::string& yaml_text, const 
   if (auto v = top.find("separator")) {
     const std::string s = v->as_choice({",", ";", "tab", "\t"});
     c.separator = s == "tab" ? '\t' : s[0];  // "tab", or a tab character ("\t")
-    c.separator_where = v->location();
     if (c.decimal == ',' && *c.separator == ',') {
       throw v->error("';' or tab: with decimal ',' the fields cannot be separated by ','");
     }

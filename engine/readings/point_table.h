@@ -45,7 +45,6 @@ struct PointTableColumns {
   TableLengthUnit unit = TableLengthUnit::kMm;  // of the nominal and measured coordinates
   char decimal = '.';                           // '.' or ','
   std::optional<char> separator;  // ',', ';' or '\t'; absent: detected from the header line
-  InputLocation separator_where;  // where the mapping sets it
 };
 
 // The mapping file (YAML, docs/formats.md "Point table"); InputError at its line:column for an
