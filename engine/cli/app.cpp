@@ -175,8 +175,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   diagnose->add_option("--model", diagnose_options.model_path, "Model scenario file")->required();
   diagnose
       ->add_option("--measured", diagnose_options.measured_path,
-                   "Readings CSV, or the DMIS results (.dmo) of export-plan's program")
+                   "Readings CSV, or the DMIS results (.dmo) of export-plan's program, or a "
+                   "CMM point table (with --columns)")
       ->required();
+  diagnose->add_option("--columns", diagnose_options.columns_path,
+                       "Column mapping (YAML) of a CMM point table given as --measured");
   diagnose
       ->add_option("--out", diagnose_options.out_dir,
                    "Output folder for diagnosis.json, fitted.yaml, report.html")

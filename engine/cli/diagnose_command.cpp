@@ -17,6 +17,7 @@
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"
 #include "engine/readings/dmis_results.h"
+#include "engine/readings/point_table.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/report/svg_plot.h"
 #include "engine/scenario/scenario.h"
@@ -29,10 +30,13 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
   // A DMIS output file (the results of `gearmc export-plan`'s program): its points were
-  // compensated with the ball the model names.
+  // compensated with the ball the model names. With --columns, a CMM's point table, likewise.
   auto readings = std::make_unique<Readings>(
-      is_dmis_file(o.measured_path) ? read_dmis_results(o.measured_path, model.stylus_radius_mm)
-                                    : read_readings(o.measured_path));
+      !o.columns_path.empty()
+          ? read_point_table(o.measured_path, read_point_table_columns(o.columns_path),
+                             model.stylus_radius_mm)
+      : is_dmis_file(o.measured_path) ? read_dmis_results(o.measured_path, model.stylus_radius_mm)
+                                      : read_readings(o.measured_path));
   for (const std::string& w : model.warnings) err << "gearmc: warning: " << w << "\n";
   for (const std::string& w : readings->warnings) err << "gearmc: warning: " << w << "\n";
 

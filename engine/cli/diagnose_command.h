@@ -17,6 +17,7 @@ namespace gearmc {
 struct DiagnoseCommandOptions {
   std::string model_path;              // --model SCENARIO (required)
   std::string measured_path;           // --measured READINGS.csv (required)
+  std::string columns_path;            // --columns MAPPING.yaml: --measured is a CMM point table
   std::string out_dir;                 // --out DIR (required; created if missing)
   std::optional<std::uint64_t> seed;   // seed of the null simulations (default 1)
   std::optional<int> null_replicates;  // K (default 200; 0: no null simulation)
