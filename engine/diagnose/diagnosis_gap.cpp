@@ -170,26 +170,22 @@ ResidualLaw floor_law(const NoiseFloor& noise) {
 }
 
 void measure_gap(const State& state, Diagnosis& out) {
-  const Residuals& residuals = state.residuals;
   const int rows = state.rows;
   const Eigen::VectorXd& r = state.r;
-  const Eigen::VectorXd& r_after_c = state.r_after;
-  const ResidualLaw& law_before = state.law_before;
-  const ResidualLaw& law_after = state.law_after;
   const Eigen::MatrixXd& x_after = state.x_after;
-  const int p_after = state.p_after;
   const double mean_after = state.mean_after;
   // 5. Gap before / after and held-out check.
   out.residual_before_um = to_vector(r);
-  out.residual_after_um = to_vector(r_after_c);
-  out.gap_before = gap_statistics(r, rows, law_before);
-  out.gap_after = gap_statistics(r_after_c, rows - p_after, law_after);
+  out.residual_after_um = to_vector(state.r_after);
+  out.gap_before = gap_statistics(r, rows, state.law_before);
+  out.gap_after = gap_statistics(state.r_after, rows - state.p_after, state.law_after);
   if (out.effects.empty()) {
     out.held_out_rms_um = out.gap_before.rms_um;  // nothing fitted: nothing to hold out
     out.held_out_split = "nothing_fitted";
     return;
   }
-  const HeldOutSplit split = held_out_split(residuals.points, static_cast<int>(x_after.cols()));
+  const HeldOutSplit split =
+      held_out_split(state.residuals.points, static_cast<int>(x_after.cols()));
   out.held_out_split = split.name;
   if (split.fold.empty()) {
     out.held_out_rms_um = kNotAvailable;
