@@ -1,8 +1,10 @@
 // uncertainty.json and the terminal table (evaluation.h); the HTML report is in report.cpp.
 #include "engine/uncertainty/evaluation.h"
+#include "engine/uncertainty/special_functions.h"
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -27,6 +29,17 @@ int display_decimals(double u, int ndig) {
   return std::max(0, -static_cast<int>(std::floor(std::log10(u))) + ndig + 1);
 }
 
+double conformance_probability(double y, double u, std::optional<double> lower,
+                               std::optional<double> upper) {
+  const auto below = [&](double limit) {  // P(Y <= limit)
+    if (!(u > 0.0)) return y <= limit ? 1.0 : 0.0;
+    return normal_cdf((limit - y) / u);
+  };
+  const double p_upper = upper ? below(*upper) : 1.0;
+  const double p_lower = lower ? below(*lower) : 0.0;
+  return std::max(0.0, p_upper - p_lower);
+}
+
 Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
   Evaluation e;
   e.gum = evaluate_gum(model);
@@ -39,6 +52,21 @@ Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
         validate_gum(g.estimate, g.U, g.u, m.symmetric, options.significant_digits));
     e.validation_shortest.push_back(
         validate_gum(g.estimate, g.U, g.u, m.shortest, options.significant_digits));
+    Evaluation::Conformity c;
+    const ModelOutput& o = model.outputs[j];
+    if (o.has_tolerance) {
+      c.set = true;
+      c.gum_probability = conformance_probability(g.estimate, g.u, o.lower, o.upper);
+      const auto first =
+          o.lower ? std::lower_bound(m.sorted.begin(), m.sorted.end(), *o.lower) : m.sorted.begin();
+      const auto last =
+          o.upper ? std::upper_bound(m.sorted.begin(), m.sorted.end(), *o.upper) : m.sorted.end();
+      c.mcm_probability =
+          m.sorted.empty() || last <= first
+              ? 0.0
+              : static_cast<double>(last - first) / static_cast<double>(m.sorted.size());
+    }
+    e.conformity.push_back(c);
   }
   if (e.mcm.adaptive && !e.mcm.converged) {
     e.warnings.push_back("the adaptive procedure reached max_trials (" +
@@ -136,6 +164,18 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
     vj["mcm_interval"] = "symmetric";
     vj["shortest"] = {{"d_low", vs.d_low}, {"d_high", vs.d_high}, {"gum_validated", vs.validated}};
     outputs[g.name] = {{"gum", gj}, {"mcm", mj}, {"validation", vj}};
+    if (e.conformity[k].set) {
+      const ModelOutput& limits = model.outputs[k];
+      nlohmann::ordered_json cj;
+      cj["lower"] =
+          limits.lower ? nlohmann::ordered_json(*limits.lower) : nlohmann::ordered_json(nullptr);
+      cj["upper"] =
+          limits.upper ? nlohmann::ordered_json(*limits.upper) : nlohmann::ordered_json(nullptr);
+      cj["gum_probability"] = e.conformity[k].gum_probability;
+      cj["mcm_probability"] = e.conformity[k].mcm_probability;
+      cj["method"] = "JCGM 106:2012 §7.6 (GUM: Gaussian N(y, u^2)); MCM: share of the values";
+      outputs[g.name]["conformity"] = cj;
+    }
   }
   j["outputs"] = outputs;
   j["warnings"] = e.warnings;
@@ -180,8 +220,15 @@ void print_evaluation(std::ostream& out, const UncertaintyModel& model, const Mc
     out << "  validation (JCGM 101 §8, ndig " << o.significant_digits << "): delta "
         << std::defaultfloat << std::setprecision(3) << v.delta << ", d_low " << v.d_low
         << ", d_high " << v.d_high << " -> GUM " << (v.validated ? "validated" : "NOT validated")
-        << "\n"
-        << std::right;
+        << "\n";
+    if (e.conformity[k].set) {
+      const ModelOutput& mo = model.outputs[k];
+      out << "  conformity (JCGM 106) within [" << (mo.lower ? fixed(*mo.lower, d) : "-inf") << ", "
+          << (mo.upper ? fixed(*mo.upper, d) : "inf") << "]: probability GUM "
+          << fixed(e.conformity[k].gum_probability, 4) << ", MCM "
+          << fixed(e.conformity[k].mcm_probability, 4) << "\n";
+    }
+    out << std::right;
   }
 }
 

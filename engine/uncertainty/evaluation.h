@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -23,8 +24,22 @@ struct Evaluation {
   // (shown too; for a symmetric output law its endpoints wander far more than the symmetric
   // ones, so it would fail an exact GUM by Monte-Carlo noise alone).
   std::vector<Validation> validation, validation_shortest;
+  // JCGM 106:2012 per output with tolerance limits: the conformance probability p_c, the
+  // probability that the measurand lies within [T_L, T_U] given the measurement — from the GUM
+  // (Y ~ N(y, u²), JCGM 106 §7.6: p_c = Φ((T_U − y)/u) − Φ((T_L − y)/u)) and from the MCM (the
+  // fraction of the M values within the limits).
+  struct Conformity {
+    bool set = false;
+    double gum_probability = 0.0, mcm_probability = 0.0;
+  };
+  std::vector<Conformity> conformity;
   std::vector<std::string> warnings;
 };
+
+// JCGM 106 §7.6: the probability that a measurand with the Gaussian law N(y, u²) lies within
+// [lower, upper] (an absent limit is infinite). u = 0: 1 or 0 by where y is.
+double conformance_probability(double y, double u, std::optional<double> lower,
+                               std::optional<double> upper);
 
 // GUM + MCM + validation. `options` carries the MCM settings (seed, trials, threads, …).
 Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options);

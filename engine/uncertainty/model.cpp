@@ -14,8 +14,8 @@
 namespace gearmc::uncertainty {
 namespace {
 
-const std::vector<std::string> kTopKeys = {"name",    "inputs",  "constants", "correlations",
-                                           "outputs", "builtin", "settings"};
+const std::vector<std::string> kTopKeys = {"name",    "inputs",  "constants",  "correlations",
+                                           "outputs", "builtin", "tolerances", "settings"};
 const std::vector<std::string> kSettingKeys = {
     "coverage_probability", "trials", "significant_digits", "seed", "second_order", "max_trials"};
 
@@ -195,7 +195,7 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
     for (const YamlMap::Entry& e : outs.entries()) {
       check_name(e, taken, "output");
       if (!e.value.is_scalar()) throw e.value.error("a muParser expression in quotes");
-      model.outputs.push_back({e.key, e.value.as_string(), e.value.location()});
+      model.outputs.push_back({e.key, e.value.as_string(), e.value.location(), false, {}, {}});
     }
     if (model.outputs.empty()) throw outputs->error("at least one output");
   } else {
@@ -217,10 +217,33 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
     try {
       const auto m = make_builtin_model(model.builtin, input_names, model.builtin_parameters);
       for (const std::string& o : m->output_names()) {
-        model.outputs.push_back({o, "", builtin->location()});
+        model.outputs.push_back({o, "", builtin->location(), false, {}, {}});
       }
     } catch (const std::invalid_argument& e) {
       throw builtin->error(std::string("parameters the builtin model accepts (") + e.what() + ")");
+    }
+  }
+
+  // tolerances: {OUTPUT: {lower: TL, upper: TU}} (either may be left out): the JCGM 106
+  // conformance probability of each such output.
+  if (const auto tv = top.find("tolerances")) {
+    if (!tv->is_map()) throw tv->error("a map of output names to {lower: …, upper: …}");
+    std::vector<std::string> names;
+    for (const ModelOutput& o : model.outputs) names.push_back(o.name);
+    const YamlMap tolerances = tv->as_map(names);
+    for (ModelOutput& o : model.outputs) {
+      const auto limits = tolerances.get_map(o.name, {"lower", "upper"});
+      if (!limits) continue;
+      o.lower = limits->get_number("lower");
+      o.upper = limits->get_number("upper");
+      if (!o.lower && !o.upper) {
+        throw limits->missing("upper", "a lower or an upper tolerance limit (or both)");
+      }
+      if (o.lower && o.upper && !(*o.lower < *o.upper)) {
+        throw limits->require("upper", "")
+            .error("an upper limit above the lower limit " + std::to_string(*o.lower));
+      }
+      o.has_tolerance = true;
     }
   }
 

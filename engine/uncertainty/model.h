@@ -35,6 +35,10 @@ struct ModelOutput {
   std::string name;
   std::string expression;  // empty for a builtin model's output
   InputLocation where;
+  // Tolerance limits of the output (model file `tolerances:`; JCGM 106 conformity): absent =
+  // no such limit. At least one is set when `has_tolerance`.
+  bool has_tolerance = false;
+  std::optional<double> lower, upper;
 };
 
 struct ModelSettings {

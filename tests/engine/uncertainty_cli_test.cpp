@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "engine/uncertainty/evaluation.h"
 #include "tests/support/run_gearmc.h"
 
 namespace gearmc {
@@ -87,6 +89,11 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
        ":8:", "16 bytes per trial per output"},
       {"later_output", replace(g, "Y: \"X1 + X2*X3\"", "Y: \"Z + 1\"\n  Z: \"X1\""),
        ":7:6:", "outputs may use only outputs listed before them"},
+      {"tolerance_output", replace(g, "settings:", "tolerances: {W: {upper: 1}}\nsettings:"),
+       ":8:14:", "did you mean 'Y'"},
+      {"tolerance_order",
+       replace(g, "settings:", "tolerances: {Y: {lower: 2, upper: 1}}\nsettings:"),
+       ":8:", "an upper limit above the lower limit"},
   };
   for (const BadCase& c : cases) {
     const std::string model = write_model(c.tag, c.text);
@@ -103,6 +110,36 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
                             temp_dir("bad_trials"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--trials"), std::string::npos) << r.err;
+}
+
+TEST(UncertaintyCli, ConformanceProbabilityOfJcgm106Section7) {
+  // JCGM 106:2012 §7 (single measured value against two-sided limits): y = 13.6, u = 1.8, limits
+  // 12.5 and 16.3. p_c = Φ((16.3 − 13.6)/1.8) − Φ((12.5 − 13.6)/1.8) = Φ(1.5) − Φ(−0.6111)
+  // = 0.66263 (independently: Python math.erf, 0.6626297865). The GUM value to 1e-6; the MCM
+  // value (10^6 trials, seed 1) within 4 binomial standard errors √(p(1 − p)/M) = 4 × 0.00047.
+  using uncertainty::conformance_probability;
+  EXPECT_NEAR(conformance_probability(13.6, 1.8, 12.5, 16.3), 0.6626297865, 1e-6);
+  // One-sided: only the lower limit, 1 − Φ(−0.6111) = 0.7294369878.
+  EXPECT_NEAR(conformance_probability(13.6, 1.8, 12.5, std::nullopt), 0.7294369878, 1e-6);
+  const std::string model = write_model("jcgm106", R"M(name: jcgm106
+inputs:
+  x: {normal: [13.6, 1.8]}
+outputs:
+  y: "x"
+tolerances:
+  y: {lower: 12.5, upper: 16.3}
+settings: {trials: 1000000, seed: 1}
+)M");
+  const std::string out = temp_dir("jcgm106_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  const auto& c = j["outputs"]["y"]["conformity"];
+  EXPECT_EQ(c["lower"].get<double>(), 12.5);
+  EXPECT_EQ(c["upper"].get<double>(), 16.3);
+  EXPECT_NEAR(c["gum_probability"].get<double>(), 0.6626297865, 1e-6);
+  EXPECT_NEAR(c["mcm_probability"].get<double>(), 0.6626297865,
+              4.0 * std::sqrt(0.6626 * 0.3374 / 1e6));
 }
 
 TEST(UncertaintyCli, OutputsUseEarlierOutputs) {
