@@ -245,6 +245,16 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
                    " against the MCM probabilistically symmetric interval: the GUM is " +
                    (v.validated ? "validated" : "NOT validated") + " for this model." +
                    (v.validated ? "" : " Use the MCM results."));
+    if (e.conformity[k].set) {
+      const ModelOutput& limits = model.outputs[k];
+      page.paragraph(
+          "Conformity (JCGM 106:2012 §7.6): the probability that " + limits.name +
+          " lies within [" + (limits.lower ? fmt(*limits.lower, d) : std::string("−∞")) + ", " +
+          (limits.upper ? fmt(*limits.upper, d) : std::string("∞")) + "] is " +
+          fmt(e.conformity[k].gum_probability, 4) + " by the GUM (a Gaussian N(y, u²)) and " +
+          fmt(e.conformity[k].mcm_probability, 4) + " by Monte Carlo (the share of the " +
+          std::to_string(e.mcm.trials) + " values within the limits).");
+    }
   }
   page.preformatted(model.source_text, "Model file " + model.source_path);
   page.paragraph(provenance_line(provenance));
