@@ -339,6 +339,28 @@ void fitted_effects_section(HtmlReport& report, const ReportContext& ctx) {
     }
     report.table(t);
   }
+  // Effects whose value differs from gear to gear: one row per gear.
+  for (const FittedEffect& e : d.effects) {
+    if (!e.varies_per_gear || e.per_gear.empty()) continue;
+    HtmlTable t;
+    std::ostringstream caption;
+    caption << e.name << " differs from gear to gear (F test of one value per gear against one "
+            << "for all, p " << (e.per_gear_p < 1e-16 ? "< 1e-16" : "= " + general(e.per_gear_p))
+            << "): its coefficients fitted per gear, the other effects shared.";
+    t.caption = caption.str();
+    t.header = {"gear"};
+    for (const FittedValue& v : e.per_gear.front().coefficients) {
+      t.header.push_back(v.name + ", " + v.unit);
+    }
+    for (const FittedEffect::GearValues& g : e.per_gear) {
+      std::vector<std::string> row = {std::to_string(g.gear)};
+      for (const FittedValue& v : g.coefficients) {
+        row.push_back(v.estimable ? with_error(v.value, v.std_error) : "–");
+      }
+      t.rows.push_back({row});
+    }
+    report.table(t);
+  }
 }
 
 void selection_section(HtmlReport& report, const ReportContext& ctx) {

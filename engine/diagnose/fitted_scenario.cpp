@@ -274,12 +274,28 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
           // spread of the per-gear values as its standard deviation.
           if (e.varies_per_gear && e.per_gear.size() >= 2) {
             std::vector<double> per_gear;
+            double se2 = 0.0;  // mean squared standard error of the per-gear values
             for (const FittedEffect::GearValues& g : e.per_gear) {
               for (const FittedValue& c : g.coefficients) {
-                if (c.name == v.name && c.estimable) per_gear.push_back(c.value);
+                if (c.name == v.name && c.estimable) {
+                  per_gear.push_back(c.value);
+                  se2 += c.std_error * c.std_error;
+                }
               }
             }
+            if (!per_gear.empty()) se2 /= static_cast<double>(per_gear.size());
+            // A law only for a parameter whose per-gear values spread more than their own
+            // estimation error (sample variance > 4 × mean squared standard error); the others
+            // keep the shared value.
+            double spread2 = 0.0;
             if (per_gear.size() >= 2) {
+              double m = 0.0;
+              for (double x : per_gear) m += x;
+              m /= static_cast<double>(per_gear.size());
+              for (double x : per_gear) spread2 += (x - m) * (x - m);
+              spread2 /= static_cast<double>(per_gear.size() - 1);
+            }
+            if (per_gear.size() >= 2 && spread2 > 4.0 * se2) {
               double mean = 0.0, ss = 0.0;
               for (double x : per_gear) mean += x;
               mean /= static_cast<double>(per_gear.size());
