@@ -163,15 +163,25 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
                   {m.symmetric.hi, "MCM " + fmt(m.symmetric.hi, d), "#0072B2", false},
                   {m.shortest.lo, "", "#009E73", true},
                   {m.shortest.hi, "", "#009E73", true}};
+    // Tolerance limits (JCGM 106), inside the plotted range.
+    const ModelOutput& limits = model.outputs[k];
+    bool limits_shown = false;
+    for (const std::optional<double>& t : {limits.lower, limits.upper}) {
+      if (t && *t >= lo && *t <= hi) {
+        ho.markers.push_back({*t, "T " + fmt(*t, d), "#000000", false});
+        limits_shown = true;
+      }
+    }
     ho.x_min = lo;
     ho.x_max = hi;
     ho.width_px = 900;
     ho.height_px = 420;
-    page.figure(
-        histogram_svg(hist, ho),
-        "Histogram of the MCM values with the GUM density (expected count per bar); dashed: "
-        "the GUM interval y ± U (orange), solid blue: the MCM probabilistically symmetric "
-        "interval, dashed green: the MCM shortest interval.");
+    page.figure(histogram_svg(hist, ho),
+                std::string("Histogram of the MCM values with the GUM density (expected count per "
+                            "bar); dashed: the GUM interval y ± U (orange), solid blue: the MCM "
+                            "probabilistically symmetric interval, dashed green: the MCM shortest "
+                            "interval") +
+                    (limits_shown ? "; solid black: the tolerance limits." : "."));
 
     Series mc{"MCM (empirical CDF)", {}, {}, SeriesStyle::kLine, "#0072B2"};
     const std::size_t points = std::min<std::size_t>(M, 500);
@@ -246,7 +256,6 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
                    (v.validated ? "validated" : "NOT validated") + " for this model." +
                    (v.validated ? "" : " Use the MCM results."));
     if (e.conformity[k].set) {
-      const ModelOutput& limits = model.outputs[k];
       page.paragraph(
           "Conformity (JCGM 106:2012 §7.6): the probability that " + limits.name +
           " lies within [" + (limits.lower ? fmt(*limits.lower, d) : std::string("−∞")) + ", " +
