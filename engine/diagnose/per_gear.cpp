@@ -19,6 +19,26 @@ void per_gear_variation(State& state, Diagnosis& out) {
   for (auto& [gear, index] : gear_index) index = next++;
   const int rows = state.rows;
   const std::vector<int>& selected = out.selection.selected;
+  // The per-gear design holds rows × (columns + (G − 1)·q) numbers: beyond kMaxPerGearCells
+  // (2.5·10^7 doubles, 200 MB) the test is not made, and a note says so.
+  int widest = 0;
+  for (std::size_t s = 0; s < selected.size(); ++s) {
+    widest = std::max(widest,
+                      static_cast<int>(state.candidates[selected[s]].observable_indices().size()));
+  }
+  const double cells =
+      static_cast<double>(rows) * (static_cast<double>(state.x_selected.cols()) +
+                                   static_cast<double>(G - 1) * static_cast<double>(widest) *
+                                       static_cast<double>(selected.size()));
+  if (!selected.empty() && cells > kMaxPerGearCells) {
+    out.notes.push_back("the readings hold " + std::to_string(G) +
+                        " gears: a fit with one value per gear and effect (" +
+                        std::to_string(static_cast<long long>(cells)) +
+                        " numbers) is beyond this diagnosis's memory budget, so whether an "
+                        "effect differs from gear to gear was not tested; diagnose fewer gears "
+                        "at a time to test it");
+    return;
+  }
   const double shared_rss = state.fit.rss;
   const int shared_rank = state.fit.rank;
   for (std::size_t s = 0; s < selected.size() && s < out.effects.size(); ++s) {
