@@ -56,8 +56,9 @@ ResidualLaw floor_law(const NoiseFloor& noise);
 // The effects found to vary are then fitted per gear in the "after" state (x_after, p_after,
 // r_after): the gap after is judged with one value per gear for them.
 void per_gear_variation(State& state, Diagnosis& out);
-// The largest per-gear design (rows × columns, doubles) per_gear_variation builds.
-inline constexpr double kMaxPerGearCells = 2.5e7;
+// The largest per-gear design (rows × columns, doubles: 40 MB, a few times that while it is
+// solved) per_gear_variation builds.
+inline constexpr double kMaxPerGearCells = 5e6;
 
 // Step 5: the gap before and after and the held-out RMS.
 void measure_gap(const State& state, Diagnosis& out);

@@ -20,7 +20,7 @@ void per_gear_variation(State& state, Diagnosis& out) {
   const int rows = state.rows;
   const std::vector<int>& selected = out.selection.selected;
   // The per-gear design holds rows × (columns + (G − 1)·q) numbers: beyond kMaxPerGearCells
-  // (2.5·10^7 doubles, 200 MB) the test is not made, and a note says so.
+  // (5·10^6 doubles, 40 MB) the test is not made, and a note says so.
   int widest = 0;
   for (std::size_t s = 0; s < selected.size(); ++s) {
     widest = std::max(widest,
