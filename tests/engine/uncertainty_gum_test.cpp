@@ -87,7 +87,9 @@ outputs:
   y: "x1*x2"
 settings: {second_order: true}
 )M");
-  const GumOutput& o = evaluate_gum(m).outputs[0];
+  // A copy: the result is a temporary (a reference into it dangles; found by scripts/test
+  // --sanitize).
+  const GumOutput o = evaluate_gum(m).outputs[0];
   EXPECT_NEAR(o.u_first_order, std::sqrt(9 * 0.25 + 4 * 0.16), 1e-8);
   EXPECT_NEAR(o.u, std::sqrt(9 * 0.25 + 4 * 0.16 + 0.25 * 0.16), 1e-8);
 }
