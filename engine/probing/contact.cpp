@@ -17,13 +17,14 @@ namespace {
 constexpr double kStepTolerance = 1e-10;  // mm in (L, z): C to far below a nanometre
 constexpr int kMaxIterations = 60;
 constexpr double kNewtonRegion = 1e-4;  // mm: steps this small skip the line search
-constexpr double kFinishStep = 1e-6;    // mm: a Newton step this small is the last one
+constexpr double kFinishStep = 1e-5;    // mm: a Newton step this small is the last one
 
 struct Local {
   double f;
   Eigen::Vector2d gradient;
   Eigen::Matrix2d hessian;
   bool reachable;
+  Eigen::Vector3d point;  // S(L, z), mm
 };
 
 Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
@@ -31,9 +32,11 @@ Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Ei
   const FlankSurfacePoint s = flank.evaluate(L, z);
   if (keep) *keep = s;
   const Eigen::Vector3d w = s.point - p;
-  const Eigen::Vector3d w_perp = w - w.dot(n) * n;
+  const double wn = w.dot(n);
+  const Eigen::Vector3d w_perp = w - wn * n;
   const double q2 = R * R - w_perp.squaredNorm();
   Local m{};
+  m.point = s.point;
   if (q2 <= 0.0) {
     m.reachable = false;
     m.f = -std::numeric_limits<double>::infinity();
@@ -41,31 +44,44 @@ Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Ei
   }
   m.reachable = true;
   const double q = std::sqrt(q2);
-  m.f = w.dot(n) + q;
-  const Eigen::Vector3d* S1[2] = {&s.d_dL, &s.d_dz};
-  const Eigen::Vector3d S2[2][2] = {{s.d2_dL2, s.d2_dLdz}, {s.d2_dLdz, s.d2_dz2}};
-  double wS[2];
-  for (int a = 0; a < 2; ++a) {
-    wS[a] = w_perp.dot(*S1[a]);
-    m.gradient[a] = S1[a]->dot(n) - wS[a] / q;
-  }
-  for (int a = 0; a < 2; ++a) {
-    for (int b = 0; b < 2; ++b) {
-      const Eigen::Vector3d Sb_perp = *S1[b] - S1[b]->dot(n) * n;
-      m.hessian(a, b) = S2[a][b].dot(n) - (Sb_perp.dot(*S1[a]) + w_perp.dot(S2[a][b])) / q -
-                        wS[a] * wS[b] / (q * q * q);
-    }
-  }
+  const double inv_q = 1.0 / q;
+  m.f = wn + q;
+  // First derivatives: S_a.n, w_perp.S_a (a = L, z); the Hessian is symmetric, and
+  // S_b_perp.S_a = S_a.S_b - (S_a.n)(S_b.n).
+  const double nL = s.d_dL.dot(n), nz = s.d_dz.dot(n);
+  const double wL = w_perp.dot(s.d_dL), wz = w_perp.dot(s.d_dz);
+  m.gradient[0] = nL - wL * inv_q;
+  m.gradient[1] = nz - wz * inv_q;
+  const double inv_q3 = inv_q * inv_q * inv_q;
+  const double hLL = s.d2_dL2.dot(n) -
+                     (s.d_dL.squaredNorm() - nL * nL + w_perp.dot(s.d2_dL2)) * inv_q -
+                     wL * wL * inv_q3;
+  const double hLz = s.d2_dLdz.dot(n) -
+                     (s.d_dL.dot(s.d_dz) - nL * nz + w_perp.dot(s.d2_dLdz)) * inv_q -
+                     wL * wz * inv_q3;
+  const double hzz = s.d2_dz2.dot(n) -
+                     (s.d_dz.squaredNorm() - nz * nz + w_perp.dot(s.d2_dz2)) * inv_q -
+                     wz * wz * inv_q3;
+  m.hessian << hLL, hLz, hLz, hzz;
   return m;
+}
+
+// f at (L, z) and the flank point S(L, z) there (mm).
+double height_and_point(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                        const Eigen::Vector3d& n, double R, double L, double z,
+                        Eigen::Vector3d* point) {
+  *point = flank.point(L, z);
+  const Eigen::Vector3d w = *point - p;
+  const double q2 = R * R - (w - w.dot(n) * n).squaredNorm();
+  return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
 }
 
 }  // namespace
 
 double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                       const Eigen::Vector3d& n, double R, double L, double z) {
-  const Eigen::Vector3d w = flank.point(L, z) - p;
-  const double q2 = R * R - (w - w.dot(n) * n).squaredNorm();
-  return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
+  Eigen::Vector3d point;
+  return height_and_point(flank, p, n, R, L, z, &point);
 }
 
 namespace {
@@ -77,6 +93,7 @@ struct LocalSolution {
   double height;          // f(x), mm (kOk)
   double gradient_bound;  // >= |grad f(x)| (kOk)
   int iterations;
+  Eigen::Vector3d point;  // S(x), mm (kOk)
 };
 
 LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
@@ -85,6 +102,7 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
   Local m = local_model(flank, p, n, R, x[0], x[1], start);
   bool converged = false, at_edge = false;
   double final_height = 0.0, gradient_bound = 0.0;
+  Eigen::Vector3d final_point = Eigen::Vector3d::Zero();
   int it = 0;
   for (; it < kMaxIterations && m.reachable; ++it) {
     // Newton step for the maximum; where the Hessian is not negative definite, shift it
@@ -101,13 +119,14 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
     // under ~1e-6 mm, so there the pure Newton step (quadratic convergence) is taken.
     const bool newton_region = H == m.hessian && step.norm() < kNewtonRegion;
     if (newton_region && step.norm() < kFinishStep) {
-      // Quadratic convergence: the error after this step is ~|step|^2 / R < 1e-11 mm, so the
-      // step is taken and only the point (not the derivatives) is evaluated there. The
+      // Quadratic convergence: the error after this step is ~(3/2) |step|^2 / R (f''' / 2f''
+      // with f'' ~ 1/R, f''' ~ 3/R^2): below 1e-9 mm = 0.001 nm for any stylus of R >= 0.15 mm,
+      // so the step is taken and only the point (not the derivatives) is evaluated there. The
       // gradient there is the Newton remainder, at most (1/2) max|f'''| |step|^2; f''' of a
       // sphere on a flank is of order 3 / R^2, taken here as 1e3 / R^2 (the resulting
       // certificate term, ~1e-17 mm, is nine orders below its tolerance).
       x += step;
-      final_height = contact_height(flank, p, n, R, x[0], x[1]);
+      final_height = height_and_point(flank, p, n, R, x[0], x[1], &final_point);
       at_edge = x[0] < extent.roll_length_min || x[0] > extent.roll_length_max ||
                 x[1] < extent.z_min || x[1] > extent.z_max;
       converged = std::isfinite(final_height);
@@ -133,6 +152,7 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
     if (step.norm() < kStepTolerance) {
       converged = true;
       final_height = m.f;
+      final_point = m.point;
       gradient_bound = m.gradient.norm();
       ++it;
       break;
@@ -141,7 +161,11 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
   return {at_edge     ? ContactResult::Status::kEdge
           : converged ? ContactResult::Status::kOk
                       : ContactResult::Status::kNotConverged,
-          x, final_height, gradient_bound, it};
+          x,
+          final_height,
+          gradient_bound,
+          it,
+          final_point};
 }
 
 }  // namespace
@@ -177,7 +201,7 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
   result.z = s.x[1];
   result.status = s.status;
   if (result.status != ContactResult::Status::kOk) return result;
-  result.contact = flank.point(s.x[0], s.x[1]);
+  result.contact = s.point;  // S(x), evaluated where the solver stopped
   result.centre = p + s.height * n;
   result.reported = result.centre - R * n;
   result.delta_um = 1e3 * (result.contact - result.reported).norm();
