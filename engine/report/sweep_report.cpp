@@ -145,7 +145,26 @@ std::vector<std::string> sweep_figures(const SweepOutcome& s) {
         line_series.x.push_back(numeric ? *number_of(xa.values[k]) : static_cast<double>(k));
         line_series.y.push_back(v.value ? *v.value : std::nan(""));
       }
-      series.push_back(std::move(line_series));
+      // A line with exactly the values of an earlier one would hide it: one line, both labels.
+      bool merged = false;
+      for (Series& earlier : series) {
+        bool same = earlier.y.size() == line_series.y.size();
+        for (std::size_t k = 0; same && k < earlier.y.size(); ++k) {
+          same = earlier.y[k] == line_series.y[k] ||
+                 (std::isnan(earlier.y[k]) && std::isnan(line_series.y[k]));
+        }
+        if (same) {
+          const std::string tag = " (same values)";
+          if (earlier.label.size() >= tag.size() &&
+              earlier.label.compare(earlier.label.size() - tag.size(), tag.size(), tag) == 0) {
+            earlier.label.resize(earlier.label.size() - tag.size());
+          }
+          earlier.label += "; " + line_series.label + tag;
+          merged = true;
+          break;
+        }
+      }
+      if (!merged) series.push_back(std::move(line_series));
     }
     XYPlotOptions options;
     options.title = s.statistic.text + " (both flanks) against " + xa.key;
