@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include "engine/io/bytes.h"
 #include "engine/io/input_error.h"
@@ -147,8 +148,14 @@ void append_partial(RunResults& into, const RunResults& later) {
 RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks& ranks,
                         const GearStream& stream) {
   const auto start = std::chrono::steady_clock::now();
-  options.first_gear = 0;
-  options.end_gear = -1;
+  // The batch [batch_first, batch_end) of the run's gears.
+  const int batch_first = options.first_gear;
+  const int batch_end =
+      options.end_gear < 0 ? options.gears : std::min(options.end_gear, options.gears);
+  if (batch_first % kGearsPerBlock != 0) {
+    throw std::invalid_argument("run_on_ranks: first_gear is not at a block boundary");
+  }
+  const bool keep_blocks = options.keep_block_moments;
   if (ranks.size() == 1) {
     if (stream.encode) {
       const auto previous = options.on_gear;
@@ -164,11 +171,15 @@ RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks
 
   // This rank's share of whole blocks (only_gear: rank 0 alone).
   const std::uint64_t blocks =
-      (static_cast<std::uint64_t>(options.gears) + kGearsPerBlock - 1) / kGearsPerBlock;
+      batch_end > batch_first
+          ? (static_cast<std::uint64_t>(batch_end - batch_first) + kGearsPerBlock - 1) /
+                kGearsPerBlock
+          : 0;
   const Ranks::Share share =
       options.only_gear ? Ranks::Share{0, ranks.is_root() ? blocks : 0} : ranks.share(blocks);
-  const int local_first = static_cast<int>(share.begin) * kGearsPerBlock;
-  const int local_end = std::min(options.gears, static_cast<int>(share.end) * kGearsPerBlock);
+  const int local_first = batch_first + static_cast<int>(share.begin) * kGearsPerBlock;
+  const int local_end =
+      std::min(batch_end, batch_first + static_cast<int>(share.end) * kGearsPerBlock);
   options.first_gear = local_first;
   options.end_gear = local_end;
   options.keep_block_moments = true;
@@ -200,12 +211,14 @@ RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks
   }
 
   RunResults mine;
+  std::chrono::steady_clock::time_point own_done;
   const std::vector<std::string> parts = ranks.gather([&] {
     if (local_end > local_first) {
       mine = run_local(mc, options);
     } else {
-      mine.first_block = static_cast<int>(share.begin);
+      mine.first_block = local_first / kGearsPerBlock;
     }
+    own_done = std::chrono::steady_clock::now();
     if (ranks.is_root()) return std::string();  // rank 0 keeps its own results
     std::string bytes;
     ByteWriter w(bytes);
@@ -214,14 +227,22 @@ RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks
     return bytes;
   });
   if (!ranks.is_root()) return mine;
+  const auto gathered = std::chrono::steady_clock::now();
+  mine.gather_s = std::chrono::duration<double>(gathered - own_done).count();
   for (std::size_t r = 1; r < parts.size(); ++r) {
+    mine.reduction_bytes += parts[r].size();
     ByteReader in(parts[r]);
     const std::string partial = in.get_text();
     const std::string gears_text = in.get_text();
-    append_partial(mine, decode_partial(partial));
+    RunResults later = decode_partial(partial);
+    append_partial(mine, later);
+    if (keep_blocks) {
+      for (BlockMoments& b : later.block_moments) mine.block_moments.push_back(std::move(b));
+    }
     if (stream.consume && !gears_text.empty()) stream.consume(gears_text);
   }
-  mine.block_moments.clear();
+  if (!keep_blocks) mine.block_moments.clear();
+  mine.merge_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - gathered).count();
   mine.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return mine;
 }

@@ -35,13 +35,17 @@ struct GearStream {
   std::function<void(std::string_view bytes)> consume;
 };
 
-// Runs the gears [0, options.gears) of `mc` over `ranks` (options.first_gear/end_gear and
-// keep_block_moments are set here; options.only_gear runs on rank 0 alone; options.progress and
-// on_gear are used on rank 0 only, progress with the estimate done × ranks). Returns on rank 0
-// the results of the whole run, bit-identical to mc.run(options) in one process, and on the other
-// ranks their own share's partial results. Collective: every rank calls it; an error on any rank
-// (a gear whose tolerances cannot be met is an InputError naming the scenario) is thrown on all.
-// wall_s is rank 0's time for the whole call.
+// Runs the gears [options.first_gear, options.end_gear) of the run of options.gears gears of `mc`
+// (by default all; first_gear at a block boundary: a batch of a sequential procedure) over
+// `ranks`: rank r runs a contiguous share of the batch's blocks. options.only_gear runs on rank 0
+// alone; options.progress (with the estimate done × ranks) and options.on_gear are used on rank 0
+// only and on_gear sees only rank 0's own gears: per-gear output of every gear goes through
+// `stream`. With options.keep_block_moments, rank 0's results keep the block moments of the whole
+// batch (to merge batches later with append_partial as one run would). Returns on rank 0 the
+// results of the batch, bit-identical to mc.run(options) in one process, and on the other ranks
+// their own share's partial results. Collective: every rank calls it with the same options; an
+// error on any rank (a gear whose tolerances cannot be met is an InputError naming the scenario)
+// is thrown on all. wall_s is rank 0's time for the whole call.
 RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks& ranks,
                         const GearStream& stream = {});
 
