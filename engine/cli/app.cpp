@@ -16,10 +16,12 @@
 #include "engine/cli/geometry_command.h"
 #include "engine/cli/run_command.h"
 #include "engine/cli/simulate_command.h"
+#include "engine/cli/sweep_command.h"
 #include "engine/cli/uncertainty_command.h"
 #include "engine/io/input_error.h"
 #include "engine/io/provenance.h"
 #include "engine/io/version.h"
+#include "engine/ranks/ranks.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {
@@ -211,7 +213,31 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->check(CLI::Range(1, 4096));
   uncertainty->add_flag("--quiet", uncertainty_options.quiet, "No progress line");
 
+  SweepCommandOptions sweep_options;
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "Grid of scenario variants: the statistic of each run against each varied key");
+  sweep->footer(
+      "Example:\n  gearmc sweep scenarios/p1_reference.yaml --vary stylus.radius_mm=0.3,0.5,1,1.5 "
+      "--vary probing.points_along_profile=5,10,20");
+  sweep->add_option("SCENARIO", sweep_options.scenario_path, "Scenario file")->required();
+  sweep->add_option("--vary", sweep_options.vary, "KEY=V1,V2,… (repeat for more keys)")
+      ->required()
+      ->allow_extra_args(false)
+      ->take_all();
+  sweep->add_option("--statistic", sweep_options.statistic,
+                    "delta_rcomp.<point|flank_max|flank_mean>.<n|mean|std|min|max|p95|p99_73> "
+                    "(default delta_rcomp.flank_max.p99_73)");
+  sweep->add_option("--out", sweep_options.out_dir,
+                    "Output folder (default results/<scenario>_sweep)");
+  sweep->add_option("--gears", sweep_options.gears, "Gears per variant (overrides run.gears)")
+      ->check(CLI::Range(1, 100000000));
+  sweep->add_option("--seed", sweep_options.seed, "Random seed (overrides seed)");
+  sweep->add_option("--threads", sweep_options.threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  sweep->add_flag("--quiet", sweep_options.quiet, "No progress line");
+
   run_options.command_line = command_line_text(argc, argv);
+  sweep_options.command_line = run_options.command_line;
   uncertainty_options.command_line = run_options.command_line;
   simulate_options.command_line = run_options.command_line;
   plan_options.command_line = run_options.command_line;
@@ -238,6 +264,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return 0;
   }
 
+  // Under mpirun, the commands without Monte-Carlo work run on rank 0 alone.
+  const bool distributed = run->parsed() || uncertainty->parsed() || sweep->parsed();
+  if (!distributed && !Ranks::world().is_root()) return 0;
   try {
     if (geometry->parsed()) {
       const Scenario scenario = load_or_reference(geometry_scenario);
@@ -251,6 +280,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (simulate->parsed()) return simulate_command(simulate_options, out, err);
     if (diagnose->parsed()) return diagnose_command(diagnose_options, out, err);
     if (uncertainty->parsed()) return uncertainty_command(uncertainty_options, out, err);
+    if (sweep->parsed()) return sweep_command(sweep_options, out, err);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

@@ -13,12 +13,17 @@
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+
+#include <tbb/info.h>
 
 #include "engine/io/input_error.h"
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
+#include "engine/mc/run_partials.h"
+#include "engine/ranks/ranks.h"
 #include "engine/report/run_report.h"
 #include "engine/report/run_terminal.h"
 
@@ -78,11 +83,28 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
     }
   }
 
-  // Fail before the work: the output folder must be writable now, not after the run.
+  // Fail before the work: the output folder must be writable now, not after the run. Only rank 0
+  // writes (the other ranks of an MPI job only compute their share of the gears).
+  const Ranks ranks = Ranks::world();
   CreatedFolder folder;
-  folder.dir = o.out_dir.empty() ? fs::path("results") / scenario.name : fs::path(o.out_dir);
-  if (o.out_dir.empty()) refuse_another_scenarios_folder(folder.dir, scenario);
-  prepare_output_folder(folder.dir, &folder.created);
+  std::optional<OutputFiles> files;
+  std::ofstream points_file;
+  ranks.agree([&] {
+    if (!ranks.is_root()) return;
+    folder.dir = o.out_dir.empty() ? fs::path("results") / scenario.name : fs::path(o.out_dir);
+    if (o.out_dir.empty()) refuse_another_scenarios_folder(folder.dir, scenario);
+    prepare_output_folder(folder.dir, &folder.created);
+    files.emplace(folder.dir);
+    if (o.points) {
+      points_file = files->open("points.csv");
+      points_file << std::setprecision(17);
+      points_file << "# "
+                  << provenance_line(make_provenance(o.command_line, scenario.source_path,
+                                                     scenario.source_text))
+                  << "\n";
+      points_file << points_csv_header();
+    }
+  });
   const fs::path& dir = folder.dir;
 
   out << run_header_line(scenario, mc, o.only_gear) << "\n";
@@ -93,18 +115,6 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   }
   out << std::flush;
 
-  OutputFiles files(dir);
-  std::ofstream points_file;
-  if (o.points) {
-    points_file = files.open("points.csv");
-    points_file << std::setprecision(17);
-    points_file << "# "
-                << provenance_line(
-                       make_provenance(o.command_line, scenario.source_path, scenario.source_text))
-                << "\n";
-    points_file << points_csv_header();
-  }
-
   RunOptions run;
   run.gears = scenario.gears;
   run.seed = scenario.seed;
@@ -112,9 +122,17 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   run.only_gear = o.only_gear;
   run.record_points = o.points;
   run.cancel = &interrupted_flag();
+  GearStream points_rows;
   if (o.points) {
-    run.on_gear = [&](const GearOutcome& g) {
-      for (const ProbedPoint& p : g.points) write_point_row(points_file, p);
+    // Rows are made on the rank that probed the gear and written by rank 0 in gear order.
+    points_rows.encode = [](const GearOutcome& g, std::string& bytes) {
+      std::ostringstream rows;
+      rows << std::setprecision(17);
+      for (const ProbedPoint& p : g.points) write_point_row(rows, p);
+      bytes += rows.str();
+    };
+    points_rows.consume = [&](std::string_view bytes) {
+      points_file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     };
   }
   const bool show_progress = !o.quiet && isatty(STDERR_FILENO);
@@ -135,18 +153,9 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   RunResults r;
   {
     InterruptGuard guard;
-    try {
-      r = mc.run(run);
-    } catch (const ToleranceError& e) {
-      // A gear whose profile and helix shapes cannot meet F_r in any of the sampler's draws:
-      // the scenario's tolerances contradict each other for this gear (the load-time check
-      // draws only the first gears).
-      throw InputError(
-          {scenario.source_path, 0, 0},
-          (scenario.source_path.empty() ? std::string("the scenario") : scenario.source_path) +
-              ": tolerances: " + e.what());
-    }
+    r = run_on_ranks(mc, run, ranks, points_rows);
   }
+  if (!ranks.is_root()) return r.cancelled ? 130 : 0;
   if (r.cancelled) {
     // The partial files go with `files`, the folder with `folder` (if this run made it).
     err << (show_progress ? "\n" : "") << "gearmc: interrupted after " << r.gears
@@ -166,15 +175,26 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
 
   const RunPresentation view =
       present_run(r, make_provenance(o.command_line, scenario.source_path, scenario.source_text));
-  files.write("summary.json", run_summary_json(scenario, mc, r, view, o.only_gear).dump(2) + "\n");
-  files.write("histograms.csv", run_histograms_csv(r, view));
+  nlohmann::ordered_json summary = run_summary_json(scenario, mc, r, view, o.only_gear);
+  // The job's shape: with the wall times, the only fields that differ between runs of any number
+  // of ranks and threads.
+  summary["ranks"] = ranks.size();
+  summary["threads"] = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
+  files->write("summary.json", summary.dump(2) + "\n");
+  files->write("histograms.csv", run_histograms_csv(r, view));
   const std::vector<RunFigure> figures = run_figures(scenario, r, view);
-  for (const RunFigure& f : figures) files.write(f.file, f.svg);
-  files.write("report.html", run_report_html(scenario, r, view, figures));
-  files.commit();
+  for (const RunFigure& f : figures) files->write(f.file, f.svg);
+  files->write("report.html", run_report_html(scenario, r, view, figures));
+  files->commit();
   folder.created = false;  // keep it: it holds the results now
 
   out << run_contacts_line(r) << "\n";
+  if (ranks.size() > 1) {
+    out << "ranks " << ranks.size() << ": " << r.reduction_bytes
+        << " bytes of partial results from the other ranks, received " << std::setprecision(3)
+        << r.gather_s << " s after rank 0's own share, merged in " << r.merge_s << " s\n"
+        << std::defaultfloat;
+  }
   for (const std::string& w : view.warnings) err << "gearmc: warning: " << w << "\n";
   print_run_summary(out, scenario, r, view);
   out << "report: " << dir.string() << "/report.html\n";

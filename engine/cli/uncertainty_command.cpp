@@ -15,6 +15,7 @@
 #include "engine/io/input_error.h"
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"
+#include "engine/ranks/ranks.h"
 #include "engine/uncertainty/evaluation.h"
 
 namespace gearmc {
@@ -68,10 +69,16 @@ int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, s
                  "settings.trials");
   }
 
+  // Only rank 0 of an MPI job writes; the other ranks compute their share of the trials.
+  const Ranks ranks = Ranks::world();
+  mcm.ranks = &ranks;
   CreatedFolder folder;
-  folder.dir = o.out_dir.empty() ? fs::path("results") / model.name : fs::path(o.out_dir);
-  if (o.out_dir.empty()) refuse_another_models_folder(folder.dir, model);
-  prepare_output_folder(folder.dir, &folder.created);
+  ranks.agree([&] {
+    if (!ranks.is_root()) return;
+    folder.dir = o.out_dir.empty() ? fs::path("results") / model.name : fs::path(o.out_dir);
+    if (o.out_dir.empty()) refuse_another_models_folder(folder.dir, model);
+    prepare_output_folder(folder.dir, &folder.created);
+  });
 
   out << "gearmc uncertainty: " << model.name << ", " << model.inputs.size() << " inputs, "
       << model.outputs.size() << " output(s), p = " << mcm.coverage_probability << ", seed "
@@ -111,6 +118,7 @@ int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, s
     err << "gearmc: interrupted; nothing written\n";
     return 130;
   }
+  if (!ranks.is_root()) return 0;
   const Provenance provenance =
       make_provenance(o.command_line, model.source_path, model.source_text);
   OutputFiles files(folder.dir);

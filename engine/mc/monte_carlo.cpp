@@ -8,13 +8,24 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "engine/measure/gear_measurement.h"
 
 namespace gearmc {
 namespace {
 
-constexpr int kChunk = 256;  // gears per parallel chunk (bounds memory)
+constexpr int kChunk = kGearsPerBlock;  // gears per parallel chunk (bounds memory)
+
+// A value into the run's exact part (histogram, non-finite count) and the block's moments.
+void add_value(ErrorStatistics& run, RunningStats& block, double value_um) {
+  if (!std::isfinite(value_um)) {
+    ++run.non_finite;
+    return;
+  }
+  block.add(value_um);
+  run.histogram.add(value_um);
+}
 
 }  // namespace
 
@@ -43,6 +54,16 @@ void EffectTotals::merge(const EffectTotals& other) {
     contribution[e].merge(other.contribution[e]);
     alone[e].merge(other.alone[e]);
   }
+}
+
+void RunResults::fold(const BlockMoments& b) {
+  for (int s = 0; s < 2; ++s) {
+    point[s].moments.merge(b.point[s]);
+    flank_max[s].moments.merge(b.flank_max[s]);
+    flank_mean[s].moments.merge(b.flank_mean[s]);
+    total_abs[s].moments.merge(b.total_abs[s]);
+  }
+  effects.merge(b.effects);
 }
 
 MonteCarloRun::MonteCarloRun(const Scenario& scenario) : model_(scenario) {}
@@ -127,9 +148,15 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
   if (options.only_gear) {
     indices.push_back(*options.only_gear);
   } else {
-    for (int k = 0; k < options.gears; ++k) indices.push_back(k);
+    const int end =
+        options.end_gear < 0 ? options.gears : std::min(options.end_gear, options.gears);
+    if (options.first_gear % kGearsPerBlock != 0) {
+      throw std::invalid_argument("MonteCarloRun::run: first_gear is not at a block boundary");
+    }
+    for (int k = options.first_gear; k < end; ++k) indices.push_back(k);
   }
   RunResults results;
+  results.first_block = options.only_gear ? 0 : options.first_gear / kGearsPerBlock;
   const int total = static_cast<int>(indices.size());
   for (int first = 0; first < total; first += kChunk) {
     const int count = std::min(kChunk, total - first);
@@ -145,14 +172,17 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
       results.cancelled = true;
       break;
     }
+    BlockMoments block;
     for (const GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
       for (int s = 0; s < 2; ++s) {
-        for (double v : o.point_delta[s]) results.point[s].add(v);
-        for (double v : o.flank_max[s]) results.flank_max[s].add(v);
-        for (double v : o.flank_mean[s]) results.flank_mean[s].add(v);
-        for (double v : o.point_total_abs[s]) results.total_abs[s].add(v);
+        for (double v : o.point_delta[s]) add_value(results.point[s], block.point[s], v);
+        for (double v : o.flank_max[s]) add_value(results.flank_max[s], block.flank_max[s], v);
+        for (double v : o.flank_mean[s]) add_value(results.flank_mean[s], block.flank_mean[s], v);
+        for (double v : o.point_total_abs[s]) {
+          add_value(results.total_abs[s], block.total_abs[s], v);
+        }
       }
-      results.effects.merge(o.effects);
+      block.effects.merge(o.effects);
       results.contacts += o.contacts;
       results.failed_contacts += o.failed;
       results.edge_contacts += o.edge;
@@ -162,6 +192,8 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
       ++results.gears;
       if (options.on_gear) options.on_gear(o);
     }
+    results.fold(block);
+    if (options.keep_block_moments) results.block_moments.push_back(std::move(block));
     if (options.progress) options.progress(first + count, total);
   }
   results.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

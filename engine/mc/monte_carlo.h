@@ -2,9 +2,13 @@
 // engine"): gear k is measured by the measurement pipeline (engine/measure: drawn from its own
 // random streams, every planned point of every probed flank probed with the exact contact solver
 // or on the scenario's mesh flank, the effects applied) and its errors are reduced into streaming
-// statistics. Gears run in parallel (oneTBB) in chunks; each chunk's
-// per-gear outcomes are merged in gear order, so the results are bit-identical for any thread count
-// and memory does not grow with the number of gears. Errors in µm, lengths in mm.
+// statistics. Gears run in parallel (oneTBB) in fixed blocks of kGearsPerBlock gears (gear k is in
+// block k / kGearsPerBlock, whatever the number of threads or processes): each block's per-gear
+// outcomes are reduced in gear order into the block's own moments, and the run's moments are the
+// blocks' moments merged in block order (histograms and counts are exact integer merges). So the
+// results are bit-identical for any thread count and for any split of the blocks over processes
+// (engine/mc/run_partials.h), and memory does not grow with the number of gears. Errors in µm,
+// lengths in mm.
 #pragma once
 
 #include <Eigen/Core>
@@ -67,8 +71,23 @@ struct GearOutcome {
   std::vector<ProbedPoint> points;  // only when asked for
 };
 
+// Gears per block of the reduction (see the top of this file); also the parallel chunk.
+inline constexpr int kGearsPerBlock = 256;
+
+// The order-dependent part of one block's results: the moments of its values, reduced in gear
+// order (Welford within a gear's values and across its gears, Chan's merge for effect totals).
+struct BlockMoments {
+  RunningStats point[2], flank_max[2], flank_mean[2], total_abs[2];
+  EffectTotals effects;
+};
+
 struct RunOptions {
   int gears = 50;
+  // Only the gears [first_gear, end_gear) of the run of `gears` gears (end_gear < 0: to `gears`);
+  // first_gear must be a multiple of kGearsPerBlock (a process's share of whole blocks).
+  int first_gear = 0, end_gear = -1;
+  // Keep each block's moments in RunResults::block_moments (to merge partial runs exactly).
+  bool keep_block_moments = false;
   std::uint64_t seed = 1;
   int threads = 0;               // 0 = all cores
   std::optional<int> only_gear;  // re-run one gear alone (0-based index)
@@ -93,6 +112,18 @@ struct RunResults {
   int gears = 0;
   double wall_s = 0.0;
   bool cancelled = false;
+  // With RunOptions::keep_block_moments: the blocks' moments in block order, starting at block
+  // first_block; the moments above are these merged in this order.
+  int first_block = 0;
+  std::vector<BlockMoments> block_moments;
+  // run_on_ranks over several ranks, on rank 0: bytes of partial results received from the other
+  // ranks; the time from rank 0's own share done to all partials received (waiting for the
+  // slowest rank, then the transfer), s; and the time to decode and merge them, s. Not written to
+  // the output files.
+  std::uint64_t reduction_bytes = 0;
+  double gather_s = 0.0, merge_s = 0.0;
+  // Merges the moments of a block that follows every block merged so far.
+  void fold(const BlockMoments& block);
 };
 
 class MonteCarloRun {

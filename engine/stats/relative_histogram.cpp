@@ -232,6 +232,53 @@ Histogram RelativeHistogram::to_histogram(double lo, double width, std::size_t b
   return h;
 }
 
+void RelativeHistogram::encode(std::string& out) const {
+  ByteWriter w(out);
+  for (std::uint64_t v : {zero_, plus_inf_, minus_inf_, total_, invalid_}) w.put(v);
+  w.put(min_);
+  w.put(max_);
+  for (const Side* side : {positive_.get(), negative_.get()}) {
+    std::uint64_t occupied = 0;
+    for (std::size_t e = 0; e < kBlocks; ++e) {
+      if (side->block_total(e) == 0) continue;
+      for (std::size_t i = 0; i < kBucketsPerBlock; ++i) occupied += side->count(e, i) != 0;
+    }
+    w.put(occupied);
+    for (std::size_t e = 0; e < kBlocks; ++e) {
+      if (side->block_total(e) == 0) continue;
+      for (std::size_t i = 0; i < kBucketsPerBlock; ++i) {
+        const std::uint64_t c = side->count(e, i);
+        if (c == 0) continue;
+        w.put((static_cast<std::uint64_t>(e) << kMantissaBits) | i);
+        w.put(c);
+      }
+    }
+  }
+}
+
+RelativeHistogram RelativeHistogram::decode(ByteReader& in) {
+  RelativeHistogram h;
+  h.zero_ = in.get<std::uint64_t>();
+  h.plus_inf_ = in.get<std::uint64_t>();
+  h.minus_inf_ = in.get<std::uint64_t>();
+  h.total_ = in.get<std::uint64_t>();
+  h.invalid_ = in.get<std::uint64_t>();
+  h.min_ = in.get<double>();
+  h.max_ = in.get<double>();
+  for (Side* side : {h.positive_.get(), h.negative_.get()}) {
+    const auto occupied = in.get<std::uint64_t>();
+    for (std::uint64_t b = 0; b < occupied; ++b) {
+      const auto key = in.get<std::uint64_t>();
+      const auto count = in.get<std::uint64_t>();
+      if ((key >> kMantissaBits) >= kBlocks) {
+        throw std::runtime_error("RelativeHistogram::decode: bucket key out of range");
+      }
+      side->add(key, count);
+    }
+  }
+  return h;
+}
+
 bool RelativeHistogram::operator==(const RelativeHistogram& o) const {
   if (total_ != o.total_ || invalid_ != o.invalid_ || zero_ != o.zero_ ||
       plus_inf_ != o.plus_inf_ || minus_inf_ != o.minus_inf_) {

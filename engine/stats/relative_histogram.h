@@ -21,8 +21,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "engine/io/bytes.h"
 #include "engine/stats/histogram.h"
 
 namespace gearmc {
@@ -82,6 +84,11 @@ class RelativeHistogram {
   // Visits the occupied buckets in increasing order of value: f(lower edge, upper edge, count).
   // Zero is a bucket [0, 0]; -inf and +inf are buckets [-inf, -inf] and [inf, inf].
   void for_each_bucket(const std::function<void(double, double, std::uint64_t)>& f) const;
+
+  // The counts, extremes and totals as bytes (engine/io/bytes.h: occupied buckets only), and
+  // back exactly: partial results of other processes.
+  void encode(std::string& out) const;
+  static RelativeHistogram decode(ByteReader& in);
 
   // The same multiset of bucket counts (not the storage layout).
   bool operator==(const RelativeHistogram& other) const;

@@ -42,6 +42,25 @@ void RunningStats::merge(const RunningStats& other) {
   if (other.max_ > max_) max_ = other.max_;
 }
 
+void RunningStats::encode(std::string& out) const {
+  ByteWriter w(out);
+  w.put(n_);
+  w.put(mean_);
+  w.put(m2_);
+  w.put(min_);
+  w.put(max_);
+}
+
+RunningStats RunningStats::decode(ByteReader& in) {
+  RunningStats s;
+  s.n_ = in.get<std::uint64_t>();
+  s.mean_ = in.get<double>();
+  s.m2_ = in.get<double>();
+  s.min_ = in.get<double>();
+  s.max_ = in.get<double>();
+  return s;
+}
+
 double RunningStats::mean() const { return n_ == 0 ? kNaN : mean_; }
 
 double RunningStats::variance() const { return n_ < 2 ? kNaN : m2_ / static_cast<double>(n_ - 1); }

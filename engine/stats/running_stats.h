@@ -9,6 +9,9 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+
+#include "engine/io/bytes.h"
 
 namespace gearmc {
 
@@ -36,6 +39,11 @@ class RunningStats {
   double max() const;
   // Sum of squared deviations from the mean (µm^2), the merge state.
   double sum_squared_deviations() const { return m2_; }
+
+  // The whole state as bytes (engine/io/bytes.h), and back bit for bit: partial results of other
+  // processes.
+  void encode(std::string& out) const;
+  static RunningStats decode(ByteReader& in);
 
   // Bitwise equality of the whole state (for determinism checks).
   bool operator==(const RunningStats&) const = default;

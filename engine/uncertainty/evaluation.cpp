@@ -179,7 +179,7 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
   }
   j["outputs"] = outputs;
   j["warnings"] = e.warnings;
-  j["ranks"] = 1;
+  j["ranks"] = e.mcm.ranks;
   j["threads"] = e.mcm.threads > 0 ? e.mcm.threads : tbb::this_task_arena::max_concurrency();
   j["wall_s"] = e.mcm.wall_s;
   j["provenance"] = provenance_json(provenance);

@@ -262,16 +262,48 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
   McmResult r;
   r.adaptive = !o.trials.has_value();
   r.threads = o.threads;
+  r.ranks = o.ranks ? o.ranks->size() : 1;
   Arena arena(o.threads);
   std::vector<std::vector<double>> values(m);
+
+  // Trials [first, first + count) split over the ranks; every rank gets all their values.
+  auto run_shared = [&](const Ranks& ranks, std::uint64_t first, std::uint64_t count) {
+    const Ranks::Share mine = ranks.share(count);
+    const std::vector<std::string> parts = ranks.all_gather([&] {
+      if (mine.end > mine.begin) {
+        arena.run(
+            [&] { run_trials(model, o.seed, first + mine.begin, mine.end - mine.begin, values); });
+      }
+      std::string bytes;
+      for (const std::vector<double>& v : values) {
+        bytes.append(reinterpret_cast<const char*>(v.data() + first + mine.begin),
+                     (mine.end - mine.begin) * sizeof(double));
+      }
+      return bytes;
+    });
+    for (int k = 0; k < ranks.size(); ++k) {
+      const Ranks::Share share = ranks.share(count, k);
+      const std::size_t n = share.end - share.begin;
+      for (std::size_t j = 0; j < m; ++j) {
+        std::memcpy(values[j].data() + first + share.begin,
+                    parts[std::size_t(k)].data() + j * n * sizeof(double), n * sizeof(double));
+      }
+    }
+  };
 
   // Runs trials [from, to) in chunks; false when cancelled.
   auto run_range = [&](std::uint64_t from, std::uint64_t to, std::uint64_t planned) {
     for (auto& v : values) v.resize(to);
     for (std::uint64_t c = from; c < to; c += kChunk) {
-      if (o.cancel && o.cancel->load()) return false;
+      // Over several ranks, an interrupt ends the job through mpirun (a rank that stopped alone
+      // would leave the others waiting for its share).
+      if (o.cancel && o.cancel->load() && r.ranks == 1) return false;
       const std::uint64_t count = std::min(kChunk, to - c);
-      arena.run([&] { run_trials(model, o.seed, c, count, values); });
+      if (o.ranks == nullptr || o.ranks->size() == 1) {
+        arena.run([&] { run_trials(model, o.seed, c, count, values); });
+      } else {
+        run_shared(*o.ranks, c, count);
+      }
       if (o.progress) o.progress(c + count, planned);
     }
     return true;

@@ -2,9 +2,10 @@
 // method"): M trials of the model with inputs drawn from their laws (§7.2–7.4), the estimate and
 // standard uncertainty (§7.6), the probabilistically symmetric and the shortest coverage
 // intervals (§7.7), the adaptive procedure (§7.9) and the validation of the GUM against it (§8).
-// Trials run in parallel (oneTBB) but every trial's draws come from its own counter-based stream
-// (trial_stream.h) and writes its own slot, and all statistics are taken afterwards in trial
-// order, so results are bit-identical for any number of threads.
+// Trials run in parallel (oneTBB), and over the ranks of an MPI job, but every trial's draws come
+// from its own counter-based stream (trial_stream.h) and writes its own slot, and all statistics
+// are taken afterwards in trial order, so results are bit-identical for any number of threads and
+// ranks.
 // Memory: 8 bytes per trial per output for the values, and 8 more per trial for the output being
 // sorted while its intervals are found: at most 16 bytes per trial per output
 // (kBytesPerTrialPerOutput).
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/ranks/ranks.h"
 #include "engine/uncertainty/model.h"
 
 namespace gearmc::uncertainty {
@@ -55,6 +57,10 @@ struct McmOptions {
   // Called after each block (adaptive) or chunk (fixed M): trials done, trials planned (0 when
   // unknown: adaptive).
   std::function<void(std::uint64_t done, std::uint64_t planned)> progress;
+  // The ranks of an MPI job (null: this process alone): each chunk of trials is split into
+  // contiguous shares, and every rank receives every value, so the values, the adaptive decisions
+  // (taken at block ends from all values so far) and the results are those of one process.
+  const Ranks* ranks = nullptr;
 };
 
 // One block of the adaptive procedure: its results per output.
@@ -83,6 +89,7 @@ struct McmResult {
   std::vector<BlockValues> block_values;  // adaptive: one per block
   double wall_s = 0.0;
   int threads = 0;
+  int ranks = 1;
 };
 
 // Checks a planned fixed M against the coverage probability (q < M) and the memory cap; throws

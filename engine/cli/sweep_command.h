@@ -1,0 +1,28 @@
+// `gearmc sweep SCENARIO --vary KEY=V1,V2,… [--vary …] [--statistic S] [--out DIR] [--gears N]
+// [--seed S] [--threads T] [--quiet]` (docs/sweep.md): the grid of scenario variants, each a
+// Monte-Carlo run, and sweep.csv, sweep.json and report.html with the statistic against each key.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gearmc {
+
+struct SweepCommandOptions {
+  std::string scenario_path;
+  std::vector<std::string> vary;  // "KEY=V1,V2,…", at least one
+  std::string statistic = "delta_rcomp.flank_max.p99_73";
+  std::string out_dir;  // empty: results/<scenario name>_sweep
+  std::optional<int> gears;
+  std::optional<std::uint64_t> seed;
+  int threads = 0;
+  bool quiet = false;
+  std::string command_line;
+};
+
+int sweep_command(const SweepCommandOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace gearmc

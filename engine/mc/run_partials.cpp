@@ -1,0 +1,250 @@
+// Partial Monte-Carlo results of the ranks: bytes, merge, the distributed run (run_partials.h).
+#include "engine/mc/run_partials.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "engine/io/bytes.h"
+#include "engine/io/input_error.h"
+#include "gears/tolerances.h"
+
+namespace gearmc {
+namespace {
+
+void put_stats(std::string& out, const ErrorStatistics& s) {
+  s.moments.encode(out);
+  s.histogram.encode(out);
+  ByteWriter(out).put(s.non_finite);
+}
+ErrorStatistics get_stats(ByteReader& in) {
+  ErrorStatistics s;
+  s.moments = RunningStats::decode(in);
+  s.histogram = RelativeHistogram::decode(in);
+  s.non_finite = in.get<std::uint64_t>();
+  return s;
+}
+
+void put_effects(std::string& out, const EffectTotals& e) {
+  for (const RunningStats& s : e.total_signed) s.encode(out);
+  e.radius_compensation.encode(out);
+  ByteWriter(out).put<std::uint64_t>(e.contribution.size());
+  for (std::size_t k = 0; k < e.contribution.size(); ++k) {
+    e.contribution[k].encode(out);
+    e.alone[k].encode(out);
+  }
+}
+EffectTotals get_effects(ByteReader& in) {
+  EffectTotals e;
+  for (RunningStats& s : e.total_signed) s = RunningStats::decode(in);
+  e.radius_compensation = RunningStats::decode(in);
+  const auto n = static_cast<std::size_t>(in.get<std::uint64_t>());
+  for (std::size_t k = 0; k < n; ++k) {
+    e.contribution.push_back(RunningStats::decode(in));
+    e.alone.push_back(RunningStats::decode(in));
+  }
+  return e;
+}
+
+// The statistics of a run in a fixed order (for encoding, decoding and merging alike).
+template <typename R, typename F>
+void each_statistic(R& r, F f) {
+  for (int s = 0; s < 2; ++s) {
+    f(r.point[s]);
+    f(r.flank_max[s]);
+    f(r.flank_mean[s]);
+    f(r.total_abs[s]);
+  }
+}
+template <typename B, typename F>
+void each_moment(B& b, F f) {
+  for (int s = 0; s < 2; ++s) {
+    f(b.point[s]);
+    f(b.flank_max[s]);
+    f(b.flank_mean[s]);
+    f(b.total_abs[s]);
+  }
+}
+
+// MonteCarloRun::run with a gear whose tolerances cannot be met turned into bad input.
+RunResults run_local(const MonteCarloRun& mc, const RunOptions& options) {
+  try {
+    return mc.run(options);
+  } catch (const ToleranceError& e) {
+    // The scenario's tolerances contradict each other for this gear (the load-time check draws
+    // only the first gears).
+    const std::string& path = mc.scenario().source_path;
+    throw InputError({path, 0, 0}, (path.empty() ? std::string("the scenario") : path) +
+                                       ": tolerances: " + e.what());
+  }
+}
+
+}  // namespace
+
+std::string encode_partial(const RunResults& r) {
+  std::string out;
+  ByteWriter w(out);
+  each_statistic(r, [&](const ErrorStatistics& s) { put_stats(out, s); });
+  put_effects(out, r.effects);
+  for (std::uint64_t v : {r.contacts, r.failed_contacts, r.edge_contacts, r.collisions,
+                          r.runout_redrawn_gears, r.runout_redraws}) {
+    w.put(v);
+  }
+  w.put<std::int64_t>(r.gears);
+  w.put<std::uint8_t>(r.cancelled ? 1 : 0);
+  w.put<std::int64_t>(r.first_block);
+  w.put<std::uint64_t>(r.block_moments.size());
+  for (const BlockMoments& b : r.block_moments) {
+    each_moment(b, [&](const RunningStats& s) { s.encode(out); });
+    put_effects(out, b.effects);
+  }
+  return out;
+}
+
+RunResults decode_partial(std::string_view bytes) {
+  ByteReader in(bytes);
+  RunResults r;
+  each_statistic(r, [&](ErrorStatistics& s) { s = get_stats(in); });
+  r.effects = get_effects(in);
+  for (std::uint64_t* v : {&r.contacts, &r.failed_contacts, &r.edge_contacts, &r.collisions,
+                           &r.runout_redrawn_gears, &r.runout_redraws}) {
+    *v = in.get<std::uint64_t>();
+  }
+  r.gears = static_cast<int>(in.get<std::int64_t>());
+  r.cancelled = in.get<std::uint8_t>() != 0;
+  r.first_block = static_cast<int>(in.get<std::int64_t>());
+  const auto blocks = static_cast<std::size_t>(in.get<std::uint64_t>());
+  r.block_moments.resize(blocks);
+  for (BlockMoments& b : r.block_moments) {
+    each_moment(b, [&](RunningStats& s) { s = RunningStats::decode(in); });
+    b.effects = get_effects(in);
+  }
+  if (!in.done()) throw std::runtime_error("decode_partial: trailing bytes");
+  return r;
+}
+
+void append_partial(RunResults& into, const RunResults& later) {
+  // Exact parts: integer counts and the exact extremes of the histograms.
+  std::vector<ErrorStatistics*> mine;
+  each_statistic(into, [&](ErrorStatistics& s) { mine.push_back(&s); });
+  std::size_t k = 0;
+  each_statistic(later, [&](const ErrorStatistics& s) {
+    mine[k]->histogram.merge(s.histogram);
+    mine[k]->non_finite += s.non_finite;
+    ++k;
+  });
+  into.contacts += later.contacts;
+  into.failed_contacts += later.failed_contacts;
+  into.edge_contacts += later.edge_contacts;
+  into.collisions += later.collisions;
+  into.runout_redrawn_gears += later.runout_redrawn_gears;
+  into.runout_redraws += later.runout_redraws;
+  into.gears += later.gears;
+  into.cancelled = into.cancelled || later.cancelled;
+  // Moments: block after block, as one process merges them.
+  for (const BlockMoments& b : later.block_moments) into.fold(b);
+}
+
+RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks& ranks,
+                        const GearStream& stream) {
+  const auto start = std::chrono::steady_clock::now();
+  // The batch [batch_first, batch_end) of the run's gears.
+  const int batch_first = options.first_gear;
+  const int batch_end =
+      options.end_gear < 0 ? options.gears : std::min(options.end_gear, options.gears);
+  if (batch_first % kGearsPerBlock != 0) {
+    throw std::invalid_argument("run_on_ranks: first_gear is not at a block boundary");
+  }
+  const bool keep_blocks = options.keep_block_moments;
+  if (ranks.size() == 1) {
+    if (stream.encode) {
+      const auto previous = options.on_gear;
+      options.on_gear = [&](const GearOutcome& g) {
+        if (previous) previous(g);
+        std::string bytes;
+        stream.encode(g, bytes);
+        stream.consume(bytes);
+      };
+    }
+    return run_local(mc, options);
+  }
+
+  // This rank's share of whole blocks (only_gear: rank 0 alone).
+  const std::uint64_t blocks =
+      batch_end > batch_first
+          ? (static_cast<std::uint64_t>(batch_end - batch_first) + kGearsPerBlock - 1) /
+                kGearsPerBlock
+          : 0;
+  const Ranks::Share share =
+      options.only_gear ? Ranks::Share{0, ranks.is_root() ? blocks : 0} : ranks.share(blocks);
+  const int local_first = batch_first + static_cast<int>(share.begin) * kGearsPerBlock;
+  const int local_end =
+      std::min(batch_end, batch_first + static_cast<int>(share.end) * kGearsPerBlock);
+  options.first_gear = local_first;
+  options.end_gear = local_end;
+  options.keep_block_moments = true;
+  std::string text;  // this rank's per-gear bytes (ranks other than 0)
+  if (ranks.is_root()) {
+    if (options.progress && !options.only_gear && local_end > local_first) {
+      // Rank 0's share stands for the whole run (the shares differ by at most one block).
+      const auto progress = options.progress;
+      const double scale = static_cast<double>(options.gears) / (local_end - local_first);
+      options.progress = [progress, scale, total = options.gears](int done, int) {
+        progress(done == 0 ? 0 : std::min(total, static_cast<int>(done * scale)), total);
+      };
+    }
+    if (stream.encode) {
+      const auto previous = options.on_gear;
+      options.on_gear = [&](const GearOutcome& g) {
+        if (previous) previous(g);
+        std::string bytes;
+        stream.encode(g, bytes);
+        stream.consume(bytes);
+      };
+    }
+  } else {
+    options.progress = nullptr;
+    options.on_gear = nullptr;
+    if (stream.encode) {
+      options.on_gear = [&](const GearOutcome& g) { stream.encode(g, text); };
+    }
+  }
+
+  RunResults mine;
+  std::chrono::steady_clock::time_point own_done;
+  const std::vector<std::string> parts = ranks.gather([&] {
+    if (local_end > local_first) {
+      mine = run_local(mc, options);
+    } else {
+      mine.first_block = local_first / kGearsPerBlock;
+    }
+    own_done = std::chrono::steady_clock::now();
+    if (ranks.is_root()) return std::string();  // rank 0 keeps its own results
+    std::string bytes;
+    ByteWriter w(bytes);
+    w.put_text(encode_partial(mine));
+    w.put_text(text);
+    return bytes;
+  });
+  if (!ranks.is_root()) return mine;
+  const auto gathered = std::chrono::steady_clock::now();
+  mine.gather_s = std::chrono::duration<double>(gathered - own_done).count();
+  for (std::size_t r = 1; r < parts.size(); ++r) {
+    mine.reduction_bytes += parts[r].size();
+    ByteReader in(parts[r]);
+    const std::string partial = in.get_text();
+    const std::string gears_text = in.get_text();
+    RunResults later = decode_partial(partial);
+    append_partial(mine, later);
+    if (keep_blocks) {
+      for (BlockMoments& b : later.block_moments) mine.block_moments.push_back(std::move(b));
+    }
+    if (stream.consume && !gears_text.empty()) stream.consume(gears_text);
+  }
+  if (!keep_blocks) mine.block_moments.clear();
+  mine.merge_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - gathered).count();
+  mine.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return mine;
+}
+
+}  // namespace gearmc

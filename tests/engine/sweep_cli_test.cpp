@@ -1,0 +1,109 @@
+// `gearmc sweep` through the executable: a grid point's statistic is the same number as `gearmc
+// run` of that variant written by hand (an independent path: the run command, its summary.json);
+// the grid order and the files; and bad keys, values and statistics: one message naming them,
+// exit code 2, no output folder.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/run_gearmc.h"
+
+namespace gearmc {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::run_gearmc;
+
+fs::path temp(const std::string& tag) {
+  const fs::path p =
+      fs::path(::testing::TempDir()) / ("sweep_" + tag + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+const std::string kScenario = std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference.yaml";
+
+TEST(SweepCli, PointEqualsTheRunOfTheVariantWrittenByHand) {
+  const fs::path out = temp("point");
+  const auto r = run_gearmc("sweep " + kScenario +
+                            " --vary stylus.radius_mm=0.5,1 --statistic delta_rcomp.flank_max.mean"
+                            " --gears 3 --quiet --out " +
+                            out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json sweep = nlohmann::json::parse(read(out / "sweep.json"));
+  ASSERT_EQ(sweep["points"].size(), 2u);
+  EXPECT_EQ(sweep["points"][1]["values"]["stylus.radius_mm"], "1");
+  EXPECT_EQ(sweep["ranks"], 1);
+  EXPECT_TRUE(fs::exists(out / "sweep.csv"));
+  EXPECT_TRUE(fs::exists(out / "report.html"));
+
+  // The variant radius 1 mm by hand: the scenario text with its one `radius_mm:` line changed.
+  std::string text = read(kScenario);
+  const std::string from = "radius_mm: 0.5";
+  ASSERT_EQ(text.find(from), text.rfind(from));
+  text.replace(text.find(from), from.size(), "radius_mm: 1");
+  const fs::path variant = temp("variant.yaml");
+  std::ofstream(variant) << text;
+  const fs::path run_out = temp("run");
+  const auto run =
+      run_gearmc("run " + variant.string() + " --gears 3 --quiet --out " + run_out.string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(read(run_out / "summary.json"));
+  const auto& fm = summary["delta_rcomp_um"]["flank_max"];
+  EXPECT_EQ(sweep["points"][1]["left_um"].get<double>(), fm["left"]["mean"].get<double>());
+  EXPECT_EQ(sweep["points"][1]["right_um"].get<double>(), fm["right"]["mean"].get<double>());
+  // Both flanks: the two sides' means weighted by their counts (equal counts here), to rounding.
+  const double both = 0.5 * (fm["left"]["mean"].get<double>() + fm["right"]["mean"].get<double>());
+  EXPECT_NEAR(sweep["points"][1]["both_um"].get<double>(), both, 1e-12 * both);
+  // p99.73 needs 371 values; 3 gears give 72 flank maxima per side: null with a note, not a number.
+  const fs::path out2 = temp("null");
+  ASSERT_EQ(run_gearmc("sweep " + kScenario +
+                       " --vary stylus.radius_mm=0.5 --gears 3 --quiet --out " + out2.string())
+                .exit_code,
+            0);
+  const nlohmann::json s2 = nlohmann::json::parse(read(out2 / "sweep.json"));
+  EXPECT_TRUE(s2["points"][0]["left_um"].is_null());
+  EXPECT_NE(s2["points"][0]["left_note"].get<std::string>().find("371"), std::string::npos);
+  for (const fs::path& p : {out, variant, run_out, out2}) fs::remove_all(p);
+}
+
+TEST(SweepCli, BadKeysValuesAndStatisticsAreOneMessageAndNothingWritten) {
+  struct Case {
+    std::string args, expected;
+  };
+  const std::vector<Case> cases = {
+      {"--vary stylus.radiusmm=0.5", "did you mean"},
+      {"--vary stylus.radius_mm=abc", "'abc'"},
+      {"--vary stylus.radius_mm=-1", "stylus.radius_mm"},
+      {"--vary stylus.radius_mm", "KEY=V1,V2"},
+      {"--vary stylus.radius_mm=0.5,0.5", "twice"},
+      {"--vary stylus.radius_mm=0.5 --statistic delta_rcomp.flank_max.p99", "--statistic"},
+  };
+  for (const Case& c : cases) {
+    const fs::path out = temp("bad");
+    const auto r = run_gearmc("sweep " + kScenario + " " + c.args + " --gears 2 --quiet --out " +
+                              out.string());
+    EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.args << ": " << r.err;
+    std::istringstream lines(r.err);
+    int messages = 0;
+    for (std::string line; std::getline(lines, line);) messages += line.rfind("gearmc: ", 0) == 0;
+    EXPECT_EQ(messages, 1) << c.args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}
+
+}  // namespace
+}  // namespace gearmc
