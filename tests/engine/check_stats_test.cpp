@@ -237,7 +237,8 @@ TEST(SequentialCheck, MeanAndStdClaimsOnTheBoundaryRarelyFail) {
   // and "std ≤ sqrt(1.04)" are true on the boundary; over seeds 1 … 100 (budget 4096, confidence
   // 0.95) each is declared "fails" in at most the 0.999 quantile of Binomial(100, 0.05) seeds
   // (significance 0.001; the sequences are asymptotic, valid from the first look at 256 gears).
-  const CorrelatedGears law;
+  CorrelatedGears law;
+  law.values = 8;
   ClaimSpec mean = quantile_claim(0.5, 0.0);
   mean.statistic = ClaimStatistic::kMean;
   ClaimSpec sd = quantile_claim(0.5, std::sqrt(1.04));
