@@ -149,8 +149,9 @@ nlohmann::json stable(nlohmann::json j) {
 
 TEST(CheckCli, SameVerdictsAndGearsForOneAndTwoThreadsAndExitCodesAndJunit) {
   // A claim that holds with a margin (p95 of the points within 3 µm; a 50-gear run of P1's gear
-  // gives p95 ≈ 1.2 µm), one that fails (p95 within 0.2 µm) and one between (p99 of the flank
-  // maxima within 3.3 µm, decided late or not at all in 2048 gears).
+  // gives p95 ≈ 1.2 µm), one that fails (p95 within 0.2 µm), one close to its limit (p99 of the
+  // flank maxima within 3.9 µm; about 3.9 µm on this plan) and a max claim, which can hold only
+  // at the budget — so the run goes through every look (256, 512, 1024, 2048).
   const std::string claims =
       "claims:\n"
       "  - {name: holds_p95, quantity: delta_rcomp.point, statistic: {quantile: 0.95}, "
@@ -158,7 +159,8 @@ TEST(CheckCli, SameVerdictsAndGearsForOneAndTwoThreadsAndExitCodesAndJunit) {
       "  - {name: fails_p95, quantity: delta_rcomp.point, statistic: {quantile: 0.95}, "
       "at_most_um: 0.2}\n"
       "  - {name: close_p99, quantity: delta_rcomp.flank_max, statistic: {quantile: 0.99}, "
-      "at_most_um: 3.3}\n";
+      "at_most_um: 3.9}\n"
+      "  - {name: max_100, quantity: delta_rcomp.point, statistic: max, at_most_um: 100}\n";
   const std::string path = write_scenario("threads", claims);
   nlohmann::json first;
   for (int threads : {1, 2}) {
@@ -169,9 +171,12 @@ TEST(CheckCli, SameVerdictsAndGearsForOneAndTwoThreadsAndExitCodesAndJunit) {
                               std::to_string(threads) + " --junit " + junit + " --quiet");
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;  // fails_p95 fails
     const nlohmann::json j = nlohmann::json::parse(read(out + "/check.json"));
-    ASSERT_EQ(j["claims"].size(), 3u);
+    ASSERT_EQ(j["claims"].size(), 4u);
     EXPECT_EQ(j["claims"][0]["verdict"], "holds");
     EXPECT_EQ(j["claims"][1]["verdict"], "fails");
+    EXPECT_EQ(j["claims"][3]["verdict"], "holds");
+    EXPECT_EQ(j["claims"][3]["gears"], 2048);
+    EXPECT_EQ(j["gears"], 2048);
     EXPECT_FALSE(j["all_hold"].get<bool>());
     EXPECT_EQ(j["threads"], threads);
     for (const auto& c : j["claims"]) {
@@ -190,7 +195,7 @@ TEST(CheckCli, SameVerdictsAndGearsForOneAndTwoThreadsAndExitCodesAndJunit) {
     for (std::size_t at = 0; (at = xml.find("<failure ", at)) != std::string::npos; ++at) {
       ++failures;
     }
-    EXPECT_EQ(testcases, 3u);
+    EXPECT_EQ(testcases, 4u);
     std::size_t not_holding = 0;
     for (const auto& c : j["claims"]) not_holding += c["verdict"] != "holds";
     EXPECT_EQ(failures, not_holding);
@@ -206,6 +211,32 @@ TEST(CheckCli, SameVerdictsAndGearsForOneAndTwoThreadsAndExitCodesAndJunit) {
     fs::remove_all(out);
     fs::remove(junit);
   }
+}
+
+TEST(CheckCli, ClaimsOnTheTotalErrorUseTheEffects) {
+  // Probing noise N(0, 1 µm²) is the only effect: the absolute total point error is then close
+  // to |N(0, 1)| (the normal error of the radius compensation adds little on this plan), whose
+  // p95 is 1.96 µm, standard deviation sqrt(1 − 2/π) = 0.60 µm and mean sqrt(2/π) = 0.80 µm
+  // (half-normal law). So "p95 ≥ 1 µm" and "std ≥ 0.1 µm" hold and "mean ≤ 0.5 µm" fails, and
+  // the p95 estimate is near 1.96 µm.
+  const std::string path = write_scenario(
+      "total",
+      "effects: {noise: {sigma_um: 1.0}}\nclaims:\n"
+      "  - {name: p95, quantity: total_error.point, statistic: {quantile: 0.95}, "
+      "at_least_um: 1.0}\n"
+      "  - {name: sd, quantity: total_error.point, statistic: std, at_least_um: 0.1}\n"
+      "  - {name: mean, quantity: total_error.point, side: left, statistic: mean, "
+      "at_most_um: 0.5}\n");
+  const std::string out = temp_path("total_out");
+  fs::remove_all(out);
+  const auto r = run_gearmc("check " + path + " --out " + out + " --max-gears 512 --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read(out + "/check.json"));
+  EXPECT_EQ(j["claims"][0]["verdict"], "holds");
+  EXPECT_EQ(j["claims"][1]["verdict"], "holds");
+  EXPECT_EQ(j["claims"][2]["verdict"], "fails");
+  EXPECT_NEAR(j["claims"][0]["estimate_um"].get<double>(), 1.96, 0.15);
+  fs::remove_all(out);
 }
 
 TEST(CheckCli, AllHoldingIsExit0) {
