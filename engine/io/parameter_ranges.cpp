@@ -106,10 +106,11 @@ const RangeTable& claim_ranges() {
         "a quantile's probability p; P1's claim is at 0.9973 (3σ of a normal law); above "
         "0.99999 the check needs millions of gears",
         "a percentage? (99.73 % is 0.9973)"},
-       {"claims.at_most_um", "µm", NumberRange::any(), -100, 100,
-        "a limit on a measurement error; CMM errors on gears are a few µm (P1: 4 µm)",
+       {"claims.at_most_um", "µm", closed(-10000, 10000), -100, 100,
+        "a limit on a measurement error; CMM errors on gears are a few µm (P1: 4 µm), "
+        "10 mm is far beyond any",
         "mm? (4 µm is 4, not 0.004)"},
-       {"claims.at_least_um", "µm", NumberRange::any(), -100, 100,
+       {"claims.at_least_um", "µm", closed(-10000, 10000), -100, 100,
         "a limit on a measurement error; CMM errors on gears are a few µm", "mm?"},
        {"claims.confidence", "", NumberRange::open(0, 1), 0.8, 0.9999,
         "the probability that a verdict is right; 0.95 is usual, above 0.9999 needs many gears",
