@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/cli/check_command.h"
 #include "engine/cli/diagnose_command.h"
 #include "engine/cli/export_mesh_command.h"
 #include "engine/cli/export_plan_command.h"
@@ -92,6 +93,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "  gearmc run scenarios/p1_iso_class8.yaml --gears 500 --seed 7\n"
       "  gearmc diagnose --model model.yaml --measured readings.csv --out results/diag\n"
       "  gearmc uncertainty scenarios/uncertainty/mass_calibration.yaml   GUM and Monte Carlo\n"
+      "  gearmc check scenarios/p1_claims.yaml        decide the scenario's accuracy claims\n"
       "Run 'gearmc COMMAND --help' for a command's options.");
   app.add_subcommand("help", "Print this help");
 
@@ -238,6 +240,27 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
   run_options.command_line = command_line_text(argc, argv);
   sweep_options.command_line = run_options.command_line;
+  CheckCommandOptions check_options;
+  CLI::App* check = app.add_subcommand(
+      "check", "Decide the scenario's accuracy claims (claims:) with confidence bounds");
+  check->footer(
+      "Example:\n  gearmc check scenarios/p1_claims.yaml --junit results/claims.xml\n"
+      "Exit 0: every claim holds; 1: a claim fails or is undecided at --max-gears; 2: bad input.");
+  check->add_option("SCENARIO", check_options.scenario_path, "Scenario file with claims:")
+      ->required();
+  check->add_option("--out", check_options.out_dir,
+                    "Output folder for check.json and report.html (default "
+                    "results/<scenario>/check)");
+  check
+      ->add_option("--max-gears", check_options.max_gears,
+                   "Gears at most (default 20000); looks after 256, 512, 1024, …")
+  check->add_option("--seed", check_options.seed, "Random seed (overrides seed)");
+  check->add_option("--threads", check_options.threads, "Worker threads (default: all cores)")
+  check->add_option("--junit", check_options.junit_path,
+                    "Also write the verdicts as JUnit XML (one test case per claim)");
+  check->add_flag("--quiet", check_options.quiet, "No progress line");
+
+  check_options.command_line = run_options.command_line;
   uncertainty_options.command_line = run_options.command_line;
   simulate_options.command_line = run_options.command_line;
   plan_options.command_line = run_options.command_line;
@@ -281,6 +304,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (diagnose->parsed()) return diagnose_command(diagnose_options, out, err);
     if (uncertainty->parsed()) return uncertainty_command(uncertainty_options, out, err);
     if (sweep->parsed()) return sweep_command(sweep_options, out, err);
+    if (check->parsed()) return check_command(check_options, out, err);
   } catch (const InputError& e) {
     err << "gearmc: " << e.what() << "\n";
     return 2;

@@ -99,6 +99,25 @@ const RangeTable& probing_ranges() {
   return table;
 }
 
+const RangeTable& claim_ranges() {
+  static const RangeTable table{
+      "claims",
+      {{"claims.statistic.quantile", "", NumberRange::open(0, 1), 0.5, 0.99999,
+        "a quantile's probability p; P1's claim is at 0.9973 (3σ of a normal law); above "
+        "0.99999 the check needs millions of gears",
+        "a percentage? (99.73 % is 0.9973)"},
+       {"claims.at_most_um", "µm", closed(-10000, 10000), -100, 100,
+        "a limit on a measurement error; CMM errors on gears are a few µm (P1: 4 µm), "
+        "10 mm is far beyond any",
+        "mm? (4 µm is 4, not 0.004)"},
+       {"claims.at_least_um", "µm", closed(-10000, 10000), -100, 100,
+        "a limit on a measurement error; CMM errors on gears are a few µm", "mm?"},
+       {"claims.confidence", "", NumberRange::open(0, 1), 0.8, 0.9999,
+        "the probability that a verdict is right; 0.95 is usual, above 0.9999 needs many gears",
+        "a percentage? (95 % is 0.95)"}}};
+  return table;
+}
+
 const RangeTable& effect_ranges() {
   const std::string lobing =
       "touch-trigger pre-travel: P2 ±0.75 µm lobing, kinematic probes a few µm, TP20 ±0.6–1 µm";
@@ -185,8 +204,8 @@ const RangeTable& readings_ranges() {
 }
 
 std::vector<const RangeTable*> all_range_tables() {
-  return {&gear_ranges(),    &tolerance_ranges(), &deviation_ranges(),
-          &probing_ranges(), &effect_ranges(),    &readings_ranges()};
+  return {&gear_ranges(),   &tolerance_ranges(), &deviation_ranges(), &probing_ranges(),
+          &effect_ranges(), &claim_ranges(),     &readings_ranges()};
 }
 
 std::string describe_range(const ParameterRange& range) {

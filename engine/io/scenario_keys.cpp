@@ -88,6 +88,7 @@ std::vector<ScenarioKey> make_table() {
       map_key("run", "50 gears", "the Monte-Carlo run"),
       list_key("surfaces", "none (analytic flanks)", "flanks whose real surface is a mesh file"),
       map_key("effects", "none", "measurement effects, in chain order"),
+      list_key("claims", "none", "accuracy claims that `gearmc check` decides"),
 
       number_key("gear.teeth", kInt, std::nullopt, "required", "number of teeth z"),
       number_key("gear.module_mm", kNum, std::nullopt, "required", "module m"),
@@ -263,6 +264,24 @@ std::vector<ScenarioKey> make_table() {
       }
     }
   }
+
+  // claims: what `gearmc check` decides (engine/scenario/claims.cpp).
+  t.push_back(text_key("claims.name", "required", "the claim's name, unique in the file"));
+  t.push_back(text_key("claims.quantity", "required",
+                       "delta_rcomp.point, delta_rcomp.flank_max or total_error.point (needs "
+                       "effects)"));
+  t.push_back(choice_key("claims.side", {"left", "right", "both"}, "both",
+                         "the flank sides whose values count"));
+  t.push_back(choice_key("claims.statistic", {"mean", "std", "max"}, "required",
+                         "the statistic: mean, std, max, or a map {quantile: p}"));
+  t.push_back(number_key("claims.statistic.quantile", kNum, std::nullopt, "required in the map",
+                         "the quantile's probability p"));
+  t.push_back(number_key("claims.at_most_um", kNum, std::nullopt, "one of the two limits",
+                         "the statistic is at most this"));
+  t.push_back(number_key("claims.at_least_um", kNum, std::nullopt, "one of the two limits",
+                         "the statistic is at least this"));
+  t.push_back(
+      number_key("claims.confidence", kNum, 0.95, "", "the probability that a verdict is right"));
   return t;
 }
 

@@ -27,6 +27,7 @@
 #include "engine/io/scenario_keys.h"
 #include "engine/io/yaml_reader.h"
 #include "engine/probing/mesh_probe.h"
+#include "engine/scenario/claims.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
 
@@ -536,7 +537,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   const YamlValue root = parse_yaml_document(yaml_text, source_name);
   const std::string expected_top =
       "a map of scenario keys (name, seed, gear, tolerances, deviations, probing, stylus, run, "
-      "surfaces, effects)";
+      "surfaces, effects, claims)";
   if (root.is_null()) {
     throw InputError(root.location(), "", "", expected_top + ", but the scenario is empty");
   }
@@ -596,6 +597,9 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   }
   if (const auto effects = top.find("effects")) {
     scenario.effects = std::make_shared<const EffectChain>(parse_effects(*effects, warnings));
+  }
+  if (const auto claims = top.find("claims")) {
+    scenario.claims = read_claims(*claims, !scenario.effects->empty(), warnings);
   }
   return scenario;
 }

@@ -243,7 +243,17 @@ std::string with_value(const std::string& key, const std::string& value) {
     parts.insert(parts.end() - 1, "profile");
   }
   YAML::Node leaf = YAML::Load(value);
-  if (parts.size() > 2 && parts[2] == "harmonics") {  // a list of maps
+  if (parts[0] == "claims") {  // a list of maps: one valid claim with the key set
+    YAML::Node claim = YAML::Load(
+        "{name: c, quantity: delta_rcomp.point, statistic: {quantile: 0.9}, at_most_um: 1}");
+    if (parts[1] == "at_least_um") claim.remove("at_most_um");
+    if (parts.size() > 2) {
+      claim[parts[1]][parts[2]] = leaf;
+    } else {
+      claim[parts[1]] = leaf;
+    }
+    root["claims"].push_back(claim);
+  } else if (parts.size() > 2 && parts[2] == "harmonics") {  // a list of maps
     YAML::Node harmonic;
     harmonic["order"] = 3;
     harmonic[parts[3]] = leaf;
@@ -294,6 +304,7 @@ TEST(ParameterRangesTest, EveryScenarioNumberBeyondItsRangeIsAnInputErrorAtItsKe
         }
         if (path == "tolerances.overrides_um.tolerance") path = "tolerances.overrides_um.F_r";
         if (path == "deviations.control_points") path = "deviations.profile.control_points";
+        if (path.rfind("claims.", 0) == 0) path.replace(0, 7, "claims[0].");
         EXPECT_THAT(e.what(), HasSubstr(path + ": got '")) << r.key;
         EXPECT_GT(e.where().line, 0) << r.key;
         ++checked;

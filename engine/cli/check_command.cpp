@@ -1,0 +1,120 @@
+// `gearmc check`: argument checks, the sequential run of the claims, output files and printing
+// (see check_command.h); the decision is engine/check (sequential_check.h), what is written is
+// composed in engine/check/check_outputs.h.
+#include "engine/cli/check_command.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+#include "engine/check/check_outputs.h"
+#include "engine/check/sequential_check.h"
+#include "engine/cli/interrupt_guard.h"
+#include "engine/io/input_error.h"
+#include "engine/io/output_files.h"
+#include "engine/io/provenance.h"
+#include "engine/mc/monte_carlo.h"
+
+namespace gearmc {
+
+namespace fs = std::filesystem;
+
+int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream& err) {
+  Scenario scenario = load_scenario_file(o.scenario_path);
+  if (o.seed) scenario.seed = *o.seed;
+  for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
+  if (scenario.claims.empty()) {
+    throw InputError({scenario.source_path, 0, 0},
+                     scenario.source_path +
+                         ": no claims to check; add a `claims:` list, e.g.\n"
+                         "claims:\n"
+                         "  - name: flank_max_4um\n"
+                         "    quantity: delta_rcomp.flank_max\n"
+                         "    statistic: {quantile: 0.9973}\n"
+                         "    at_most_um: 4.0\n"
+                         "    confidence: 0.95\n"
+                         "(docs/check.md)");
+  }
+  const MonteCarloRun mc(scenario);
+
+  // Fail before the work: the output folder and the JUnit file must be writable now.
+  CreatedFolder folder;
+  folder.dir =
+      o.out_dir.empty() ? fs::path("results") / scenario.name / "check" : fs::path(o.out_dir);
+  prepare_output_folder(folder.dir, &folder.created);
+  if (!o.junit_path.empty()) check_output_file(o.junit_path, "--junit");
+
+  out << "gearmc check: " << scenario.name << ", " << scenario.claims.size()
+      << (scenario.claims.size() == 1 ? " claim" : " claims") << ", at most " << o.max_gears
+      << " gears (looks at " << kFirstLookGears << ", doubling), seed " << scenario.seed << "\n"
+      << std::flush;
+
+  CheckOptions options;
+  options.max_gears = o.max_gears;
+  options.threads = o.threads;
+  options.cancel = &interrupted_flag();
+  const bool show_progress = !o.quiet && isatty(STDERR_FILENO);
+  if (show_progress) {
+    options.on_look = [&](const SequentialCheck& check) {
+      int decided = 0;
+      for (std::size_t i = 0; i < scenario.claims.size(); ++i) decided += check.decided(i);
+      err << "\r  gears " << check.gears() << "/" << check.max_gears() << "  decided " << decided
+          << "/" << scenario.claims.size() << "   " << std::flush;
+    };
+  }
+  CheckRun run;
+  {
+    InterruptGuard guard;
+    try {
+      run = run_check(mc, scenario.claims, options);
+    } catch (const ToleranceError& e) {
+      throw InputError({scenario.source_path, 0, 0},
+                       scenario.source_path + ": tolerances: " + e.what());
+    }
+  }
+  if (show_progress) err << "\n";
+  if (run.cancelled) {
+    err << "gearmc: interrupted after " << run.gears << " gears; nothing written\n";
+    return 130;
+  }
+  if (run.contacts > 0 &&
+      run.failed_contacts + run.edge_contacts + run.collisions == run.contacts) {
+    throw InputError({scenario.source_path, 0, 0},
+                     scenario.source_path + ": none of the " + std::to_string(run.contacts) +
+                         " contacts gave a value; check the stylus radius against the tooth "
+                         "space");
+  }
+
+  CheckContext context;
+  context.scenario = &scenario;
+  context.provenance = make_provenance(o.command_line, scenario.source_path, scenario.source_text);
+  context.max_gears = o.max_gears;
+  context.threads = o.threads;
+  OutputFiles files(folder.dir);
+  files.write("check.json", check_json(context, run).dump(2) + "\n");
+  files.write("report.html", check_report_html(context, run));
+  const std::string junit = o.junit_path.empty() ? "" : check_junit_xml(context, run);
+  files.commit();
+  folder.created = false;
+  if (!o.junit_path.empty()) write_file_atomically(o.junit_path, junit);
+
+  std::size_t width = 0;
+  for (const ClaimSpec& c : scenario.claims) width = std::max(width, c.name.size());
+  for (std::size_t i = 0; i < run.results.size(); ++i) {
+    out << claim_terminal_line(scenario.claims[i], run.results[i], width) << "\n";
+  }
+  if (run.failed_contacts + run.edge_contacts + run.collisions > 0) {
+    err << "gearmc: warning: " << run.failed_contacts + run.edge_contacts + run.collisions << " of "
+        << run.contacts
+        << " contacts gave no value (failed, edge or collision); the claims rest on the others\n";
+  }
+  out << run.gears << " gears in " << std::fixed << std::setprecision(1) << run.wall_s
+      << " s; check.json and report.html in " << folder.dir.string() << "\n"
+      << std::defaultfloat;
+  return all_claims_hold(run) ? 0 : 1;
+}
+
+}  // namespace gearmc

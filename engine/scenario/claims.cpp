@@ -1,0 +1,143 @@
+// The reader of `claims:` (see claims.h). Its keys, choices and defaults come from the scenario
+// key table (engine/io/scenario_keys.cpp), its number ranges from the `claims` range table
+// (engine/io/parameter_ranges.cpp).
+#include "engine/scenario/claims.h"
+
+#include <cstdio>
+#include <map>
+
+#include "engine/io/parameter_ranges.h"
+#include "engine/io/scenario_keys.h"
+#include "engine/io/yaml_reader.h"
+
+namespace gearmc {
+namespace {
+
+constexpr const char* kQuantities = "delta_rcomp.point, delta_rcomp.flank_max or total_error.point";
+
+ClaimQuantity read_quantity(const YamlValue& value, bool has_effects) {
+  const std::string text = value.as_string();
+  if (text.rfind("parameters.", 0) == 0) {
+    // Claims on gear parameters (ISO 1328-1 F_alpha, f_pt, …: measured − true) need the
+    // parameter evaluation of the run, which gearmc does not have yet.
+    throw value.error(std::string(kQuantities) +
+                      "; claims on gear parameters (parameters.<symbol>.error) need the gear-"
+                      "parameter evaluation (`evaluation:`), which this version of gearmc does "
+                      "not have yet");
+  }
+  if (text == "delta_rcomp.point") return ClaimQuantity::kDeltaRcompPoint;
+  if (text == "delta_rcomp.flank_max") return ClaimQuantity::kDeltaRcompFlankMax;
+  if (text == "total_error.point") {
+    if (!has_effects) {
+      throw value.error(
+          "a quantity the run computes: total_error.point is the point error with the "
+          "measurement effects, and this scenario has no `effects:` (use delta_rcomp.point, or "
+          "add effects)");
+    }
+    return ClaimQuantity::kTotalErrorPoint;
+  }
+  throw value.error(kQuantities, did_you_mean(text, {"delta_rcomp.point", "delta_rcomp.flank_max",
+                                                     "total_error.point"}));
+}
+
+void read_statistic(const YamlValue& value, ClaimSpec& claim, InputWarnings* warnings) {
+  const std::string expected = "mean, std, max or {quantile: p} with 0 < p < 1";
+  if (value.is_map()) {
+    const YamlMap map = value.as_map(child_keys("claims.statistic"));
+    const YamlValue p = map.require("quantile", "the quantile p, 0 < p < 1 (e.g. 0.9973)");
+    claim.statistic = ClaimStatistic::kQuantile;
+    claim.quantile = read_ranged(p, claim_ranges().at("claims.statistic.quantile"), warnings);
+    return;
+  }
+  if (!value.is_scalar() || value.is_quoted()) throw value.error(expected);
+  const std::string word = value.as_string();
+  const std::vector<std::string>& allowed = key_choices("claims.statistic");
+  if (word == "quantile") throw value.error(expected + " (the quantile needs its p)");
+  bool known = false;
+  for (const std::string& a : allowed) known = known || a == word;
+  if (!known) throw value.error(expected, did_you_mean(word, allowed));
+  claim.statistic = word == "mean"  ? ClaimStatistic::kMean
+                    : word == "std" ? ClaimStatistic::kStd
+                                    : ClaimStatistic::kMax;
+}
+
+}  // namespace
+
+std::string side_text(ClaimSide side) {
+  return side == ClaimSide::kLeft ? "left" : side == ClaimSide::kRight ? "right" : "both";
+}
+
+std::string statistic_text(const ClaimSpec& claim) {
+  switch (claim.statistic) {
+    case ClaimStatistic::kQuantile: {
+      char text[48];
+      std::snprintf(text, sizeof text, "quantile %.10g", claim.quantile);
+      return text;
+    }
+    case ClaimStatistic::kMean:
+      return "mean";
+    case ClaimStatistic::kStd:
+      return "std";
+    case ClaimStatistic::kMax:
+      return "max";
+  }
+  return "";
+}
+
+// claims: a list of {name (required, unique), quantity (required), side (left | right | both,
+// default both), statistic (required: mean | std | max | {quantile: p}), exactly one of
+// at_most_um / at_least_um, confidence (0 < c < 1, default 0.95)}.
+std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
+                                   std::vector<std::string>* warnings) {
+  const std::string expected =
+      "a list of claims, e.g. [{name: p1_4um, quantity: delta_rcomp.flank_max, statistic: "
+      "{quantile: 0.9973}, at_most_um: 4.0, confidence: 0.95}]";
+  if (!value.is_sequence()) throw value.error(expected);
+  std::vector<ClaimSpec> claims;
+  std::map<std::string, int> lines;  // name → line of its first use
+  for (const YamlValue& item : value.as_sequence()) {
+    if (!item.is_map()) throw item.error(expected);
+    const YamlMap entry = item.as_map(child_keys("claims"));
+    ClaimSpec claim;
+    const YamlValue name = entry.require("name", "a name for the claim (unique in the file)");
+    claim.name = name.as_string();
+    claim.where = name.location();
+    if (claim.name.empty() || claim.name.find_first_of("\n\r\t") != std::string::npos) {
+      throw name.error("a non-empty name on one line");
+    }
+    if (const auto first = lines.find(claim.name); first != lines.end()) {
+      throw name.error("a name not used before (claim '" + claim.name +
+                       "' is already given at line " + std::to_string(first->second) + ")");
+    }
+    lines[claim.name] = name.location().line;
+    const YamlValue quantity = entry.require("quantity", kQuantities);
+    claim.quantity_text = quantity.as_string();
+    claim.quantity = read_quantity(quantity, has_effects);
+    const std::string side = entry.get_choice("side", key_choices("claims.side"))
+                                 .value_or(choice_default("claims.side"));
+    claim.side = side == "left"    ? ClaimSide::kLeft
+                 : side == "right" ? ClaimSide::kRight
+                                   : ClaimSide::kBoth;
+    read_statistic(entry.require("statistic", "mean, std, max or {quantile: p}"), claim, warnings);
+    const auto at_most = entry.find("at_most_um");
+    const auto at_least = entry.find("at_least_um");
+    if (at_most && at_least) {
+      throw at_least->error("either at_most_um or at_least_um, not both (the claim has one limit)");
+    }
+    if (!at_most && !at_least) {
+      throw entry.missing("at_most_um", "the claim's limit: at_most_um or at_least_um (µm)");
+    }
+    claim.at_most = at_most.has_value();
+    claim.limit_um = read_ranged(
+        at_most ? *at_most : *at_least,
+        claim_ranges().at(at_most ? "claims.at_most_um" : "claims.at_least_um"), warnings);
+    claim.confidence = number_default("claims.confidence");
+    if (const auto c = entry.find("confidence")) {
+      claim.confidence = read_ranged(*c, claim_ranges().at("claims.confidence"), warnings);
+    }
+    claims.push_back(std::move(claim));
+  }
+  return claims;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,49 @@
+// Accuracy claims (`claims:` in a scenario): statements about a quantity of the Monte-Carlo run
+// that `gearmc check` decides — e.g. "the per-flank maximum of δRcomp stays at most 4 µm at the
+// 99.73 % quantile, at 95 % confidence". This is the typed, validated form; the reader
+// (read_claims) turns every mistake into one InputError at file:line:column. Limits in µm.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/io/input_error.h"
+
+namespace gearmc {
+
+class YamlValue;
+
+// What a claim is about (per gear, from the run's per-gear outcome).
+enum class ClaimQuantity {
+  kDeltaRcompPoint,     // δRcomp of every valid point, µm
+  kDeltaRcompFlankMax,  // the largest δRcomp of each flank, µm
+  kTotalErrorPoint,     // |total point error| with the measurement effects, µm
+};
+enum class ClaimSide { kLeft, kRight, kBoth };
+enum class ClaimStatistic { kQuantile, kMean, kStd, kMax };
+
+struct ClaimSpec {
+  std::string name;           // unique in the file
+  std::string quantity_text;  // as written, e.g. "delta_rcomp.flank_max"
+  ClaimQuantity quantity = ClaimQuantity::kDeltaRcompFlankMax;
+  ClaimSide side = ClaimSide::kBoth;
+  ClaimStatistic statistic = ClaimStatistic::kQuantile;
+  double quantile = 0.5;  // p, for kQuantile (0 < p < 1)
+  bool at_most = true;    // at_most_um (statistic ≤ limit) or at_least_um (statistic ≥ limit)
+  double limit_um = 0.0;
+  double confidence = 0.95;  // 0 < c < 1
+  InputLocation where;       // the claim's `name`
+};
+
+// The text of the statistic as written ("quantile 0.9973", "mean", "std", "max") and of the
+// side ("left", "right", "both").
+std::string statistic_text(const ClaimSpec& claim);
+std::string side_text(ClaimSide side);
+
+// Reads the `claims:` list. `has_effects`: the scenario has at least one measurement effect
+// (total_error.point needs them). Numbers outside their usual range append a located warning
+// to `warnings` (when not null). Throws InputError.
+std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
+                                   std::vector<std::string>* warnings);
+
+}  // namespace gearmc
