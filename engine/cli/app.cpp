@@ -240,6 +240,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
   run_options.command_line = command_line_text(argc, argv);
   sweep_options.command_line = run_options.command_line;
+
   CheckCommandOptions check_options;
   CLI::App* check = app.add_subcommand(
       "check", "Decide the scenario's accuracy claims (claims:) with confidence bounds");
@@ -254,8 +255,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   check
       ->add_option("--max-gears", check_options.max_gears,
                    "Gears at most (default 20000); looks after 256, 512, 1024, …")
+      ->check(CLI::Range(1, 100000000));
   check->add_option("--seed", check_options.seed, "Random seed (overrides seed)");
   check->add_option("--threads", check_options.threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
   check->add_option("--junit", check_options.junit_path,
                     "Also write the verdicts as JUnit XML (one test case per claim)");
   check->add_flag("--quiet", check_options.quiet, "No progress line");
