@@ -2,6 +2,7 @@
 // check_outputs.h).
 #include "engine/check/check_outputs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -198,6 +199,8 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
     plot.x_label = quantity_words(c) + ", µm";
     plot.bars_label = "values of " + std::to_string(r.gears) + " gears";
     plot.log_count = true;
+    // From the smallest value (the grid extends a quarter of the data's span below it).
+    plot.x_min = std::min(pooled->min(), c.limit_um);
     plot.markers.push_back(
         {c.limit_um, std::string("limit ") + general(c.limit_um) + " µm", "#D55E00", false});
     if (std::isfinite(r.lower_um)) {

@@ -39,8 +39,10 @@ struct MeanBounds {
 
 // The betting bounds on the mean of values in [0, 1]: upper = the least m that
 // betting_rejects_mean_at_least rejects, lower = the largest m betting_rejects_mean_at_most
-// rejects (0 and 1 when none), found by bisection to 1e-9 (bisection assumes the rejected m
-// form an interval, as they do for these bets in every case we tested).
+// rejects (0 and 1 when none), found by bisection to 1e-9. Bisection assumes the rejected m
+// form an interval: true for bets that do not depend on m (each factor is monotone in m); the
+// plug-in bets' cap depends on m, so here it is an assumption (the verdicts never rest on it:
+// they test the claim's own m directly).
 MeanBounds betting_mean_bounds(std::span<const double> x, double alpha);
 
 // The asymptotic confidence sequence for the mean of x (any finite values, finite variance),
