@@ -150,6 +150,7 @@ SensorFit calibrate_sensor(const Vector3d& axis, const SensorData& data, const V
       break;
     }
     bool accepted = false;
+    const double cost_before = r.cost;
     for (int tries = 0; tries < 60 && !accepted; ++tries) {
       Matrix3d Am = A;
       Am.diagonal() += mu * A.diagonal();
@@ -166,7 +167,19 @@ SensorFit calibrate_sensor(const Vector3d& axis, const SensorData& data, const V
         mu = mu == 0.0 ? 1e-6 : 4.0 * mu;
       }
     }
-    if (!accepted) break;
+    if (!accepted) {
+      // No decrease even with heavy damping: the sum of squares is flat to rounding here. That is
+      // the minimum when the Gauss–Newton step is within the rounding floor of the lateral
+      // coordinates (up to ~1e-8 mm with µm residuals), else a failure.
+      fit.ok = gn.norm() < kFitFloor;
+      break;
+    }
+    // A decrease at the rounding level of the sum of squares with a Gauss–Newton step within the
+    // floor: the minimum.
+    if (cost_before - r.cost <= 1e-12 * cost_before && gn.norm() < kFitFloor) {
+      fit.ok = true;
+      break;
+    }
     mu = mu < 1e-9 ? 0.0 : mu / 10.0;
   }
   fit.base = C;

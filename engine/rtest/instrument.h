@@ -97,13 +97,15 @@ struct SensorFit {
 // Least-squares base point of one sensor: minimises Σ_j g_j(C)² with g_j as above, by
 // Levenberg–Marquardt (Marquardt's diagonal scaling; Madsen, Nielsen & Tingleff, "Methods for
 // non-linear least squares problems", DTU 2004, §3.2) from `start`: each iteration tries the
-// Gauss–Newton step first and damps only when the sum of squares would grow. Converged (ok) when
-// the Gauss–Newton step from the current point is below kFitTolerance; at most 100 iterations. The
-// axis u is the known design direction (as in P3).
+// Gauss–Newton step first and damps only when the sum of squares would grow. Converged (ok) as
+// said above; at most 100 iterations. The axis u is the known design direction (as in P3).
 // The lateral coordinates of a base point are known to the fit only through the ~1/60 tilt of the
-// contact normals, so rounding leaves Gauss–Newton steps of ~1e-9 mm at the minimum: 1e-8 mm
-// (1e-5 µm) is the attainable tolerance.
+// contact normals, so rounding leaves Gauss–Newton steps of 1e-9 to 1e-8 mm at the minimum of a
+// fit with µm residuals. Converged: a Gauss–Newton step below kFitTolerance, or no decrease of the
+// sum of squares possible with a Gauss–Newton step below kFitFloor (1e-3 µm, far below the µm
+// the results show).
 inline constexpr double kFitTolerance = 1e-8;  // mm
+inline constexpr double kFitFloor = 1e-6;      // mm
 SensorFit calibrate_sensor(const Vector3d& axis, const SensorData& data, const Vector3d& start);
 
 // Exact derivatives of the fitted base point with respect to the data (implicit function theorem

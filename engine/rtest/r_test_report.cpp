@@ -39,15 +39,14 @@ Series circle(const std::string& label, const Vector3d& c, double radius, const 
 std::string sketch_svg(const RTestModel& m) {
   const Geometry& g = m.geometry;
   std::vector<Series> series;
-  series.push_back(
-      circle("ball (R = " + fx(g.ball_radius, 1) + " mm)", g.centre, g.ball_radius, "#0072B2"));
+  series.push_back(circle("ball", g.centre, g.ball_radius, "#0072B2"));
   Series axes, tips, bases;
-  axes.label = "sensor axes (projected)";
+  axes.label = "axes";
   axes.colour = "#999999";
-  tips.label = "tip centres C_i0 (ball at O)";
+  tips.label = "C_i0";
   tips.style = SeriesStyle::kPoints;
   tips.colour = "#D55E00";
-  bases.label = "base points C_i1";
+  bases.label = "C_i1";
   bases.style = SeriesStyle::kPoints;
   bases.colour = "#009E73";
   const double l0 = g.reading_at_centre();
@@ -59,8 +58,7 @@ std::string sketch_svg(const RTestModel& m) {
     tips.y.push_back(tip.y());
     bases.x.push_back(g.base[i].x());
     bases.y.push_back(g.base[i].y());
-    series.push_back(circle(i == 0 ? "tips (r = " + fx(g.tip_radius, 1) + " mm)" : "", tip,
-                            g.tip_radius, "#D55E00"));
+    series.push_back(circle(i == 0 ? "tips" : "", tip, g.tip_radius, "#D55E00"));
   }
   series.push_back(axes);
   series.push_back(tips);
