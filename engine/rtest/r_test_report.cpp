@@ -101,18 +101,18 @@ std::string residuals_svg(const RTestResult& r) {
   return xy_plot_svg(series, o);
 }
 
-std::string fig5_svg(const RTestResult& r, int k) {
+std::string fig5_svg(const RTestResult& r, int k, bool zoom) {
   const Verification& v = r.verification;
   const double n = static_cast<double>(v.positions.size());
   std::vector<Series> series;
   Series actual;
-  actual.label = "actual 95 % |error| per position";
+  actual.label = "actual";
   actual.style = SeriesStyle::kPoints;
   actual.colour = "#000000";
   Series chain, p3;
-  chain.label = "whole-chain GUM per position";
+  chain.label = "chain GUM";
   chain.colour = "#009E73";
-  p3.label = "P3's GUM + readings per position";
+  p3.label = "P3 GUM";
   p3.colour = "#E69F00";
   for (std::size_t q = 0; q < v.positions.size(); ++q) {
     const double x = static_cast<double>(q) + 1.0;
@@ -126,29 +126,27 @@ std::string fig5_svg(const RTestResult& r, int k) {
   series.push_back(actual);
   series.push_back(chain);
   series.push_back(p3);
-  static const char* colours[] = {"#D55E00", "#CC79A7", "#E69F00", "#56B4E9", "#009E73", "#0072B2"};
-  int c = 0;
   for (const Prediction& p : r.predictions) {
+    if (p.id != "gum_mcm_p3" && p.id != "full_mcm") continue;
     Series s;
-    s.label = p.label + " at P_m";
-    s.colour = colours[c++ % 6];
+    s.label = p.id == "full_mcm" ? "full MCM at P_m" : "P3 GUM+MCM at P_m";
+    s.colour = p.id == "full_mcm" ? "#0072B2" : "#D55E00";
     s.x = {1.0, n};
     s.y = {p.axis[k].U * kUm, p.axis[k].U * kUm};
     series.push_back(s);
   }
-  Series pooled;
-  pooled.label = "actual 95 % |error|, all positions";
-  pooled.colour = "#000000";
-  pooled.x = {1.0, n};
-  pooled.y = {v.pooled95[k] * kUm, v.pooled95[k] * kUm};
-  series.push_back(pooled);
   XYPlotOptions o;
-  o.title = std::string("Predicted U against the verification, ") + "xyz"[k] + " axis";
+  o.title = std::string(zoom ? "Near the actual errors, " : "Predicted U and actual 95 % error, ") +
+            "xyz"[k] + " axis";
   o.x_label = "verification position";
   o.y_label = "µm";
   o.y_from_zero = true;
-  o.width_px = 760;
-  o.height_px = 520;
+  if (zoom) {
+    o.y_min = 0.0;
+    o.y_max = 2.0 * v.pooled95[k] * kUm;
+  }
+  o.width_px = 600;
+  o.height_px = 420;
   return xy_plot_svg(series, o);
 }
 
@@ -282,9 +280,13 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
   t.rows.push_back(at_m);
   page.table(t);
   for (int k = 0; k < 3; ++k) {
-    page.figure(fig5_svg(r, k), std::string("As P3's Fig. 5: ") + "xyz"[k] +
-                                    " axis. Points: the actual 95 % |error| at each position over "
-                                    "the repetitions; lines: the routes' U.");
+    page.figure_row(
+        {{fig5_svg(r, k, false),
+          std::string("As P3's Fig. 5, ") + "xyz"[k] +
+              " axis. Points: the actual 95 % |error| at each position over the repetitions; "
+              "lines: the whole-chain GUM and P3's GUM (with the measuring readings) at each "
+              "position, P3's GUM+MCM and the full MCM at P_m."},
+         {fig5_svg(r, k, true), "The same, y axis from 0 to twice the actual 95 % error."}});
   }
   page.preformatted(model.source_text, "Model file " + model.source_path);
   page.paragraph(provenance_line(provenance));
