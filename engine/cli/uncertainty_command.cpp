@@ -112,7 +112,9 @@ int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, s
   }
 
   if (model.builtin == "r_test") {
-    return r_test_command(o, model, mcm.trials.value_or(1'000'000), out, err);
+    UncertaintyModel seeded = model;  // --seed overrides settings.seed here too
+    seeded.settings.seed = mcm.seed;
+    return r_test_command(o, seeded, mcm.trials.value_or(1'000'000), out, err);
   }
 
   CreatedFolder folder;

@@ -100,6 +100,15 @@ TEST(RTestCli, SmallRunWritesTheRTestSection) {
   EXPECT_EQ(rt.at("verification").at("measurements").get<int>(), 550);  // 50 x (10 + P_m)
   EXPECT_EQ(rt.at("verification").at("failed").get<int>(), 0);
   EXPECT_TRUE(fs::exists(out + "/report.html"));
+  EXPECT_EQ(j.at("seed").get<int>(), 3);
+  // --seed overrides settings.seed (another calibration draw: other fitted base points).
+  const std::string out2 = temp_path("good_out_seed");
+  const auto r2 = run_gearmc("uncertainty " + model + " --out " + out2 + " --quiet --seed 4");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  const auto j2 = nlohmann::json::parse(std::ifstream(out2 + "/uncertainty.json"));
+  EXPECT_EQ(j2.at("seed").get<int>(), 4);
+  EXPECT_NE(j2.at("r_test").at("calibration").at("sensors")[0].at("fitted_base_mm"),
+            rt.at("calibration").at("sensors")[0].at("fitted_base_mm"));
 }
 
 }  // namespace
