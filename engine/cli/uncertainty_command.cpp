@@ -16,6 +16,8 @@
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"
 #include "engine/ranks/ranks.h"
+#include "engine/rtest/r_test_output.h"
+#include "engine/rtest/register.h"
 #include "engine/uncertainty/evaluation.h"
 
 namespace gearmc {
@@ -38,9 +40,50 @@ void refuse_another_models_folder(const fs::path& dir, const UncertaintyModel& m
                        "--out DIR, or remove " + dir.string());
 }
 
+// The r_test builtin model: its own compound evaluation (engine/rtest) with the same folder,
+// atomic-output and interrupt rules. Monte-Carlo routes run a fixed M (default 10^6, P3's T).
+int r_test_command(const UncertaintyCommandOptions& o, const UncertaintyModel& model,
+                   std::uint64_t trials, std::ostream& out, std::ostream& err) {
+  const rtest::RTestModel m = rtest::make_r_test_model(model);
+  rtest::RTestRunOptions ro;
+  ro.trials = trials;
+  ro.threads = o.threads;
+  ro.cancel = &interrupted_flag();
+  CreatedFolder folder;
+  folder.dir = o.out_dir.empty() ? fs::path("results") / model.name : fs::path(o.out_dir);
+  if (o.out_dir.empty()) refuse_another_models_folder(folder.dir, model);
+  prepare_output_folder(folder.dir, &folder.created);
+  out << "gearmc uncertainty: " << model.name << " (builtin r_test), " << model.inputs.size()
+      << " input classes, p = " << m.coverage_probability << ", seed " << m.seed << ", " << trials
+      << " trials per Monte-Carlo route, verification " << m.settings.positions << " positions x "
+      << m.settings.repetitions << "\n"
+      << std::flush;
+  rtest::RTestResult r;
+  {
+    InterruptGuard guard;
+    r = rtest::evaluate_r_test(m, ro);
+  }
+  if (r.cancelled) {
+    err << "gearmc: interrupted; nothing written\n";
+    return 130;
+  }
+  const Provenance provenance =
+      make_provenance(o.command_line, model.source_path, model.source_text);
+  OutputFiles files(folder.dir);
+  files.write("uncertainty.json", rtest::r_test_json(model, m, r, ro, provenance).dump(2) + "\n");
+  files.write("report.html", rtest::r_test_report_html(model, m, r, provenance));
+  files.commit();
+  folder.created = false;
+  rtest::print_r_test(out, m, r);
+  for (const std::string& w : r.warnings) err << "gearmc: warning: " << w << "\n";
+  out << "report: " << (folder.dir / "report.html").string() << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, std::ostream& err) {
+  rtest::register_r_test_model();
   const UncertaintyModel model = load_uncertainty_model(o.model_path);
   McmOptions mcm;
   mcm.seed = o.seed.value_or(model.settings.seed);
@@ -72,6 +115,14 @@ int uncertainty_command(const UncertaintyCommandOptions& o, std::ostream& out, s
   // Only rank 0 of an MPI job writes; the other ranks compute their share of the trials.
   const Ranks ranks = Ranks::world();
   mcm.ranks = &ranks;
+  if (model.builtin == "r_test") {
+    // The R-Test's routes run in one process: under mpirun, rank 0 alone.
+    if (!ranks.is_root()) return 0;
+    UncertaintyModel seeded = model;  // --seed overrides settings.seed here too
+    seeded.settings.seed = mcm.seed;
+    return r_test_command(o, seeded, mcm.trials.value_or(1'000'000), out, err);
+  }
+
   CreatedFolder folder;
   ranks.agree([&] {
     if (!ranks.is_root()) return;

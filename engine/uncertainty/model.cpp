@@ -219,6 +219,15 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
       for (const std::string& o : m->output_names()) {
         model.outputs.push_back({o, "", builtin->location(), false, {}, {}});
       }
+    } catch (const BuiltinParameterError& e) {
+      if (const auto v = b.find(e.key)) {
+        if (e.unknown_key) throw InputError(v->key_location(), v->path(), e.key, e.what());
+        throw v->error(e.what());
+      }
+      for (const ModelInput& in : model.inputs) {
+        if (in.name == e.key) throw InputError(in.where, "inputs." + e.key, e.key, e.what());
+      }
+      throw builtin->error(std::string("parameters the builtin model accepts (") + e.what() + ")");
     } catch (const std::invalid_argument& e) {
       throw builtin->error(std::string("parameters the builtin model accepts (") + e.what() + ")");
     }

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,17 @@ class BuiltinModel {
   virtual std::vector<std::string> output_names() const = 0;
   // x: the inputs in model-file order; y: one value per output.
   virtual void evaluate(const double* x, double* y) const = 0;
+};
+
+// What a builtin factory throws when one key of `builtin:` is wrong: the reader then points at
+// that key (`unknown_key`: a key the model does not have) or at its value in the model file; a
+// `key` that names an input instead points at that input; an empty key at the `builtin:` map.
+// what(): the expectation, e.g. "a radius in [1, 100] mm".
+struct BuiltinParameterError : std::invalid_argument {
+  BuiltinParameterError(std::string key_, const std::string& what, bool unknown)
+      : std::invalid_argument(what), key(std::move(key_)), unknown_key(unknown) {}
+  std::string key;
+  bool unknown_key = false;
 };
 
 // Makes a builtin model for the named inputs and the numeric keys of `builtin:` (besides
