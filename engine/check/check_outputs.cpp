@@ -81,6 +81,7 @@ nlohmann::ordered_json check_json(const CheckContext& context, const CheckRun& r
   j["scenario"] = scenario.name;
   j["source"] = scenario.source_path;
   j["seed"] = scenario.seed;
+  j["ranks"] = context.ranks;
   j["threads"] = context.threads;
   j["max_gears"] = context.max_gears;
   j["gears"] = run.gears;

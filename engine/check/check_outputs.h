@@ -20,6 +20,7 @@ struct CheckContext {
   Provenance provenance;
   int max_gears = kDefaultMaxGears;
   int threads = 0;  // as asked (0: all cores)
+  int ranks = 1;    // processes of the MPI job
 };
 
 // True when every claim holds.

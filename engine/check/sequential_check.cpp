@@ -1,16 +1,17 @@
 // The sequential decision of `gearmc check` and its Monte-Carlo driver (see sequential_check.h).
 #include "engine/check/sequential_check.h"
 
-#include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <string>
+#include <string_view>
 
+#include "engine/io/bytes.h"
 #include "engine/mc/monte_carlo.h"
+#include "engine/mc/run_partials.h"
+#include "engine/ranks/ranks.h"
 
 namespace gearmc {
 
@@ -70,49 +71,41 @@ CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  // threads > 0: exactly that many (as MonteCarloRun::run does).
-  std::optional<tbb::global_control> limit;
-  std::optional<tbb::task_arena> arena;
-  if (options.threads > 0) {
-    limit.emplace(tbb::global_control::max_allowed_parallelism,
-                  static_cast<std::size_t>(options.threads));
-    arena.emplace(options.threads);
-  }
-  const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
+  const Ranks single;
+  const Ranks& ranks = options.ranks ? *options.ranks : single;
   SequentialCheck check(claims, options.max_gears);
   CheckRun run;
-  constexpr int kChunk = kFirstLookGears;  // every look is a multiple of it, or the budget
+  // Each gear travels as its contact counts and, per claim, its values (on the rank that ran it)
+  // and reaches rank 0 in gear order, where it is fed to the sequential decision.
+  std::vector<double> scratch;
+  GearStream stream;
+  stream.encode = [&](const GearOutcome& g, std::string& out) {
+    ByteWriter w(out);
+    w.put<std::uint64_t>(g.contacts);
+    w.put<std::uint64_t>(g.failed);
+    w.put<std::uint64_t>(g.edge);
+    w.put<std::uint64_t>(g.collisions);
+    for (const ClaimSpec& claim : claims) {
+      scratch.clear();
+      claim_values(claim, g, scratch);
+      w.put<std::uint64_t>(scratch.size());
+      for (double v : scratch) w.put<double>(v);
+    }
+  };
   std::vector<std::vector<double>> values(claims.size());
   std::vector<std::span<const double>> spans(claims.size());
-  while (!check.done()) {
-    const int first = check.gears();
-    const int count = std::min(kChunk, options.max_gears - first);
-    std::vector<GearOutcome> outcomes(count);
-    const auto work = [&] {
-      tbb::parallel_for(0, count, [&](int c) {
-        if (cancelled()) return;
-        outcomes[c] = mc.measure_gear(first + c, false);
-      });
-    };
-    if (arena) {
-      arena->execute(work);
-    } else {
-      work();
-    }
-    if (cancelled()) {
-      run.cancelled = true;
-      break;
-    }
-    for (const GearOutcome& o : outcomes) {  // gear order: the same looks for any thread count
+  stream.consume = [&](std::string_view bytes) {
+    ByteReader r(bytes);
+    while (!r.done()) {
+      run.contacts += r.get<std::uint64_t>();
+      run.failed_contacts += r.get<std::uint64_t>();
+      run.edge_contacts += r.get<std::uint64_t>();
+      run.collisions += r.get<std::uint64_t>();
       for (std::size_t i = 0; i < claims.size(); ++i) {
-        values[i].clear();
-        claim_values(claims[i], o, values[i]);
+        values[i].resize(static_cast<std::size_t>(r.get<std::uint64_t>()));
+        for (double& v : values[i]) v = r.get<double>();
         spans[i] = values[i];
       }
-      run.contacts += o.contacts;
-      run.failed_contacts += o.failed;
-      run.edge_contacts += o.edge;
-      run.collisions += o.collisions;
       if (check.add_gear(spans)) {
         const double t = elapsed();
         for (std::size_t i = 0; i < claims.size(); ++i) {
@@ -120,9 +113,33 @@ CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims
           if (check.results()[i].time_s == 0.0) check.results()[i].time_s = t;
         }
         if (options.on_look) options.on_look(check);
-        if (check.done()) break;
       }
     }
+  };
+  // One batch per look: the gears up to the next look run over the ranks (each rank a contiguous
+  // share of the batch's blocks), then rank 0 looks and tells every rank whether to go on. The
+  // looks depend on gear counts only, so verdicts and gear counts do not depend on the number of
+  // ranks or threads.
+  const std::vector<int> looks = look_points(options.max_gears);
+  int first = 0;
+  for (int end : looks) {
+    RunOptions batch;
+    batch.gears = options.max_gears;
+    batch.first_gear = first;
+    batch.end_gear = end;
+    batch.threads = options.threads;
+    batch.cancel = options.cancel;
+    const RunResults r = run_on_ranks(mc, batch, ranks, stream);
+    first = end;
+    const std::vector<std::string> state = ranks.all_gather([&] {
+      if (!ranks.is_root()) return std::string();
+      return std::string(r.cancelled ? "c" : check.done() ? "d" : "g");
+    });
+    if (state[0] == "c") {
+      run.cancelled = true;
+      break;
+    }
+    if (state[0] == "d") break;
   }
   run.gears = check.gears();
   run.results = check.results();

@@ -19,6 +19,7 @@
 namespace gearmc {
 
 class MonteCarloRun;
+class Ranks;
 struct GearOutcome;
 
 inline constexpr int kFirstLookGears = 256;
@@ -62,6 +63,9 @@ struct CheckOptions {
   int max_gears = kDefaultMaxGears;
   int threads = 0;  // 0 = all cores
   const std::atomic<bool>* cancel = nullptr;
+  // The processes of an MPI job (null: this process alone). The batches run over the ranks;
+  // results and on_look exist on rank 0 only.
+  const Ranks* ranks = nullptr;
   // After each look, with the gears done so far (calling thread).
   std::function<void(const SequentialCheck&)> on_look;
 };
@@ -75,8 +79,9 @@ struct CheckRun {
   bool cancelled = false;
 };
 
-// Measures gears 0, 1, … of the run's scenario (its seed) in parallel chunks of 256, feeding them
-// in gear order to a SequentialCheck, until done. Each claim's time_s is the wall time of the
+// Measures gears 0, 1, … of the run's scenario (its seed) in batches that end at the looks (over
+// the ranks of options.ranks, in parallel blocks of 256 gears), feeding them in gear order to a
+// SequentialCheck on rank 0, until done. Each claim's time_s is the wall time of the
 // look that decided it (or of the last look).
 CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims,
                    const CheckOptions& options);

@@ -291,7 +291,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   }
 
   // Under mpirun, the commands without Monte-Carlo work run on rank 0 alone.
-  const bool distributed = run->parsed() || uncertainty->parsed() || sweep->parsed();
+  const bool distributed =
+      run->parsed() || uncertainty->parsed() || sweep->parsed() || check->parsed();
   if (!distributed && !Ranks::world().is_root()) return 0;
   try {
     if (geometry->parsed()) {

@@ -17,6 +17,7 @@
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
+#include "engine/ranks/ranks.h"
 
 namespace gearmc {
 
@@ -41,11 +42,16 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   const MonteCarloRun mc(scenario);
 
   // Fail before the work: the output folder and the JUnit file must be writable now.
+  // Only rank 0 of an MPI job writes; the other ranks measure their share of each batch.
+  const Ranks ranks = Ranks::world();
   CreatedFolder folder;
-  folder.dir =
-      o.out_dir.empty() ? fs::path("results") / scenario.name / "check" : fs::path(o.out_dir);
-  prepare_output_folder(folder.dir, &folder.created);
-  if (!o.junit_path.empty()) check_output_file(o.junit_path, "--junit");
+  ranks.agree([&] {
+    if (!ranks.is_root()) return;
+    folder.dir =
+        o.out_dir.empty() ? fs::path("results") / scenario.name / "check" : fs::path(o.out_dir);
+    prepare_output_folder(folder.dir, &folder.created);
+    if (!o.junit_path.empty()) check_output_file(o.junit_path, "--junit");
+  });
 
   out << "gearmc check: " << scenario.name << ", " << scenario.claims.size()
       << (scenario.claims.size() == 1 ? " claim" : " claims") << ", at most " << o.max_gears
@@ -56,6 +62,7 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   options.max_gears = o.max_gears;
   options.threads = o.threads;
   options.cancel = &interrupted_flag();
+  options.ranks = &ranks;
   const bool show_progress = !o.quiet && isatty(STDERR_FILENO);
   if (show_progress) {
     options.on_look = [&](const SequentialCheck& check) {
@@ -76,6 +83,7 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
     }
   }
   if (show_progress) err << "\n";
+  if (!ranks.is_root()) return run.cancelled ? 130 : 0;
   if (run.cancelled) {
     err << "gearmc: interrupted after " << run.gears << " gears; nothing written\n";
     return 130;
@@ -93,6 +101,7 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   context.provenance = make_provenance(o.command_line, scenario.source_path, scenario.source_text);
   context.max_gears = o.max_gears;
   context.threads = o.threads;
+  context.ranks = ranks.size();
   OutputFiles files(folder.dir);
   files.write("check.json", check_json(context, run).dump(2) + "\n");
   files.write("report.html", check_report_html(context, run));

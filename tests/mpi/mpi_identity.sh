@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs `gearmc run` (with points.csv), `gearmc uncertainty` and `gearmc sweep` in one process and
+# Runs `gearmc run` (with points.csv), `gearmc uncertainty`, `gearmc sweep` and `gearmc check` in one
+# process and
 # under `mpirun --oversubscribe -n 1, 2, 3` with other thread counts, and checks with
 # same_outputs.py that every output file is the same byte for byte (wall times, ranks, threads and
 # the time stamp aside). The run has 3 blocks of 256 gears (600 gears), so 2 ranks get 1 and 2
@@ -31,7 +32,7 @@ grep -q "teeth: \[1, 13\]" small.yaml
 
 run_case() {  # DIR RANKS THREADS ARGS…: the command in its own folder with --out out
   local dir=$1 ranks=$2 threads=$3; shift 3
-  mkdir -p "$dir" && cp small.yaml "$dir/"
+  mkdir -p "$dir" && cp ./*.yaml "$dir/"
   if [[ $ranks == 0 ]]; then
     (cd "$dir" && "$gearmc" "$@" --threads "$threads" --quiet --out out >log.txt 2>&1)
   else
@@ -66,6 +67,27 @@ sweep_args=(sweep small.yaml --vary stylus.radius_mm=0.4,0.6 --vary probing.poin
 run_case sweep_single 0 1 "${sweep_args[@]}"
 run_case sweep_n3 3 1 "${sweep_args[@]}"
 $compare sweep_single/out sweep_n3/out || fail=1
+
+echo "== check: a max claim runs to the budget of 1100 gears (batches 256, 256, 512, 76)"
+cp small.yaml claims.yaml
+cat >> claims.yaml <<'YAML'
+claims:
+  - {name: point_p95, quantity: delta_rcomp.point, statistic: {quantile: 0.95}, at_most_um: 20.0,
+     confidence: 0.95}
+  - {name: flank_max, quantity: delta_rcomp.flank_max, statistic: max, at_most_um: 1000.0,
+     confidence: 0.95}
+YAML
+run_case check_single 0 1 check claims.yaml --max-gears 1100
+for case in "2 1" "3 2"; do
+  set -- $case
+  run_case "check_n$1_t$2" "$1" "$2" check claims.yaml --max-gears 1100
+  grep -q '"ranks": '"$1" "check_n$1_t$2/out/check.json" || { echo "check.json lacks ranks $1"; fail=1; }
+  grep -q '"gears": 1100' "check_n$1_t$2/out/check.json" || { echo "check did not run 1100 gears"; fail=1; }
+  # check.json: the verdicts, bounds and gear counts (the report and JUnit file carry wall times).
+  mkdir -p "cj_single" "cj_n$1_t$2"
+  cp check_single/out/check.json cj_single/ && cp "check_n$1_t$2/out/check.json" "cj_n$1_t$2/"
+  $compare cj_single "cj_n$1_t$2" || fail=1
+done
 
 echo "== errors"
 expect_error() {  # DIR EXPECTED_CODE ARGS…: one gearmc message, the exit code, no out/

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Compares two gearmc output folders file by file, byte for byte, after removing what may differ
 between runs of the same command on any number of MPI ranks and threads: the wall-time fields
-(wall_s, contacts_per_s), the job's shape (ranks, threads), the time of the run (created_utc, and
+(wall_s, time_s, contacts_per_s), the job's shape (ranks, threads), the time of the run (created_utc, and
 the UTC time stamp in provenance lines) and the command's --threads value. Prints every difference
 and exits 1 when there is one, 0 otherwise.
 
@@ -11,7 +11,7 @@ import pathlib
 import re
 import sys
 
-DROPPED = re.compile(rb'^\s*"(wall_s|contacts_per_s|ranks|threads|created_utc)": .*$', re.M)
+DROPPED = re.compile(rb'^\s*"(wall_s|time_s|contacts_per_s|ranks|threads|created_utc)": .*$', re.M)
 TIME = re.compile(rb"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ")
 THREADS = re.compile(rb"--threads[ =]\d+")
 
