@@ -191,8 +191,8 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   out << run_contacts_line(r) << "\n";
   if (ranks.size() > 1) {
     out << "ranks " << ranks.size() << ": " << r.reduction_bytes
-        << " bytes of partial results from the other ranks, received " << std::setprecision(3)
-        << r.gather_s << " s after rank 0's own share, merged in " << r.merge_s << " s\n"
+        << " bytes of partial results received by rank 0, waited " << std::setprecision(3)
+        << r.gather_s << " s after its own share, merged in " << r.merge_s << " s\n"
         << std::defaultfloat;
   }
   for (const std::string& w : view.warnings) err << "gearmc: warning: " << w << "\n";

@@ -116,10 +116,10 @@ struct RunResults {
   // first_block; the moments above are these merged in this order.
   int first_block = 0;
   std::vector<BlockMoments> block_moments;
-  // run_on_ranks over several ranks, on rank 0: bytes of partial results received from the other
-  // ranks; the time from rank 0's own share done to all partials received (waiting for the
-  // slowest rank, then the transfer), s; and the time to decode and merge them, s. Not written to
-  // the output files.
+  // run_on_ranks over several ranks, on rank 0: bytes of partial results it received (from
+  // ceil(log2 ranks) ranks of the reduction tree); the time after its own share spent waiting for
+  // and receiving them, s; and the time spent decoding and merging them, s. Not written to the
+  // output files.
   std::uint64_t reduction_bytes = 0;
   double gather_s = 0.0, merge_s = 0.0;
   // Merges the moments of a block that follows every block merged so far.

@@ -158,8 +158,8 @@ RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks
   const bool keep_blocks = options.keep_block_moments;
   if (ranks.size() == 1) {
     if (stream.encode) {
-      const auto previous = options.on_gear;
-      options.on_gear = [&](const GearOutcome& g) {
+      // The caller's on_gear, kept by value: this block's variables end before the run.
+      options.on_gear = [&stream, previous = options.on_gear](const GearOutcome& g) {
         if (previous) previous(g);
         std::string bytes;
         stream.encode(g, bytes);
@@ -194,8 +194,8 @@ RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks
       };
     }
     if (stream.encode) {
-      const auto previous = options.on_gear;
-      options.on_gear = [&](const GearOutcome& g) {
+      // The caller's on_gear, kept by value: this block's variables end before the run.
+      options.on_gear = [&stream, previous = options.on_gear](const GearOutcome& g) {
         if (previous) previous(g);
         std::string bytes;
         stream.encode(g, bytes);
@@ -210,39 +210,52 @@ RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks
     }
   }
 
+  // A binary tree toward rank 0 (Ranks::reduce_to_root): a rank absorbs the partial results of
+  // the ranks right after its range, so its histograms and counts cover a contiguous range of
+  // blocks and its block moments list them in block order; rank 0 folds every block's moments in
+  // block order, exactly as one process does.
   RunResults mine;
   std::chrono::steady_clock::time_point own_done;
-  const std::vector<std::string> parts = ranks.gather([&] {
-    if (local_end > local_first) {
-      mine = run_local(mc, options);
-    } else {
-      mine.first_block = local_first / kGearsPerBlock;
-    }
-    own_done = std::chrono::steady_clock::now();
-    if (ranks.is_root()) return std::string();  // rank 0 keeps its own results
-    std::string bytes;
-    ByteWriter w(bytes);
-    w.put_text(encode_partial(mine));
-    w.put_text(text);
-    return bytes;
-  });
+  double absorbing_s = 0.0;
+  ranks.reduce_to_root(
+      [&] {
+        if (local_end > local_first) {
+          mine = run_local(mc, options);
+        } else {
+          mine.first_block = local_first / kGearsPerBlock;
+        }
+        own_done = std::chrono::steady_clock::now();
+      },
+      [&] {
+        std::string bytes;
+        ByteWriter w(bytes);
+        w.put_text(encode_partial(mine));
+        w.put_text(text);
+        return bytes;
+      },
+      [&](std::string_view bytes) {
+        const auto t0 = std::chrono::steady_clock::now();
+        mine.reduction_bytes += bytes.size();
+        ByteReader in(bytes);
+        RunResults later = decode_partial(in.get_text());
+        const std::string gears_text = in.get_text();
+        append_partial(mine, later);
+        if (!ranks.is_root() || keep_blocks) {
+          for (BlockMoments& b : later.block_moments) mine.block_moments.push_back(std::move(b));
+        }
+        if (ranks.is_root()) {
+          if (stream.consume && !gears_text.empty()) stream.consume(gears_text);
+        } else {
+          text += gears_text;
+        }
+        absorbing_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      });
   if (!ranks.is_root()) return mine;
-  const auto gathered = std::chrono::steady_clock::now();
-  mine.gather_s = std::chrono::duration<double>(gathered - own_done).count();
-  for (std::size_t r = 1; r < parts.size(); ++r) {
-    mine.reduction_bytes += parts[r].size();
-    ByteReader in(parts[r]);
-    const std::string partial = in.get_text();
-    const std::string gears_text = in.get_text();
-    RunResults later = decode_partial(partial);
-    append_partial(mine, later);
-    if (keep_blocks) {
-      for (BlockMoments& b : later.block_moments) mine.block_moments.push_back(std::move(b));
-    }
-    if (stream.consume && !gears_text.empty()) stream.consume(gears_text);
-  }
   if (!keep_blocks) mine.block_moments.clear();
-  mine.merge_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - gathered).count();
+  const double since_own =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - own_done).count();
+  mine.merge_s = absorbing_s;
+  mine.gather_s = since_own - absorbing_s;
   mine.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return mine;
 }

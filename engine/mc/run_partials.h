@@ -1,7 +1,8 @@
 // A Monte-Carlo run split over processes (engine/ranks): rank r runs a contiguous share of the
-// run's blocks of kGearsPerBlock gears (monte_carlo.h), keeps each block's moments, and sends its
-// partial results as bytes to rank 0, which merges the shares in rank order: histograms and counts
-// by exact integer sums, moments block after block in block order. Since a single process merges
+// run's blocks of kGearsPerBlock gears (monte_carlo.h) and keeps each block's moments; the partial
+// results go as bytes up a binary tree to rank 0 (Ranks::reduce_to_root), each rank absorbing the
+// ranks right after its range: histograms and counts by exact integer sums, block moments listed
+// in block order, and rank 0 folds the moments block after block in block order. Since a single process merges
 // its blocks in the same order, rank 0's results are bit-identical to MonteCarloRun::run of the
 // whole run in one process, for any number of ranks and threads.
 //

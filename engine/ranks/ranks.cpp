@@ -137,6 +137,42 @@ std::vector<std::string> Ranks::all_gather(const std::function<std::string()>& p
   return all;
 }
 
+void Ranks::reduce_to_root(const std::function<void()>& work,
+                           const std::function<std::string()>& serialize,
+                           const std::function<void(std::string_view)>& absorb) const {
+  // The first error met: this rank's, else that of the lowest rank absorbed.
+  std::string verdict(1, static_cast<char>(Status::kOk));
+  const auto guarded = [&](const std::function<void()>& f) {
+    if (static_cast<Status>(verdict[0]) != Status::kOk) return;
+    verdict = run_and_wrap([&] {
+      f();
+      return std::string();
+    });
+  };
+  guarded(work);
+  for (int step = 1; step < size_; step *= 2) {
+    if (rank_ % (2 * step) == step) {
+      std::string message;
+      guarded([&] { message = serialize(); });
+      send_bytes(static_cast<Status>(verdict[0]) == Status::kOk ? verdict + message : verdict,
+                 rank_ - step);
+      break;
+    }
+    if (rank_ + step < size_) {
+      const std::string message = receive_bytes(rank_ + step);
+      if (static_cast<Status>(verdict[0]) != Status::kOk) continue;  // a lower rank failed
+      if (static_cast<Status>(message[0]) != Status::kOk) {
+        verdict = message;
+        continue;
+      }
+      guarded([&] { absorb(std::string_view(message).substr(1)); });
+    }
+  }
+  if (size_ > 1) broadcast_bytes(verdict);
+  const auto status = static_cast<Status>(verdict[0]);
+  if (status != Status::kOk) rethrow(status, verdict.substr(1));
+}
+
 void Ranks::agree(const std::function<void()>& work) const {
   gather([&] {
     work();

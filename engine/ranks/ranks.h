@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gearmc {
@@ -37,6 +38,17 @@ class Ranks {
   static Share share_of(std::uint64_t n, int r, int size);
   Share share(std::uint64_t n, int r) const { return share_of(n, r, size_); }
   Share share(std::uint64_t n) const { return share_of(n, rank_, size_); }
+
+  // A binary-tree reduction toward rank 0 that keeps the rank order: every rank runs `work`;
+  // then at steps s = 1, 2, 4, … rank r with r mod 2s = s sends serialize() (its state, covering
+  // the ranks [r, r + s) by then) to rank r − s, which passes it to absorb(); so a rank absorbs
+  // the states of the ranks right after its own range, in increasing order, and rank 0 ends with
+  // the state of all ranks after ceil(log2 size) steps (not size − 1 sequential receives). An
+  // error on any rank (in work, serialize or absorb) is thrown on every rank (the lowest failing
+  // rank's).
+  void reduce_to_root(const std::function<void()>& work,
+                      const std::function<std::string()>& serialize,
+                      const std::function<void(std::string_view)>& absorb) const;
 
   // Runs `work` on every rank; when it threw on any rank, throws that error on every rank (the
   // lowest failing rank's). For set-up steps that only some ranks do (rank 0 opens the output

@@ -7,13 +7,15 @@
 #          both are compared byte for byte.
 #  weak:   512 gears per rank on 1, 2, 4, 8 ranks (--oversubscribe: on a 2-core machine the
 #          ranks share the cores, so only the reduction is of interest): the bytes of partial
-#          results rank 0 receives per other rank and the time it takes to merge them, from the
-#          line gearmc prints under mpirun.
-# usage: tests/bench/mpi_scaling.sh [GEARS]   (default 3000; the README's study is 77000)
+#          results rank 0 receives (a binary tree: from ceil(log2 K) ranks), the time it waited
+#          for them after its own share and the time it took to merge them, from the line gearmc
+#          prints under mpirun.
+# usage: tests/bench/mpi_scaling.sh [GEARS [strong|weak|both]]   (default 3000 both)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 gearmc=$PWD/build/gearmc
 gears=${1:-3000}
+parts=${2:-both}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
 work=$(mktemp -d)
@@ -31,6 +33,7 @@ median() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
 ratio() { awk -v a="$1" -v b="$2" -v f="${3:-1}" 'BEGIN {printf "%.3f", f * a / b}'; }
 
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+if [[ $parts != weak ]]; then
 echo "== strong scaling: $gears gears"
 one=() two=() cpu1=() cpu2=()
 for k in 1 2 3; do
@@ -48,19 +51,23 @@ echo "speed-up $(ratio "$t1" "$t2"), wall-time efficiency $(ratio "$t1" "$t2" 50
 echo "CPU-time efficiency (work of 1 process / work of the 2 ranks): $(ratio "$c1" "$c2" 100) %"
 python3 tests/mpi/same_outputs.py "$work/one/out" "$work/two/out" | tail -1
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
+fi
+[[ $parts == strong ]] && exit 0
 
 echo "== weak scaling: 512 gears per rank (--oversubscribe)"
-printf "%6s %8s %14s %18s %12s %12s\n" ranks gears bytes_received bytes_per_other wait_s merge_s
-for n in 1 2 4 8; do
+printf "%6s %8s %10s %16s %18s %10s %10s\n" ranks gears messages bytes_at_rank_0 bytes_per_message wait_s merge_s
+for n in 1 2 4 8 16; do
   g=$((512 * n))
   if [[ $n == 1 ]]; then
-    printf "%6s %8s %14s %18s %12s %12s\n" 1 "$g" 0 - - -
+    printf "%6s %8s %10s %16s %18s %10s %10s\n" 1 "$g" 0 0 - - -
     continue
   fi
   line=$(mpirun --oversubscribe --bind-to none -n "$n" "$gearmc" run --gears "$g" --threads 1 \
            --quiet --out "$work/weak$n" | grep '^ranks ')
   bytes=$(echo "$line" | sed -E 's/^ranks [0-9]+: ([0-9]+) bytes.*/\1/')
-  wait_s=$(echo "$line" | sed -E 's/.*received ([0-9.e-]+) s.*/\1/')
+  wait_s=$(echo "$line" | sed -E 's/.*waited ([0-9.e-]+) s.*/\1/')
   merge_s=$(echo "$line" | sed -E 's/.*merged in ([0-9.e-]+) s/\1/')
-  printf "%6s %8s %14s %18s %12s %12s\n" "$n" "$g" "$bytes" $((bytes / (n - 1))) "$wait_s" "$merge_s"
+  messages=$(awk -v n="$n" 'BEGIN {m = 0; for (s = 1; s < n; s *= 2) m++; print m}')
+  printf "%6s %8s %10s %16s %18s %10s %10s\n" "$n" "$g" "$messages" "$bytes" $((bytes / messages)) \
+    "$wait_s" "$merge_s"
 done
