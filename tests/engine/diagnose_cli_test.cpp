@@ -331,7 +331,7 @@ TEST_F(DiagnoseCli, GrossOutliersAreExcludedListedByLineAndTheVerdictIsOnTheClea
 TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndLeadTheVerdictAsUnexplained) {
   // 10 % of the readings 50 mm off: more than the screen's 5 % is a disagreement, not a few bad
   // readings, so none is excluded (the screen says why). The gap is huge and no library effect
-  // removes it: the verdict is "unexplained" with the axis of the remaining structure, no effect
+  // removes it: the verdict is "unexplained" with the axis of the remaining structure, nothing
   // is added to fitted.yaml, and the report stays bounded (its histograms' bins:
   // DiagnoseReportData tests in diagnose_test.cpp).
   std::vector<int> rows;
@@ -353,8 +353,13 @@ TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndLeadTheVerdictAsUnexpla
             std::string::npos);
   const std::string html = read_text(*dir_ / "out_moved" / "report.html");
   EXPECT_LT(html.size(), 3'000'000u);
-  EXPECT_NE(read_text(*dir_ / "out_moved" / "fitted.yaml").find("no effect was added"),
-            std::string::npos);
+  // The empirical term and the library effects beside it describe 50 mm spikes with values far
+  // beyond any effect's physical range: fitted.yaml stays the model, saying why.
+  const std::string fitted = read_text(*dir_ / "out_moved" / "fitted.yaml");
+  EXPECT_TRUE(fitted.find("no effect was added") != std::string::npos ||
+              fitted.find("the fit is not added") != std::string::npos)
+      << fitted;
+  EXPECT_EQ(fitted.find("empirical:"), std::string::npos) << fitted;
 }
 
 TEST_F(DiagnoseCli, AFitBeyondItsEffectsPhysicalRangeIsNotAddedToFittedYaml) {
@@ -466,6 +471,32 @@ TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {
       run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv"));
   EXPECT_EQ(no_out.exit_code, 2);
   EXPECT_FALSE(fs::exists(path("out_nope")));
+  // An unknown effect in --candidates: one message naming it and the library, nothing written.
+  const auto bad =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv") +
+                 " --out " + path("out_nope") + " --candidates scale,wobble");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("'wobble'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("probe_warmup"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("out_nope")));
+}
+
+TEST_F(DiagnoseCli, CandidatesRestrictTheLibrary) {
+  // The hidden lobing with only scale and stylus_radius allowed: no candidate explains it, so the
+  // verdict is unexplained (with the whole library it is probe_lobing, the test above).
+  const auto r =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv") +
+                 " --out " + path("out_restricted") + " --candidates scale,stylus_radius");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("out_restricted") + "/diagnosis.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["named_effect"], "unexplained");
+  ASSERT_FALSE(j["selection"].empty());
+  for (const auto& step : j["selection"]) {
+    for (const auto& t : step["candidates"]) {
+      EXPECT_TRUE(t["name"] == "scale" || t["name"] == "stylus_radius") << t["name"];
+    }
+  }
 }
 
 // --- fitted.yaml's composition (fitted_scenario.h), without running a diagnosis ---
