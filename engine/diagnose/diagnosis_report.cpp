@@ -267,14 +267,16 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
         << fixed(em.fitted_rms_um) << " µm; with it the residual RMS goes from "
         << fixed(em.rms_before_um) << " to " << fixed(em.rms_after_um)
         << " µm (excess over the noise floor " << fixed(em.excess_rms_before_um) << " → "
-        << fixed(em.excess_rms_after_um) << " µm). fitted.yaml holds this term as `empirical`";
+        << fixed(em.excess_rms_after_um)
+        << " µm). fitted.yaml holds this term as the effect empirical";
       if (!d.effects_with_empirical.empty()) {
-        s << " and, fitted again beside it, ";
+        s << ", together with ";
         for (std::size_t x = 0; x < d.effects_with_empirical.size(); ++x) {
           s << (x ? ", " : "") << d.effects_with_empirical[x].name;
         }
+        s << " fitted again beside it";
       }
-      s << ": it reproduces the readings, it does not say what causes them. To identify it: "
+      s << ". The term reproduces the readings; it does not say what causes them. To identify it: "
         << em.identify_by << ".";
     } else {
       if (!em.why_not.empty()) s << "; no empirical term was fitted (" << em.why_not << ")";

@@ -11,9 +11,11 @@
 #include <map>
 #include <stdexcept>
 
+#include "engine/diagnose/candidates.h"
 #include "engine/effects/empirical_effect.h"
 #include "engine/effects/lobing_harmonic.h"
 #include "engine/effects/measurement_effect.h"
+#include "engine/effects/warmup_straightness.h"
 
 namespace gearmc {
 namespace {
@@ -326,6 +328,12 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
               continue;
             }
           }
+          // straightness: the candidate's columns are at L = 100 mm; the model's own L scales them
+          // by (L/100)² (the bow at the same travel).
+          if (const auto* straight = dynamic_cast<const StraightnessEffect*>(own)) {
+            const double ratio = straight->length_mm() / kStraightnessLengthMm;
+            increment *= ratio * ratio;
+          }
           const EffectParameter* mine = model_parameter(own, v.name);
           YAML::Node value = shifted(mine, increment);
           // Different from gear to gear: a normal law with the shared value as its mean and the
@@ -382,6 +390,14 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
           }
           entry[v.name] = value;
         }
+      }
+      if (const auto* warmup = dynamic_cast<const ProbeWarmupEffect*>(own);
+          warmup && std::abs(warmup->time_constant() - kWarmupTimeConstant) > 1e-12) {
+        result.notes.push_back(
+            "probe_warmup: the fit assumed the time constant " +
+            format_fitted_number(kWarmupTimeConstant) + " of the sequence, the model has " +
+            format_fitted_number(warmup->time_constant()) +
+            "; the fitted change_um is first order only for the model's constant");
       }
       result.updated.push_back(e.name);
     }

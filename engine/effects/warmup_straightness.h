@@ -28,6 +28,7 @@ class ProbeWarmupEffect : public MeasurementEffect {
                  std::span<double> out) const override;
   // w(s) above.
   double weight(const PointContext& point) const;
+  double time_constant() const { return time_constant_; }
 
  private:
   double time_constant_;
@@ -53,6 +54,7 @@ class StraightnessEffect : public MeasurementEffect {
              RandomStream& rng) const override;
   void signature(const PointContext& point, std::span<const double> values,
                  std::span<double> out) const override;
+  double length_mm() const { return length_mm_; }
 
  private:
   double length_mm_;

@@ -567,6 +567,54 @@ TEST(FittedScenario, IncrementsMoveLawsAndFollowTheModelsCte) {
                          "workpiece_delta_t_k"),
               0.5 + 1.0 * 11.5 / 23.0, 1e-9);
 
+  // Straightness on a model with L = 200 mm: the candidate's increment is at L = 100 mm, so at
+  // 200 mm the same bow is (200/100)² = 4 times the coefficient: 1 + 4 · 0.5 = 3 µm.
+  Scenario bowed = parse_scenario(
+      scenario_text("p1_reference") + "\neffects:\n  straightness: {xy_um: 1, length_mm: 200}\n",
+      "bowed.yaml");
+  const FittedScenario straight =
+      fitted_scenario(bowed, named("straightness", {{"xy_um", 0.5}}), "bowed.yaml", "r.csv");
+  EXPECT_NEAR(nominal_of(parse_scenario(straight.yaml, "f.yaml"), "straightness", "xy_um"), 3.0,
+              1e-9);
+
+  // An empirical term: written beside the library effects refitted with it; on a model that has
+  // one on the same axis, basis and range the coefficients add order by order; on another axis
+  // the model's term stays and a note says the new one was not written.
+  Diagnosis unexplained;
+  unexplained.gap_detected = true;
+  unexplained.named_effect = "unexplained";
+  unexplained.empirical.fitted = true;
+  unexplained.empirical.axis = "face_position";
+  unexplained.empirical.basis = "legendre";
+  unexplained.empirical.from = 4.0;
+  unexplained.empirical.to = 75.0;
+  unexplained.empirical.order = 2;
+  unexplained.empirical.terms = {{"a_1_um", 0.5, 0.01}, {"a_2_um", -0.25, 0.01}};
+  unexplained.effects_with_empirical = named("stylus_radius", {{"error_um", 0.125}}).effects;
+  const FittedScenario plain = fitted_scenario(
+      parse_scenario(scenario_text("p1_reference"), "m.yaml"), unexplained, "m.yaml", "r.csv");
+  const Scenario plain_model = parse_scenario(plain.yaml, "f.yaml");
+  EXPECT_NEAR(nominal_of(plain_model, "stylus_radius", "error_um"), 0.125, 1e-12);
+  EXPECT_NEAR(nominal_of(plain_model, "empirical", "a_2_um"), -0.25, 1e-12);
+  Scenario with_term = parse_scenario(
+      scenario_text("p1_reference") +
+          "\neffects:\n  empirical: {axis: face_position, basis: legendre, from: 4, to: 75, "
+          "terms: [{order: 2, a_um: 1}, {order: 3, a_um: 0.5}]}\n",
+      "term.yaml");
+  const Scenario added =
+      parse_scenario(fitted_scenario(with_term, unexplained, "t.yaml", "r.csv").yaml, "f.yaml");
+  EXPECT_NEAR(nominal_of(added, "empirical", "a_1_um"), 0.5, 1e-12);
+  EXPECT_NEAR(nominal_of(added, "empirical", "a_2_um"), 0.75, 1e-12);
+  EXPECT_NEAR(nominal_of(added, "empirical", "a_3_um"), 0.5, 1e-12);
+  Scenario other_axis = parse_scenario(
+      scenario_text("p1_reference") +
+          "\neffects:\n  empirical: {axis: tooth, basis: harmonic, terms: [{order: 1, a_um: "
+          "1, b_um: 0}]}\n",
+      "other.yaml");
+  const FittedScenario kept = fitted_scenario(other_axis, unexplained, "o.yaml", "r.csv");
+  EXPECT_NE(kept.yaml.find("was not written"), std::string::npos) << kept.yaml;
+  EXPECT_NEAR(nominal_of(parse_scenario(kept.yaml, "f.yaml"), "empirical", "a_1_um"), 1.0, 1e-12);
+
   // Lobing on a model with lobing: the 6-fold vectors add, p0 adds; phases in [0, 60°).
   Scenario lobed = parse_scenario(scenario_text("p1_reference") +
                                       "\neffects:\n  probe_lobing: {pretravel_um: 1, harmonics: "
