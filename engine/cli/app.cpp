@@ -193,6 +193,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->add_option("--null-replicates", diagnose_options.null_replicates,
                    "Null simulations K (default 200, at least 2/alpha - 1; 0: tables instead)")
       ->check(CLI::Range(0, 1000000));
+  diagnose->add_option("--candidates", diagnose_options.candidates,
+                       "Comma-separated library effects the diagnosis may name (default: all)");
   diagnose->add_flag("--model-gears", diagnose_options.model_gears,
                      "Predict on the model's perturbed gears (same seed) instead of its nominal "
                      "master (only for readings simulated from the same gear model)");

@@ -1,6 +1,9 @@
 // `gearmc diagnose` (see diagnose_command.h).
 #include "engine/cli/diagnose_command.h"
 
+#include <algorithm>
+#include <sstream>
+
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -45,6 +48,21 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
       o.model_gears ? ArtefactModel::kModelGears : ArtefactModel::kNominalMaster;
   if (o.seed) options.selection.seed = *o.seed;
   if (o.null_replicates) options.selection.null_replicates = *o.null_replicates;
+  if (!o.candidates.empty()) {
+    std::string item;
+    std::istringstream list(o.candidates);
+    const std::vector<std::string>& names = candidate_effect_names();
+    while (std::getline(list, item, ',')) {
+      if (std::find(names.begin(), names.end(), item) == names.end()) {
+        std::string expected;
+        for (const std::string& n : names) expected += (expected.empty() ? "" : ", ") + n;
+        throw InputError({"--candidates", 0, 0},
+                         "--candidates: unknown effect '" + item +
+                             "'; expected a comma-separated list of: " + expected);
+      }
+      options.candidates.only.push_back(item);
+    }
+  }
   const PreparedResiduals prepared = prepare_residuals(model, *readings, o.measured_path, options);
   readings.reset();  // the residuals carry what the diagnosis needs (memory at 10⁶ readings)
   const Residuals& residuals = prepared.residuals;

@@ -22,6 +22,8 @@ struct DiagnoseCommandOptions {
   std::optional<std::uint64_t> seed;   // seed of the null simulations (default 1)
   std::optional<int> null_replicates;  // K (default 200; 0: no null simulation)
   bool model_gears = false;  // predict on the model's perturbed gears, not its nominal master
+  // --candidates a,b,…: the library effects the selection may name (default: all of them)
+  std::string candidates;
   std::string command_line;  // as typed, for the outputs' provenance
 };
 

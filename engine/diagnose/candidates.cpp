@@ -9,6 +9,7 @@
 #include "engine/diagnose/linear_model.h"
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_lobing.h"
+#include "engine/effects/warmup_straightness.h"
 
 namespace gearmc {
 namespace {
@@ -87,7 +88,8 @@ std::vector<int> CandidateDesign::observable_indices() const {
 const std::vector<std::string>& candidate_effect_names() {
   static const std::vector<std::string> names = {
       "probe_lobing", "stylus_radius", "scale",        "thermal_expansion",
-      "drift",        "squareness",    "eccentricity", "step_quantization"};
+      "drift",        "squareness",    "eccentricity", "step_quantization",
+      "probe_warmup", "straightness"};
   return names;
 }
 
@@ -154,6 +156,26 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
     add_columns(d, StepQuantizationEffect(fixed(0.0), 2.0), {0.0}, {{0, "step_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
+  {
+    CandidateDesign d = start("probe_warmup");
+    add_columns(d, ProbeWarmupEffect(fixed(0.0), kWarmupTimeConstant), {0.0},
+                {{0, "change_um", "µm"}}, points);
+    out.push_back(std::move(d));
+  }
+  {
+    CandidateDesign d = start("straightness");
+    add_columns(
+        d,
+        StraightnessEffect(fixed(0.0), fixed(0.0), fixed(0.0), fixed(0.0), kStraightnessLengthMm),
+        {0.0, 0.0, 0.0, 0.0},
+        {{0, "xy_um", "µm"}, {1, "xz_um", "µm"}, {2, "yx_um", "µm"}, {3, "yz_um", "µm"}}, points);
+    out.push_back(std::move(d));
+  }
+  if (!options.only.empty()) {
+    std::erase_if(out, [&](const CandidateDesign& d) {
+      return std::find(options.only.begin(), options.only.end(), d.name) == options.only.end();
+    });
+  }
   for (CandidateDesign& d : out) mark_observable(d);
   return out;
 }
@@ -188,6 +210,15 @@ std::string separating_measurement(std::string_view a, std::string_view b) {
     return "measure a calibrated artefact of another size (a ring gauge or a master gear of "
            "another diameter): a scale or thermal error grows with the distance from the centre, a "
            "radius or pre-travel error does not";
+  }
+  if (pair.count("probe_warmup") == 1) {
+    return "switch the probe on well before the measurement (or re-probe the first points at the "
+           "end with the probe warm): a warm-up change of pre-travel settles, drift and the other "
+           "effects do not";
+  }
+  if (pair.count("straightness") == 1) {
+    return "measure a calibrated straight artefact (a straightedge or gauge blocks) along the axes "
+           "at the gear's place: straightness shows as a bow along the travel";
   }
   if (pair.count("drift") == 1) {
     return "re-probe the first points at the end of the run: drift shows as a change of the same "

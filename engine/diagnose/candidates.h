@@ -19,6 +19,10 @@
 //   squareness         xy_urad, xz_urad, yz_urad
 //   eccentricity       x_um, y_um (n_x, n_y)
 //   step_quantization  step_um (−1/2: the mean latch delay, the library's first-order signature)
+//   probe_warmup       change_um (−w(s), the warm-up's weight at the default time constant 0.3
+//                      of the sequence: exact when the truth has that constant, first-order
+//                      otherwise)
+//   straightness       xy_um, xz_um, yx_um, yz_um (n_x (c_y/L)², …; L = 100 mm, the default)
 //
 // No candidate is an intercept and the base model has none: a constant shift along n is itself a
 // physical effect here (stylus radius error, uncompensated pre-travel p0, the quantisation mean),
@@ -50,13 +54,21 @@ struct CandidateDesign {
   std::vector<int> observable_indices() const;
 };
 
+// The settings the probe_warmup and straightness candidates are built with (the effects'
+// defaults, engine/io/scenario_keys.cpp).
+inline constexpr double kWarmupTimeConstant = 0.3;
+inline constexpr double kStraightnessLengthMm = 100.0;
+
 struct CandidateOptions {
   std::vector<int> lobing_orders = {3, 6};  // harmonic orders of the probe_lobing candidate
+  // When not empty: only these library effects are candidates (names of
+  // candidate_effect_names(), e.g. to compare the null false-positive rate of a smaller library).
+  std::vector<std::string> only;
 };
 
 // The library's order of candidates (docs/formats.md): probe_lobing, stylus_radius, scale,
-// thermal_expansion, drift, squareness, eccentricity, step_quantization (ties in the selection
-// are broken in this order).
+// thermal_expansion, drift, squareness, eccentricity, step_quantization, probe_warmup,
+// straightness (ties in the selection are broken in this order).
 const std::vector<std::string>& candidate_effect_names();
 
 // The candidates' design matrices at `points` (PointContext of each measured point: nominal p

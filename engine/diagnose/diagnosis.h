@@ -59,6 +59,7 @@
 #include <vector>
 
 #include "engine/diagnose/candidates.h"
+#include "engine/diagnose/empirical_term.h"
 #include "engine/diagnose/outlier_screen.h"
 #include "engine/diagnose/point_law_stage.h"
 #include "engine/diagnose/prediction.h"
@@ -76,6 +77,8 @@ struct DiagnoseOptions {
   double ambiguity_correlation = 0.9;
   double ambiguity_condition_number = 100.0;
   double ambiguity_delta_bic = 6.0;
+  // Fit an empirical term when structure remains (false in the library's refit beside it).
+  bool fit_empirical = true;
   // Point-law stage (point_law_stage.h): the share of an alternative law's extra variance that
   // must show in the second differences.
   double point_law_white_fraction = 0.5;
@@ -164,6 +167,13 @@ struct Diagnosis {
     double p_value = kNotAvailable;
     double variance_share = kNotAvailable;
   } unexplained_along;
+  // When structure remains: the empirical term fitted along unexplained_along's axis to the
+  // residuals after the library's fit (empirical_term.h), written to fitted.yaml as the
+  // `empirical` effect, with the RMS it leaves. `fitted` false: not attempted or not supported.
+  EmpiricalTerm empirical;
+  // With a fitted empirical term: the library effects selected and fitted again on the readings
+  // less the term (what fitted.yaml writes beside it; empirical_term.h).
+  std::vector<FittedEffect> effects_with_empirical;
   // The library effect that explains part of an unexplained gap (the first selected), or "".
   std::string partially_explained_by;
   double explained_fraction = kNotAvailable;  // of the excess variance

@@ -328,6 +328,42 @@ void simulate_null(const State& state, Diagnosis& out) {
   }
 }
 
+// With an empirical term chosen on the residuals after the library: its coefficients fitted jointly
+// with the library's columns, and the library selected and fitted again on the readings less the
+// term (empirical_term.h). Updates the term's values, standard errors and the RMS it leaves, and
+// sets Diagnosis::effects_with_empirical.
+void refit_with_empirical(const State& state, Diagnosis& out) {
+  EmpiricalTerm& e = out.empirical;
+  const int rows = state.rows;
+  const Eigen::MatrixXd b = empirical_columns(state.residuals.points, e);
+  Eigen::MatrixXd joint(rows, state.x_after.cols() + b.cols());
+  joint << state.x_after, b;
+  const Eigen::VectorXd y =
+      state.r - Eigen::VectorXd::Constant(rows, state.mean_after);  // a point law's mean taken out
+  const LeastSquaresFit fit = least_squares(joint, y);
+  const int first = static_cast<int>(state.x_after.cols());
+  const double sigma2 = rows - fit.rank > 0 ? fit.rss / (rows - fit.rank) : 0.0;
+  Eigen::VectorXd term = Eigen::VectorXd::Zero(b.cols());
+  for (int c = 0; c < b.cols(); ++c) {
+    const int at = first + c;
+    if (!fit.estimable[at]) continue;
+    term[c] = fit.beta[at];
+    e.terms[static_cast<std::size_t>(c)].value_um = fit.beta[at];
+    e.terms[static_cast<std::size_t>(c)].std_error_um =
+        std::sqrt(sigma2 * fit.cov_unscaled(at, at));
+  }
+  const Eigen::VectorXd shape = b * term;
+  e.fitted_rms_um = std::sqrt(shape.squaredNorm() / rows);
+  Residuals less = state.residuals;
+  for (int k = 0; k < rows; ++k) less.points[k].residual_um -= shape[k];
+  DiagnoseOptions options = state.options;
+  options.fit_empirical = false;
+  const Diagnosis library = diagnose_residuals(less, state.noise, options);
+  out.effects_with_empirical = library.effects;
+  e.rms_after_um = library.gap_after.rms_um;
+  e.excess_rms_after_um = library.gap_after.excess_rms_um;
+}
+
 void make_verdict(const State& state, Diagnosis& out) {
   const int rows = state.rows;
   const Eigen::VectorXd& r = state.r;
@@ -400,6 +436,23 @@ void make_verdict(const State& state, Diagnosis& out) {
       text << "; it varies most along " << out.unexplained_along.axis << " (its group means carry "
            << std::lround(100.0 * out.unexplained_along.variance_share)
            << " % of the remaining variance, F-test p = " << out.unexplained_along.p_value << ")";
+    }
+    if (!out.unexplained_along.axis.empty() && options.fit_empirical) {
+      out.empirical = fit_empirical_term(state.residuals.points, r_after_c, state.p_after,
+                                         law_after.variance_um2(), out.unexplained_along.axis,
+                                         so.min_delta_bic);
+      if (out.empirical.fitted) refit_with_empirical(state, out);
+      const EmpiricalTerm& e = out.empirical;
+      if (e.fitted) {
+        text << "; an empirical " << e.basis << " term of order " << e.order << " along " << e.axis
+             << " (ΔBIC " << std::lround(e.delta_bic)
+             << ", written to fitted.yaml as `empirical`) takes the residual RMS from "
+             << e.rms_before_um << " to " << e.rms_after_um << " µm (excess over the noise floor "
+             << e.excess_rms_before_um << " → " << e.excess_rms_after_um
+             << " µm); it describes the structure, it does not explain it: " << e.identify_by;
+      } else {
+        text << "; no empirical term was fitted: " << e.why_not;
+      }
     }
     out.notes.insert(out.notes.begin(), text.str());
   }

@@ -188,6 +188,37 @@ std::string diagnosis_json(const Diagnosis& d) {
     j["unexplained_along"] = {{"axis", d.unexplained_along.axis},
                               {"p_value", number(d.unexplained_along.p_value)},
                               {"variance_share", number(d.unexplained_along.variance_share)}};
+    const EmpiricalTerm& e = d.empirical;
+    Json empirical = {{"fitted", e.fitted},
+                      {"axis", e.axis},
+                      {"basis", e.basis},
+                      {"identify_by", e.identify_by},
+                      {"rms_before_um", number(e.rms_before_um)},
+                      {"rms_after_um", number(e.rms_after_um)},
+                      {"excess_rms_before_um", number(e.excess_rms_before_um)},
+                      {"excess_rms_after_um", number(e.excess_rms_after_um)}};
+    if (e.fitted) {
+      Json terms = Json::object(), errors = Json::object(), bic = Json::array();
+      for (const EmpiricalTermValue& v : e.terms) {
+        terms[v.name] = number(v.value_um);
+        errors[v.name] = number(v.std_error_um);
+      }
+      for (double b : e.bic) bic.push_back(number(b));
+      empirical["order"] = e.order;
+      empirical["max_order"] = e.max_order;
+      if (e.basis == "legendre") empirical["range"] = {number(e.from), number(e.to)};
+      empirical["terms_um"] = terms;
+      empirical["std_errors_um"] = errors;
+      empirical["delta_bic"] = number(e.delta_bic);
+      empirical["bic_by_order"] = bic;
+      empirical["fitted_rms_um"] = number(e.fitted_rms_um);
+      Json beside = Json::array();
+      for (const FittedEffect& f : d.effects_with_empirical) beside.push_back(f.name);
+      empirical["library_effects_beside"] = beside;
+    } else {
+      empirical["why_not"] = e.why_not;
+    }
+    j["empirical"] = empirical;
   }
   j["explained_fraction"] = number(d.explained_fraction);
   {

@@ -260,8 +260,29 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
         << " (its group means carry " << fixed(100.0 * d.unexplained_along.variance_share, 0)
         << " % of the remaining variance)";
     }
-    s << ". fitted.yaml is the model unchanged; the plots below show the structure to look for "
-         "outside the library (the artefact itself, a form or fixture effect).";
+    const EmpiricalTerm& em = d.empirical;
+    if (em.fitted) {
+      s << ". An empirical term describes it: " << em.basis << " of order " << em.order << " along "
+        << em.axis << " (chosen by BIC, ΔBIC " << fixed(em.delta_bic, 0) << "), RMS "
+        << fixed(em.fitted_rms_um) << " µm; with it the residual RMS goes from "
+        << fixed(em.rms_before_um) << " to " << fixed(em.rms_after_um)
+        << " µm (excess over the noise floor " << fixed(em.excess_rms_before_um) << " → "
+        << fixed(em.excess_rms_after_um)
+        << " µm). fitted.yaml holds this term as the effect empirical";
+      if (!d.effects_with_empirical.empty()) {
+        s << ", together with ";
+        for (std::size_t x = 0; x < d.effects_with_empirical.size(); ++x) {
+          s << (x ? ", " : "") << d.effects_with_empirical[x].name;
+        }
+        s << " fitted again beside it";
+      }
+      s << ". The term reproduces the readings; it does not say what causes them. To identify it: "
+        << em.identify_by << ".";
+    } else {
+      if (!em.why_not.empty()) s << "; no empirical term was fitted (" << em.why_not << ")";
+      s << ". fitted.yaml is the model unchanged; the plots below show the structure to look for "
+           "outside the library (the artefact itself, a form or fixture effect).";
+    }
     return s.str();
   }
   const FittedEffect& e = d.effects.front();
@@ -337,6 +358,12 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
                   fixed(d.gap_after.rms_um) + " µm after (held-out " + fixed(d.held_out_rms_um) +
                   " µm, noise floor " + fixed(d.noise.sigma_um) + " µm" + floor_after_phrase(d) +
                   ")");
+  if (d.empirical.fitted) {
+    const EmpiricalTerm& em = d.empirical;
+    lines.push_back("empirical term (in fitted.yaml): " + em.basis + " of order " +
+                    std::to_string(em.order) + " along " + em.axis + ", residual RMS " +
+                    fixed(em.rms_before_um) + " → " + fixed(em.rms_after_um) + " µm");
+  }
   if (!d.outliers.excluded.empty()) {
     std::string which;
     for (std::size_t e = 0; e < d.outliers.excluded.size() && e < 5; ++e) {

@@ -8,10 +8,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
+#include "engine/diagnose/candidates.h"
+#include "engine/effects/empirical_effect.h"
 #include "engine/effects/lobing_harmonic.h"
 #include "engine/effects/measurement_effect.h"
+#include "engine/effects/warmup_straightness.h"
 
 namespace gearmc {
 namespace {
@@ -178,6 +182,60 @@ void update_lobing(YAML::Node entry, const MeasurementEffect* model, const Fitte
   }
 }
 
+// Writes the diagnosis's empirical term into `effects` (a map). A model empirical term on the same
+// axis, basis and range gets the fitted terms added order by order; one on another axis, basis or
+// range is kept as it is and the new term is not written (a scenario holds one empirical term).
+void write_empirical(YAML::Node effects, const MeasurementEffect* own, const EmpiricalTerm& term,
+                     std::vector<std::string>* notes, std::vector<std::string>* updated) {
+  const auto* model = dynamic_cast<const EmpiricalEffect*>(own);
+  const bool legendre = term.basis == "legendre";
+  std::map<int, std::pair<double, double>> by_order;  // order → (a, b), µm
+  if (model) {
+    const bool same = empirical_axis_name(model->axis()) == term.axis &&
+                      empirical_basis_name(model->basis()) == term.basis &&
+                      (!legendre || (std::abs(model->from() - term.from) < 1e-9 &&
+                                     std::abs(model->to() - term.to) < 1e-9));
+    if (!same) {
+      notes->push_back("the model already has an empirical term along " +
+                       std::string(empirical_axis_name(model->axis())) + "; the new one along " +
+                       term.axis + " was not written (a scenario holds one empirical term)");
+      return;
+    }
+    std::size_t at = 0;
+    const std::vector<EffectParameter>& p = model->parameters();
+    for (int k : model->orders()) {
+      by_order[k].first = p[at++].nominal();
+      if (!legendre) by_order[k].second = p[at++].nominal();
+    }
+  }
+  for (const EmpiricalTermValue& v : term.terms) {
+    const int k = std::stoi(v.name.substr(2));
+    (v.name[0] == 'a' ? by_order[k].first : by_order[k].second) += v.value_um;
+  }
+  YAML::Node entry(YAML::NodeType::Map);
+  entry.SetStyle(YAML::EmitterStyle::Block);
+  entry["axis"] = term.axis;
+  entry["basis"] = term.basis;
+  if (legendre) {
+    entry["from"] = number_node(term.from);
+    entry["to"] = number_node(term.to);
+  }
+  YAML::Node terms(YAML::NodeType::Sequence);
+  for (const auto& [k, ab] : by_order) {
+    YAML::Node t = flow_map();
+    t["order"] = k;
+    t["a_um"] = number_node(ab.first);
+    if (!legendre) t["b_um"] = number_node(ab.second);
+    terms.push_back(t);
+  }
+  entry["terms"] = terms;
+  effects["empirical"] = entry;
+  updated->push_back("empirical");
+  notes->push_back("empirical: a " + term.basis + " term of order " + std::to_string(term.order) +
+                   " along " + term.axis +
+                   " describes the structure the library leaves; it is not a physical effect");
+}
+
 }  // namespace
 
 std::string format_fitted_number(double value) {
@@ -216,14 +274,16 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
 
   const bool named =
       d.named_effect != "none" && d.named_effect != "unexplained" && d.named_effect != "not_tested";
-  if (named) {
+  const bool with_empirical = d.named_effect == "unexplained" && d.empirical.fitted;
+  if (named || with_empirical) {
     YAML::Node effects = root["effects"];
     if (!effects.IsMap()) {
       root["effects"] = YAML::Node(YAML::NodeType::Map);
       effects = root["effects"];
     }
     effects.SetStyle(YAML::EmitterStyle::Block);
-    for (const FittedEffect& e : d.effects) {
+    // With an empirical term: the library effects fitted beside it (empirical_term.h).
+    for (const FittedEffect& e : with_empirical ? d.effects_with_empirical : d.effects) {
       const int index = model.effects->find(e.name);
       const MeasurementEffect* own = index >= 0 ? &model.effects->effect(index) : nullptr;
       YAML::Node entry = effects[e.name];
@@ -267,6 +327,12 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
               entry[v.name] = number_node(increment);
               continue;
             }
+          }
+          // straightness: the candidate's columns are at L = 100 mm; the model's own L scales them
+          // by (L/100)² (the bow at the same travel).
+          if (const auto* straight = dynamic_cast<const StraightnessEffect*>(own)) {
+            const double ratio = straight->length_mm() / kStraightnessLengthMm;
+            increment *= ratio * ratio;
           }
           const EffectParameter* mine = model_parameter(own, v.name);
           YAML::Node value = shifted(mine, increment);
@@ -325,11 +391,29 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
           entry[v.name] = value;
         }
       }
+      if (const auto* warmup = dynamic_cast<const ProbeWarmupEffect*>(own);
+          warmup && std::abs(warmup->time_constant() - kWarmupTimeConstant) > 1e-12) {
+        result.notes.push_back(
+            "probe_warmup: the fit assumed the time constant " +
+            format_fitted_number(kWarmupTimeConstant) + " of the sequence, the model has " +
+            format_fitted_number(warmup->time_constant()) +
+            "; the fitted change_um is first order only for the model's constant");
+      }
       result.updated.push_back(e.name);
     }
     for (const std::string& other : d.ambiguous_with) {
       result.notes.push_back(d.named_effect + " cannot be told apart from " + other +
                              " on this probing plan; the fit is written as " + d.named_effect);
+    }
+    if (with_empirical) {
+      const int index = model.effects->find("empirical");
+      write_empirical(effects, index >= 0 ? &model.effects->effect(index) : nullptr, d.empirical,
+                      &result.notes, &result.updated);
+      if (!d.effects_with_empirical.empty()) {
+        result.notes.push_back(
+            "the library effects written with it explain only part of the gap (the verdict is "
+            "unexplained)");
+      }
     }
   } else if (d.named_effect == "unexplained") {
     result.notes.push_back(

@@ -2,8 +2,10 @@
 #include "engine/effects/effect_config.h"
 
 #include "engine/effects/effects.h"
+#include "engine/effects/empirical_effect.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
+#include "engine/effects/warmup_straightness.h"
 #include "engine/io/parameter_ranges.h"
 #include "engine/io/scenario_keys.h"
 
@@ -184,6 +186,62 @@ std::unique_ptr<MeasurementEffect> read_probe_lobing(const YamlMap& m, InputWarn
                                              std::move(repeatability), q);
 }
 
+// `empirical:` — axis, basis, the Legendre range [from, to] and the terms (each order once;
+// b_um only for the harmonic basis).
+std::unique_ptr<MeasurementEffect> read_empirical(const YamlMap& m, InputWarnings* warnings) {
+  const auto choice = [&](const std::string& key) {
+    const std::string path = key_path(m, key);
+    const auto value = m.get_choice(key, key_choices(path));
+    if (!value) {
+      std::string expected;
+      for (const std::string& c : key_choices(path)) expected += (expected.empty() ? "" : ", ") + c;
+      throw m.missing(key, "one of " + expected);
+    }
+    return *value;
+  };
+  const EmpiricalAxis axis = parse_empirical_axis(choice("axis"));
+  const EmpiricalBasis basis =
+      choice("basis") == "legendre" ? EmpiricalBasis::kLegendre : EmpiricalBasis::kHarmonic;
+  const double from =
+      get_ranged(m, "from", range_of(m, "from"), warnings).value_or(default_of(m, "from"));
+  const double to = get_ranged(m, "to", range_of(m, "to"), warnings).value_or(default_of(m, "to"));
+  if (basis == EmpiricalBasis::kLegendre && !(to > from)) {
+    const auto at = m.find("to") ? m.find("to") : m.find("from");
+    if (!at) throw m.missing("to", "a range with from < to for the legendre basis");
+    throw at->error("a range with from < to for the legendre basis");
+  }
+  std::vector<int> orders;
+  std::vector<EffectParameter> parameters;
+  if (const auto list = m.find("terms")) {
+    for (const YamlValue& item : list->as_sequence()) {
+      const YamlMap t = item.as_map(child_keys(key_path(m, "terms")));
+      const ScenarioKey& order_key = scenario_key(key_path(t, "order"));
+      const int order =
+          static_cast<int>(t.require_int("order", order_key.integer_min, order_key.integer_max));
+      for (int existing : orders) {
+        if (existing == order) throw t.require("order", "").error("an order not listed before");
+      }
+      if (basis == EmpiricalBasis::kLegendre && t.has("b_um")) {
+        throw t.find("b_um")->error(
+            "nothing: the legendre basis has one coefficient a_um per order");
+      }
+      orders.push_back(order);
+      EffectParameter a = read_parameter(t, "a_um", warnings);
+      a.name = "a_" + std::to_string(order) + "_um";
+      a.unit = "µm";
+      parameters.push_back(std::move(a));
+      if (basis == EmpiricalBasis::kHarmonic) {
+        EffectParameter b = read_parameter(t, "b_um", warnings);
+        b.name = "b_" + std::to_string(order) + "_um";
+        b.unit = "µm";
+        parameters.push_back(std::move(b));
+      }
+    }
+  }
+  return std::make_unique<EmpiricalEffect>(axis, basis, from, to, std::move(orders),
+                                           std::move(parameters));
+}
+
 }  // namespace
 
 const std::vector<std::string>& effect_names() {
@@ -234,6 +292,19 @@ EffectChain parse_effects(const YamlValue& section, InputWarnings* warnings) {
     } else if (name == "eccentricity") {
       effect = std::make_unique<EccentricityEffect>(read_parameter(m, "x_um", warnings),
                                                     read_parameter(m, "y_um", warnings));
+    } else if (name == "probe_warmup") {
+      effect = std::make_unique<ProbeWarmupEffect>(
+          read_parameter(m, "change_um", warnings),
+          get_ranged(m, "time_constant", range_of(m, "time_constant"), warnings)
+              .value_or(default_of(m, "time_constant")));
+    } else if (name == "straightness") {
+      effect = std::make_unique<StraightnessEffect>(
+          read_parameter(m, "xy_um", warnings), read_parameter(m, "xz_um", warnings),
+          read_parameter(m, "yx_um", warnings), read_parameter(m, "yz_um", warnings),
+          get_ranged(m, "length_mm", range_of(m, "length_mm"), warnings)
+              .value_or(default_of(m, "length_mm")));
+    } else if (name == "empirical") {
+      effect = read_empirical(m, warnings);
     } else {
       effect = std::make_unique<NoiseEffect>(read_parameter(m, "sigma_um", warnings));
     }

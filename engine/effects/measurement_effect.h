@@ -37,6 +37,7 @@ struct PointContext {
   int tooth = 1;
   FlankSide side = FlankSide::kLeft;
   double stylus_radius_mm = 0.5;
+  double base_radius_mm = 0.0;  // the gear's base radius r_b (roll length √(r² − r_b²)); 0: unknown
 };
 
 // The physical order in which effects act on a reading (an EffectChain applies them sorted by

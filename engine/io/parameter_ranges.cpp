@@ -184,7 +184,30 @@ const RangeTable& effect_ranges() {
        {"effects.eccentricity.y_um", "µm", closed(-1000, 1000), -100, 100,
         "set-up eccentricity a few µm", "a value in nm, or in mm given as µm?"},
        {"effects.noise.sigma_um", "µm", closed(0, 100), 0, 5, "probing noise σ 0.1–0.5 µm",
-        "a value in nm? (300 nm = 0.3 µm)"}}};
+        "a value in nm? (300 nm = 0.3 µm)"},
+       {"effects.probe_warmup.change_um", "µm", closed(-100, 100), -5, 5,
+        "probe warm-up changes pre-travel by tenths of a µm to about 1 µm (recalled, unchecked)",
+        "a value in nm?"},
+       {"effects.probe_warmup.time_constant", "", above(0, 100), 0.02, 10,
+        "a fraction of one gear's measurement (0.3: settled after about a third)", ""},
+       {"effects.straightness.xy_um", "µm", closed(-1000, 1000), -20, 20,
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+       {"effects.straightness.xz_um", "µm", closed(-1000, 1000), -20, 20,
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+       {"effects.straightness.yx_um", "µm", closed(-1000, 1000), -20, 20,
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+       {"effects.straightness.yz_um", "µm", closed(-1000, 1000), -20, 20,
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+       {"effects.straightness.length_mm", "mm", above(0, 10000), 10, 2000,
+        "the travel the bow is given at, e.g. the gear's diameter or the axis's length", ""},
+       {"effects.empirical.from", "axis unit", closed(-100000, 100000), -1000, 1000,
+        "roll length or face position in mm, probing order 0–1", ""},
+       {"effects.empirical.to", "axis unit", closed(-100000, 100000), -1000, 1000,
+        "roll length or face position in mm, probing order 0–1", ""},
+       {"effects.empirical.terms.a_um", "µm", closed(-1000, 1000), -20, 20,
+        "structure left after the library's fit, usually below a few µm", "a value in nm?"},
+       {"effects.empirical.terms.b_um", "µm", closed(-1000, 1000), -20, 20,
+        "structure left after the library's fit, usually below a few µm", "a value in nm?"}}};
   return table;
 }
 

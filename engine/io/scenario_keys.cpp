@@ -235,6 +235,30 @@ std::vector<ScenarioKey> make_table() {
        {parameter_key("effects.eccentricity.x_um", 0, "x offset"),
         parameter_key("effects.eccentricity.y_um", 0, "y offset")}},
       {"noise", "probing noise N(0, σ²)", {parameter_key("effects.noise.sigma_um", 0, "σ")}},
+      {"probe_warmup",
+       "pre-travel drifting as the probe warms up, an exponential approach over the sequence",
+       {parameter_key("effects.probe_warmup.change_um", 0, "pre-travel change reached at the end"),
+        number_key("effects.probe_warmup.time_constant", kNum, 0.3, "",
+                   "thermal time constant, as a fraction of one gear's sequence")}},
+      {"straightness",
+       "straightness of the X and Y axes: a quadratic bow along the other axes' travel",
+       {parameter_key("effects.straightness.xy_um", 0, "X deviation at a Y travel of L"),
+        parameter_key("effects.straightness.xz_um", 0, "X deviation at a Z travel of L"),
+        parameter_key("effects.straightness.yx_um", 0, "Y deviation at an X travel of L"),
+        parameter_key("effects.straightness.yz_um", 0, "Y deviation at a Z travel of L"),
+        number_key("effects.straightness.length_mm", kNum, 100.0, "", "the travel L")}},
+      {"empirical",
+       "a low-order term along one axis for structure outside the library (written by diagnose)",
+       {choice_key(
+            "effects.empirical.axis",
+            {"roll_length", "face_position", "tooth", "flank", "approach_azimuth", "probing_order"},
+            "required", "the axis the term varies along"),
+        choice_key("effects.empirical.basis", {"legendre", "harmonic"}, "required",
+                   "Legendre polynomials P_k or harmonics cos/sin kx"),
+        number_key("effects.empirical.from", kNum, 0.0, "",
+                   "start of the Legendre range along the axis (mm, or 0–1 for probing_order)"),
+        number_key("effects.empirical.to", kNum, 1.0, "", "end of the Legendre range"),
+        list_key("effects.empirical.terms", "none", "the terms of orders k ≥ 1")}},
   };
   for (const Effect& e : effects) {
     const std::string path = std::string("effects.") + e.name;
@@ -247,6 +271,12 @@ std::vector<ScenarioKey> make_table() {
                                     "k, lobes per turn (each order once)"));
         t.push_back(parameter_key(lobing + "harmonics.amplitude_um", 0, "a_k"));
         t.push_back(parameter_key(lobing + "harmonics.phase_deg", 0, "φ_k, azimuth of a maximum"));
+      }
+      if (k.key == "effects.empirical.terms") {
+        t.push_back(bounded_integer("effects.empirical.terms.order", std::nullopt, "required", 1,
+                                    36, "k (each order once)"));
+        t.push_back(parameter_key("effects.empirical.terms.a_um", 0, "a_k: P_k or cos kx"));
+        t.push_back(parameter_key("effects.empirical.terms.b_um", 0, "b_k: sin kx (harmonic)"));
       }
       if (k.key == lobing + "from_probe_model") {
         t.push_back(number_key(model + "stylus_length_mm", kNum, 20.0, "", "stylus length ℓ"));

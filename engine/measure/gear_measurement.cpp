@@ -64,6 +64,7 @@ void GearMeasurement::measure_flank(
       if (with_effects) {
         m.context = point_context(fp.point, fp.normal, (r.centre - r.contact).normalized(), q.order,
                                   model_.sequence_length(), flank.tooth, flank.side, R);
+        m.context.base_radius_mm = 0.5 * gear.base_diameter_mm();
         RandomStream rng = point_effect_stream(model_.scenario().seed, k_, q.order);
         m.recorded_centre = effects.apply(m.context, effect_values_, r.centre, rng, contributions);
         for (double c : contributions) m.total_error_um += c;

@@ -331,7 +331,7 @@ TEST_F(DiagnoseCli, GrossOutliersAreExcludedListedByLineAndTheVerdictIsOnTheClea
 TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndLeadTheVerdictAsUnexplained) {
   // 10 % of the readings 50 mm off: more than the screen's 5 % is a disagreement, not a few bad
   // readings, so none is excluded (the screen says why). The gap is huge and no library effect
-  // removes it: the verdict is "unexplained" with the axis of the remaining structure, no effect
+  // removes it: the verdict is "unexplained" with the axis of the remaining structure, nothing
   // is added to fitted.yaml, and the report stays bounded (its histograms' bins:
   // DiagnoseReportData tests in diagnose_test.cpp).
   std::vector<int> rows;
@@ -353,8 +353,13 @@ TEST_F(DiagnoseCli, TooManyGrossOutliersAreNotScreenedAndLeadTheVerdictAsUnexpla
             std::string::npos);
   const std::string html = read_text(*dir_ / "out_moved" / "report.html");
   EXPECT_LT(html.size(), 3'000'000u);
-  EXPECT_NE(read_text(*dir_ / "out_moved" / "fitted.yaml").find("no effect was added"),
-            std::string::npos);
+  // The empirical term and the library effects beside it describe 50 mm spikes with values far
+  // beyond any effect's physical range: fitted.yaml stays the model, saying why.
+  const std::string fitted = read_text(*dir_ / "out_moved" / "fitted.yaml");
+  EXPECT_TRUE(fitted.find("no effect was added") != std::string::npos ||
+              fitted.find("the fit is not added") != std::string::npos)
+      << fitted;
+  EXPECT_EQ(fitted.find("empirical:"), std::string::npos) << fitted;
 }
 
 TEST_F(DiagnoseCli, AFitBeyondItsEffectsPhysicalRangeIsNotAddedToFittedYaml) {
@@ -466,6 +471,32 @@ TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {
       run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv"));
   EXPECT_EQ(no_out.exit_code, 2);
   EXPECT_FALSE(fs::exists(path("out_nope")));
+  // An unknown effect in --candidates: one message naming it and the library, nothing written.
+  const auto bad =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv") +
+                 " --out " + path("out_nope") + " --candidates scale,wobble");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("'wobble'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("probe_warmup"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("out_nope")));
+}
+
+TEST_F(DiagnoseCli, CandidatesRestrictTheLibrary) {
+  // The hidden lobing with only scale and stylus_radius allowed: no candidate explains it, so the
+  // verdict is unexplained (with the whole library it is probe_lobing, the test above).
+  const auto r =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv") +
+                 " --out " + path("out_restricted") + " --candidates scale,stylus_radius");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("out_restricted") + "/diagnosis.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["named_effect"], "unexplained");
+  ASSERT_FALSE(j["selection"].empty());
+  for (const auto& step : j["selection"]) {
+    for (const auto& t : step["candidates"]) {
+      EXPECT_TRUE(t["name"] == "scale" || t["name"] == "stylus_radius") << t["name"];
+    }
+  }
 }
 
 // --- fitted.yaml's composition (fitted_scenario.h), without running a diagnosis ---
@@ -535,6 +566,54 @@ TEST(FittedScenario, IncrementsMoveLawsAndFollowTheModelsCte) {
   EXPECT_NEAR(nominal_of(parse_scenario(thermal.yaml, "f.yaml"), "thermal_expansion",
                          "workpiece_delta_t_k"),
               0.5 + 1.0 * 11.5 / 23.0, 1e-9);
+
+  // Straightness on a model with L = 200 mm: the candidate's increment is at L = 100 mm, so at
+  // 200 mm the same bow is (200/100)² = 4 times the coefficient: 1 + 4 · 0.5 = 3 µm.
+  Scenario bowed = parse_scenario(
+      scenario_text("p1_reference") + "\neffects:\n  straightness: {xy_um: 1, length_mm: 200}\n",
+      "bowed.yaml");
+  const FittedScenario straight =
+      fitted_scenario(bowed, named("straightness", {{"xy_um", 0.5}}), "bowed.yaml", "r.csv");
+  EXPECT_NEAR(nominal_of(parse_scenario(straight.yaml, "f.yaml"), "straightness", "xy_um"), 3.0,
+              1e-9);
+
+  // An empirical term: written beside the library effects refitted with it; on a model that has
+  // one on the same axis, basis and range the coefficients add order by order; on another axis
+  // the model's term stays and a note says the new one was not written.
+  Diagnosis unexplained;
+  unexplained.gap_detected = true;
+  unexplained.named_effect = "unexplained";
+  unexplained.empirical.fitted = true;
+  unexplained.empirical.axis = "face_position";
+  unexplained.empirical.basis = "legendre";
+  unexplained.empirical.from = 4.0;
+  unexplained.empirical.to = 75.0;
+  unexplained.empirical.order = 2;
+  unexplained.empirical.terms = {{"a_1_um", 0.5, 0.01}, {"a_2_um", -0.25, 0.01}};
+  unexplained.effects_with_empirical = named("stylus_radius", {{"error_um", 0.125}}).effects;
+  const FittedScenario plain = fitted_scenario(
+      parse_scenario(scenario_text("p1_reference"), "m.yaml"), unexplained, "m.yaml", "r.csv");
+  const Scenario plain_model = parse_scenario(plain.yaml, "f.yaml");
+  EXPECT_NEAR(nominal_of(plain_model, "stylus_radius", "error_um"), 0.125, 1e-12);
+  EXPECT_NEAR(nominal_of(plain_model, "empirical", "a_2_um"), -0.25, 1e-12);
+  Scenario with_term = parse_scenario(
+      scenario_text("p1_reference") +
+          "\neffects:\n  empirical: {axis: face_position, basis: legendre, from: 4, to: 75, "
+          "terms: [{order: 2, a_um: 1}, {order: 3, a_um: 0.5}]}\n",
+      "term.yaml");
+  const Scenario added =
+      parse_scenario(fitted_scenario(with_term, unexplained, "t.yaml", "r.csv").yaml, "f.yaml");
+  EXPECT_NEAR(nominal_of(added, "empirical", "a_1_um"), 0.5, 1e-12);
+  EXPECT_NEAR(nominal_of(added, "empirical", "a_2_um"), 0.75, 1e-12);
+  EXPECT_NEAR(nominal_of(added, "empirical", "a_3_um"), 0.5, 1e-12);
+  Scenario other_axis = parse_scenario(
+      scenario_text("p1_reference") +
+          "\neffects:\n  empirical: {axis: tooth, basis: harmonic, terms: [{order: 1, a_um: "
+          "1, b_um: 0}]}\n",
+      "other.yaml");
+  const FittedScenario kept = fitted_scenario(other_axis, unexplained, "o.yaml", "r.csv");
+  EXPECT_NE(kept.yaml.find("was not written"), std::string::npos) << kept.yaml;
+  EXPECT_NEAR(nominal_of(parse_scenario(kept.yaml, "f.yaml"), "empirical", "a_1_um"), 1.0, 1e-12);
 
   // Lobing on a model with lobing: the 6-fold vectors add, p0 adds; phases in [0, 60°).
   Scenario lobed = parse_scenario(scenario_text("p1_reference") +

@@ -243,6 +243,10 @@ std::string with_value(const std::string& key, const std::string& value) {
     parts.insert(parts.end() - 1, "profile");
   }
   YAML::Node leaf = YAML::Load(value);
+  if (parts.size() > 2 && parts[1] == "empirical") {  // its required settings first
+    root["effects"]["empirical"]["axis"] = "face_position";
+    root["effects"]["empirical"]["basis"] = "harmonic";
+  }
   if (parts[0] == "claims") {  // a list of maps: one valid claim with the key set
     YAML::Node claim = YAML::Load(
         "{name: c, quantity: delta_rcomp.point, statistic: {quantile: 0.9}, at_most_um: 1}");
@@ -258,6 +262,11 @@ std::string with_value(const std::string& key, const std::string& value) {
     harmonic["order"] = 3;
     harmonic[parts[3]] = leaf;
     root["effects"]["probe_lobing"]["harmonics"].push_back(harmonic);
+  } else if (parts.size() > 3 && parts[2] == "terms") {  // the empirical term's list
+    YAML::Node term;
+    term["order"] = 1;
+    term[parts[3]] = leaf;
+    root["effects"]["empirical"]["terms"].push_back(term);
   } else {
     std::vector<YAML::Node> chain = {root};
     for (std::size_t i = 0; i + 1 < parts.size(); ++i) chain.push_back(chain.back()[parts[i]]);
@@ -302,6 +311,9 @@ TEST(ParameterRangesTest, EveryScenarioNumberBeyondItsRangeIsAnInputErrorAtItsKe
         if (path.find(".harmonics.") != std::string::npos) {
           path.replace(path.find(".harmonics."), 11, ".harmonics[0].");
         }
+        if (path.find(".terms.") != std::string::npos) {
+          path.replace(path.find(".terms."), 7, ".terms[0].");
+        }
         if (path == "tolerances.overrides_um.tolerance") path = "tolerances.overrides_um.F_r";
         if (path == "deviations.control_points") path = "deviations.profile.control_points";
         if (path.rfind("claims.", 0) == 0) path.replace(0, 7, "claims[0].");
@@ -338,7 +350,10 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
                                           "thickness",
                                           "profile",
                                           "helix",
-                                          "normal_um"};
+                                          "normal_um",
+                                          "axis",
+                                          "basis",
+                                          "terms"};
   std::set<std::string> keys;
   for (const RangeTable* table : all_range_tables()) {
     for (const ParameterRange& r : table->entries) keys.insert(r.key);
