@@ -10,6 +10,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -19,6 +20,8 @@
 #include "engine/io/output_files.h"
 #include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
+#include "engine/report/html_report.h"
+#include "engine/report/parameter_report.h"
 #include "engine/report/run_report.h"
 #include "engine/report/run_terminal.h"
 
@@ -166,17 +169,31 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
 
   const RunPresentation view =
       present_run(r, make_provenance(o.command_line, scenario.source_path, scenario.source_text));
-  files.write("summary.json", run_summary_json(scenario, mc, r, view, o.only_gear).dump(2) + "\n");
+  // Gear parameters (scenario `evaluation:`): their summary keys, figures and report section.
+  const std::optional<ParameterPresentation> parameters = present_parameters(mc, r);
+  nlohmann::ordered_json summary = run_summary_json(scenario, mc, r, view, o.only_gear);
+  if (parameters) add_parameter_json(summary, mc, *parameters);
+  files.write("summary.json", summary.dump(2) + "\n");
   files.write("histograms.csv", run_histograms_csv(r, view));
   const std::vector<RunFigure> figures = run_figures(scenario, r, view);
   for (const RunFigure& f : figures) files.write(f.file, f.svg);
-  files.write("report.html", run_report_html(scenario, r, view, figures));
+  std::vector<RunFigure> parameter_charts;
+  if (parameters) parameter_charts = parameter_figures(mc, r, *parameters);
+  for (const RunFigure& f : parameter_charts) files.write(f.file, f.svg);
+  std::function<void(HtmlReport&)> parameter_section;
+  if (parameters) {
+    parameter_section = [&](HtmlReport& report) {
+      add_parameter_section(report, mc, *parameters, parameter_charts);
+    };
+  }
+  files.write("report.html", run_report_html(scenario, r, view, figures, parameter_section));
   files.commit();
   folder.created = false;  // keep it: it holds the results now
 
   out << run_contacts_line(r) << "\n";
   for (const std::string& w : view.warnings) err << "gearmc: warning: " << w << "\n";
   print_run_summary(out, scenario, r, view);
+  if (parameters) print_parameter_tables(out, mc, *parameters);
   out << "report: " << dir.string() << "/report.html\n";
   return 0;
 }

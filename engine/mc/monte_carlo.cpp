@@ -45,7 +45,11 @@ void EffectTotals::merge(const EffectTotals& other) {
   }
 }
 
-MonteCarloRun::MonteCarloRun(const Scenario& scenario) : model_(scenario) {}
+MonteCarloRun::MonteCarloRun(const Scenario& scenario) : model_(scenario) {
+  if (model_.scenario().evaluation) {
+    evaluator_ = std::make_unique<const ParameterEvaluator>(model_, *model_.scenario().evaluation);
+  }
+}
 
 MonteCarloRun::~MonteCarloRun() = default;
 
@@ -57,12 +61,16 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
   const bool with_effects = !model_.effects().empty();
   out.effects.contribution.resize(model_.effects().size());
   out.effects.alone.resize(model_.effects().size());
+  std::optional<ParameterEvaluator::Gear> parameters;
+  if (evaluator_) parameters.emplace(*evaluator_, measurement);
+  int flank_index = 0;
   for (const PlanFlank& flank : model_.flanks()) {
     const int s = flank.side == FlankSide::kRight ? 1 : 0;
     double max = 0.0, sum = 0.0;
     int valid = 0;
     measurement.measure_flank(flank, [&](const PointMeasurement& m) {
       const ContactResult& r = m.contact;
+      if (parameters) parameters->record(flank_index, m);
       ++out.contacts;
       switch (r.status) {
         case ContactResult::Status::kOk:
@@ -100,7 +108,9 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
       out.flank_max[s].push_back(max);
       out.flank_mean[s].push_back(sum / valid);
     }
+    ++flank_index;
   }
+  if (parameters) out.parameters = parameters->finish();
   return out;
 }
 
@@ -130,6 +140,7 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
     for (int k = 0; k < options.gears; ++k) indices.push_back(k);
   }
   RunResults results;
+  if (evaluator_) results.parameters.emplace();
   const int total = static_cast<int>(indices.size());
   for (int first = 0; first < total; first += kChunk) {
     const int count = std::min(kChunk, total - first);
@@ -145,7 +156,8 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
       results.cancelled = true;
       break;
     }
-    for (const GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
+    for (GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
+      if (o.parameters) results.parameters->append(o.gear, std::move(*o.parameters));
       for (int s = 0; s < 2; ++s) {
         for (double v : o.point_delta[s]) results.point[s].add(v);
         for (double v : o.flank_max[s]) results.flank_max[s].add(v);

@@ -11,10 +11,12 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "engine/measure/measurement_model.h"
+#include "engine/parameters/parameter_evaluation.h"
 #include "engine/probing/contact.h"
 #include "engine/scenario/scenario.h"
 #include "engine/stats/relative_histogram.h"
@@ -63,8 +65,9 @@ struct GearOutcome {
   std::vector<double> point_total_abs[2];  // |total point error| with effects (when any), µm
   EffectTotals effects;
   std::uint64_t contacts = 0, failed = 0, edge = 0, collisions = 0;
-  int runout_redraws = 0;           // PerturbedGear::runout_redraws
-  std::vector<ProbedPoint> points;  // only when asked for
+  int runout_redraws = 0;                         // PerturbedGear::runout_redraws
+  std::vector<ProbedPoint> points;                // only when asked for
+  std::optional<GearParameterValues> parameters;  // scenario `evaluation:` only
 };
 
 struct RunOptions {
@@ -93,6 +96,7 @@ struct RunResults {
   int gears = 0;
   double wall_s = 0.0;
   bool cancelled = false;
+  std::optional<ParameterSamples> parameters;  // scenario `evaluation:` only, in gear order
 };
 
 class MonteCarloRun {
@@ -111,9 +115,12 @@ class MonteCarloRun {
   const Scenario& scenario() const { return model_.scenario(); }
   int points_per_flank() const { return model_.points_per_flank(); }
   int probed_teeth() const { return model_.probed_teeth(); }
+  // The gear-parameter evaluation of the scenario's `evaluation:` (null without it).
+  const ParameterEvaluator* parameter_evaluator() const { return evaluator_.get(); }
 
  private:
   MeasurementModel model_;
+  std::unique_ptr<const ParameterEvaluator> evaluator_;
 };
 
 }  // namespace gearmc

@@ -11,6 +11,7 @@
 
 #include "engine/probing/mesh_contact_point.h"
 #include "engine/probing/probing_grid.h"
+#include "engine/scenario/evaluation_spec.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
@@ -56,6 +57,9 @@ struct Scenario {
   // never null (a default Scenario holds an empty chain). Code that uses the chain includes
   // engine/effects/measurement_effect.h.
   std::shared_ptr<const EffectChain> effects;
+  // `evaluation:` — the ISO 1328-1 gear parameters evaluated from every simulated measurement
+  // (evaluation_spec.h); absent = none.
+  std::optional<EvaluationSpec> evaluation;
   // Values that are valid but outside their usual range (parameter_ranges.h), each a whole
   // located message "file:line:col: key: …"; the caller prints them (they are not errors).
   std::vector<std::string> warnings;
