@@ -180,7 +180,7 @@ std::vector<ScenarioKey> make_table() {
                  "points of a dedicated profile scan at mid face (0: the grid's mid section)"),
       number_key("evaluation.helix_points", kInt, 0, "",
                  "points of a dedicated helix scan at mid profile (0: the grid's mid column)"),
-      number_key("evaluation.truth_points", kInt, 200, "",
+      number_key("evaluation.truth_points", kInt, 100, "",
                  "points of the dense trace on the real surface (true values)"),
       number_key("evaluation.profile_end_fraction", kNum, 0.95, "",
                  "profile evaluation range L_α: this fraction of the active roll length"),

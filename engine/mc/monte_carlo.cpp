@@ -53,7 +53,7 @@ MonteCarloRun::MonteCarloRun(const Scenario& scenario) : model_(scenario) {
 
 MonteCarloRun::~MonteCarloRun() = default;
 
-GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
+GearOutcome MonteCarloRun::measure_gear(int k, bool record_points, bool chart_traces) const {
   GearOutcome out;
   out.gear = k;
   const GearMeasurement measurement(model_, k, EffectMode::kDrawn);
@@ -110,7 +110,7 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
     }
     ++flank_index;
   }
-  if (parameters) out.parameters = parameters->finish();
+  if (parameters) out.parameters = parameters->finish(chart_traces);
   return out;
 }
 
@@ -149,7 +149,8 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
     parallel([&] {
       tbb::parallel_for(0, count, [&](int c) {
         if (cancelled()) return;
-        outcomes[c] = measure_gear(indices[first + c], options.record_points);
+        // The first gear of the run is the one whose traces the report charts.
+        outcomes[c] = measure_gear(indices[first + c], options.record_points, first + c == 0);
       });
     });
     if (cancelled()) {

@@ -105,8 +105,9 @@ class MonteCarloRun {
   ~MonteCarloRun();
 
   // Measures gear `k` (0-based) with the model's effects drawn (gear_measurement.h) and reduces
-  // its points into the gear's outcome. Thread-safe.
-  GearOutcome measure_gear(int k, bool record_points) const;
+  // its points into the gear's outcome (with `evaluation:`, its parameters, and the traces for
+  // the charts when `chart_traces`). Thread-safe.
+  GearOutcome measure_gear(int k, bool record_points, bool chart_traces = false) const;
   RunResults run(const RunOptions& options) const;
 
   const MeasurementModel& model() const { return model_; }

@@ -126,6 +126,10 @@ ParameterEvaluator::Gear::Gear(const ParameterEvaluator& evaluator,
 void ParameterEvaluator::Gear::record(int flank_index, const PointMeasurement& m) {
   const PlanFlank& flank = e_.model_.flanks()[static_cast<std::size_t>(flank_index)];
   const std::size_t at = static_cast<std::size_t>(m.plan - flank.points.data());
+  // Only the points of the traces are kept (the grid's mid section and column).
+  const bool in_profile = e_.spec_.profile_points == 0 && m.plan->j == e_.grid_section_;
+  const bool in_helix = e_.spec_.helix_points == 0 && m.plan->i == e_.grid_column_;
+  if (!in_profile && !in_helix) return;
   PointRecord& r = grid_[static_cast<std::size_t>(flank_index)][at];
   r.recorded = true;
   r.valid = m.valid();
@@ -138,7 +142,7 @@ void ParameterEvaluator::Gear::record(int flank_index, const PointMeasurement& m
   r.contributions.assign(m.contributions.begin(), m.contributions.end());
 }
 
-GearParameterValues ParameterEvaluator::Gear::finish() {
+GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
   // Probe the dedicated scans through the same pipeline.
   std::vector<std::vector<PointRecord>> scans(e_.scans_.size());
   for (std::size_t f = 0; f < e_.scans_.size(); ++f) {
@@ -194,20 +198,16 @@ GearParameterValues ParameterEvaluator::Gear::finish() {
                                 g.eccentricity_mm, model.expression());
     // The real surface's deviation along the nominal normal line through the nominal point
     // (L, z) — where a probe moving along that line meets it. The surface point of the same
-    // parameters is moved sideways by the eccentricity (up to ~10 µm, times a slope of a few
-    // µm/mm that is tens of nm): Newton steps on L put it on the line, (S(L') − p)·t = 0.
+    // parameters is moved sideways by the eccentricity e (up to ~10 µm; times a slope of a few
+    // µm/mm that is tens of nm): one Newton step on L puts it on the line, (S(L') − p)·t = 0
+    // with |∂S/∂L| = L / r_b on the involute (the deviation changes it by a relative 1e-3);
+    // what remains is second order in e (ΔL² times the involute's curvature: a few pm).
+    const double rb = gear.base_diameter_mm() / 2;
     const auto true_deviation = [&](double L, double z) {
       const FlankPoint nominal = gear.flank_point(flank.tooth, flank.side, L, z);
-      double at = L;
-      FlankSurfacePoint S = surface.evaluate(at, z);
-      for (int it = 0; it < 3; ++it) {
-        const double step = (S.point - nominal.point).dot(nominal.profile_tangent) /
-                            S.d_dL.dot(nominal.profile_tangent);
-        at -= step;
-        S = surface.evaluate(at, z);
-        if (std::abs(step) < 1e-12) break;
-      }
-      return 1e3 * (S.point - nominal.point).dot(nominal.normal);
+      const double off_line = (surface.point(L, z) - nominal.point).dot(nominal.profile_tangent);
+      const double at = L - off_line * rb / L;
+      return 1e3 * (surface.point(at, z) - nominal.point).dot(nominal.normal);
     };
     // One trace: its points (records with their abscissa), evaluated in every variant.
     struct Sample {
@@ -287,12 +287,15 @@ GearParameterValues ParameterEvaluator::Gear::finish() {
           dense->slope_um);
       put(profile ? GearParameter::kffalpha : GearParameter::kffbeta, s, column(form),
           dense->form_um);
-      chart.dense_x_mm = xd;
-      chart.dense_um = dd;
+      if (keep_traces) {
+        chart.dense_x_mm = xd;
+        chart.dense_um = dd;
+      }
       chart.range_start_mm = a;
       chart.range_end_mm = b;
       if (results[0]) chart.measured_line = *results[0];
-      (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
+      if (keep_traces)
+        (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
       if (profile && x.size() >= 2) {
         const int k = flank.tooth - 1;
         for (int v = 0; v < variants; ++v) {

@@ -90,8 +90,9 @@ class ParameterEvaluator {
     Gear(const ParameterEvaluator& evaluator, const GearMeasurement& measurement);
     // The grid point `m` of flank `flank_index` (MeasurementModel::flanks() order).
     void record(int flank_index, const PointMeasurement& m);
-    // Probes the dedicated scans (if any) and evaluates every parameter.
-    GearParameterValues finish();
+    // Probes the dedicated scans (if any) and evaluates every parameter; the traces for the
+    // charts only with `keep_traces`.
+    GearParameterValues finish(bool keep_traces);
 
    private:
     const ParameterEvaluator& e_;

@@ -25,7 +25,7 @@ struct EvaluationSpec {
   // probed flank (a gear CMM's scan); 0 = evaluate the probing grid's own section / column.
   int profile_points = 0, helix_points = 0;
   // Points of the dense trace on the real surface that gives a parameter's true value.
-  int truth_points = 200;
+  int truth_points = 100;
   // Profile evaluation range L_α: from the form circle over this fraction of the active roll
   // length (ISO 1328-1:2013: about 92–95 %, default 0.95).
   double profile_end_fraction = 0.95;
