@@ -10,6 +10,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -24,6 +25,8 @@
 #include "engine/mc/monte_carlo.h"
 #include "engine/mc/run_partials.h"
 #include "engine/ranks/ranks.h"
+#include "engine/report/html_report.h"
+#include "engine/report/parameter_report.h"
 #include "engine/report/run_report.h"
 #include "engine/report/run_terminal.h"
 
@@ -86,6 +89,14 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   // Fail before the work: the output folder must be writable now, not after the run. Only rank 0
   // writes (the other ranks of an MPI job only compute their share of the gears).
   const Ranks ranks = Ranks::world();
+  if (scenario.evaluation && ranks.size() > 1) {
+    // The gear parameters' per-gear samples are not part of the partial results the ranks send
+    // to rank 0 yet: refuse rather than report the parameters of rank 0's gears alone.
+    throw InputError({scenario.source_path, 0, 0},
+                     scenario.source_path +
+                         ": evaluation: gear parameters are evaluated in one process only; run "
+                         "without mpirun (threads still apply), or remove evaluation:");
+  }
   CreatedFolder folder;
   std::optional<OutputFiles> files;
   std::ofstream points_file;
@@ -175,7 +186,10 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
 
   const RunPresentation view =
       present_run(r, make_provenance(o.command_line, scenario.source_path, scenario.source_text));
+  // Gear parameters (scenario `evaluation:`): their summary keys, figures and report section.
+  const std::optional<ParameterPresentation> parameters = present_parameters(mc, r);
   nlohmann::ordered_json summary = run_summary_json(scenario, mc, r, view, o.only_gear);
+  if (parameters) add_parameter_json(summary, mc, *parameters);
   // The job's shape: with the wall times, the only fields that differ between runs of any number
   // of ranks and threads.
   summary["ranks"] = ranks.size();
@@ -184,7 +198,16 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   files->write("histograms.csv", run_histograms_csv(r, view));
   const std::vector<RunFigure> figures = run_figures(scenario, r, view);
   for (const RunFigure& f : figures) files->write(f.file, f.svg);
-  files->write("report.html", run_report_html(scenario, r, view, figures));
+  std::vector<RunFigure> parameter_charts;
+  if (parameters) parameter_charts = parameter_figures(mc, r, *parameters);
+  for (const RunFigure& f : parameter_charts) files->write(f.file, f.svg);
+  std::function<void(HtmlReport&)> parameter_section;
+  if (parameters) {
+    parameter_section = [&](HtmlReport& report) {
+      add_parameter_section(report, mc, *parameters, parameter_charts);
+    };
+  }
+  files->write("report.html", run_report_html(scenario, r, view, figures, parameter_section));
   files->commit();
   folder.created = false;  // keep it: it holds the results now
 
@@ -197,6 +220,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   }
   for (const std::string& w : view.warnings) err << "gearmc: warning: " << w << "\n";
   print_run_summary(out, scenario, r, view);
+  if (parameters) print_parameter_tables(out, mc, *parameters);
   out << "report: " << dir.string() << "/report.html\n";
   return 0;
 }

@@ -95,7 +95,17 @@ const RangeTable& probing_ranges() {
         "P1: 0.05 away from every edge", "a percentage? (5 % is 0.05)"},
        {"stylus.radius_mm", "mm", closed(0.01, 50), 0.05, 5,
         "stylus balls are 0.1–10 mm in diameter (P1: R 0.5 mm)", "a diameter, or µm?"},
-       {"run.gears", "", closed(1, 100000000), 1, 1000000, "P1: 50 gears", "", true}}};
+       {"run.gears", "", closed(1, 100000000), 1, 1000000, "P1: 50 gears", "", true},
+       {"evaluation.profile_points", "", closed(0, 5000), 0, 1000,
+        "gear CMMs scan 100–1000 points per trace; 0 = the probing grid's section", "", true},
+       {"evaluation.helix_points", "", closed(0, 5000), 0, 1000,
+        "gear CMMs scan 100–1000 points per trace; 0 = the probing grid's column", "", true},
+       {"evaluation.truth_points", "", closed(10, 100000), 50, 5000,
+        "the true trace must resolve the form deviations (B-spline spans of a few mm)", "", true},
+       {"evaluation.profile_end_fraction", "", closed(0.5, 1.0), 0.9, 1.0,
+        "ISO 1328-1:2013: L_α is about 92–95 % of the active profile", "a percentage?"},
+       {"evaluation.helix_end_exclusion_mm", "mm", closed(0, 1000), 0, 20,
+        "ISO 1328-1:2013: the smaller of 5 % b and m_n at each end", "µm instead of mm?"}}};
   return table;
 }
 

@@ -89,6 +89,8 @@ std::vector<ScenarioKey> make_table() {
       list_key("surfaces", "none (analytic flanks)", "flanks whose real surface is a mesh file"),
       map_key("effects", "none", "measurement effects, in chain order"),
       list_key("claims", "none", "accuracy claims that `gearmc check` decides"),
+      map_key("evaluation", "none (no gear parameters)",
+              "ISO 1328-1 gear parameters of every simulated measurement"),
 
       number_key("gear.teeth", kInt, std::nullopt, "required", "number of teeth z"),
       number_key("gear.module_mm", kNum, std::nullopt, "required", "module m"),
@@ -169,6 +171,24 @@ std::vector<ScenarioKey> make_table() {
                "scenario's folder)"),
       choice_key("surfaces.contact", {"smoothed", "facets"}, "smoothed",
                  "contact on the smoothed surface or on the facets"),
+
+      make_key(
+          "evaluation.parameters", KeyType::kSymbols, std::nullopt, "required",
+          {"F_alpha", "f_Halpha", "f_falpha", "F_beta", "f_Hbeta", "f_fbeta", "f_pt", "F_p", "F_r"},
+          "the ISO 1328-1 parameters evaluated (f_pt, F_p, F_r need every tooth probed, "
+          "F_r both flanks)"),
+      number_key("evaluation.profile_points", kInt, 0, "",
+                 "points of a dedicated profile scan at mid face (0: the grid's mid section)"),
+      number_key("evaluation.helix_points", kInt, 0, "",
+                 "points of a dedicated helix scan at mid profile (0: the grid's mid column)"),
+      number_key("evaluation.truth_points", kInt, 100, "",
+                 "points of the dense trace on the real surface (true values)"),
+      number_key("evaluation.profile_end_fraction", kNum, 0.95, "",
+                 "profile evaluation range L_α: this fraction of the active roll length"),
+      number_key("evaluation.helix_end_exclusion_mm", kNum, std::nullopt, "min(5 % b, m_n)",
+                 "helix evaluation range L_β: b minus this at each end"),
+      choice_key("evaluation.decision_rule", {"simple", "guard_banded"}, "simple",
+                 "ISO 14253-1 acceptance: within T, or within T narrowed by U"),
   };
   t.insert(t.end(), rest.begin(), rest.end());
 
@@ -442,6 +462,13 @@ std::string scenario_keys_markdown() {
       case KeyType::kTeeth:
         type = "`all` or list of integers";
         allowed = "`all`, or tooth numbers 1 … z, each once";
+        break;
+      case KeyType::kSymbols:
+        type = "`all` or list of names";
+        allowed = "`all`, or a list of: ";
+        for (std::size_t i = 0; i < k.allowed.size(); ++i) {
+          allowed += (i ? ", " : "") + std::string("`") + k.allowed[i] + "`";
+        }
         break;
     }
     if (range != nullptr) {

@@ -27,6 +27,7 @@ enum class KeyType {
   kParameter,  // a number or a per-gear law {uniform: [lo, hi]} / {normal: [mean, sd]}
   kSymbolMap,  // a map from names (the symbols listed in `allowed`) to numbers
   kTeeth,      // `all` or a list of tooth numbers
+  kSymbols,    // `all` or a list of names among `allowed`, each once
 };
 
 struct ScenarioKey {

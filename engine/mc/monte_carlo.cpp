@@ -66,11 +66,15 @@ void RunResults::fold(const BlockMoments& b) {
   effects.merge(b.effects);
 }
 
-MonteCarloRun::MonteCarloRun(const Scenario& scenario) : model_(scenario) {}
+MonteCarloRun::MonteCarloRun(const Scenario& scenario) : model_(scenario) {
+  if (model_.scenario().evaluation) {
+    evaluator_ = std::make_unique<const ParameterEvaluator>(model_, *model_.scenario().evaluation);
+  }
+}
 
 MonteCarloRun::~MonteCarloRun() = default;
 
-GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
+GearOutcome MonteCarloRun::measure_gear(int k, bool record_points, bool chart_traces) const {
   GearOutcome out;
   out.gear = k;
   const GearMeasurement measurement(model_, k, EffectMode::kDrawn);
@@ -78,12 +82,16 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
   const bool with_effects = !model_.effects().empty();
   out.effects.contribution.resize(model_.effects().size());
   out.effects.alone.resize(model_.effects().size());
+  std::optional<ParameterEvaluator::Gear> parameters;
+  if (evaluator_) parameters.emplace(*evaluator_, measurement);
+  int flank_index = 0;
   for (const PlanFlank& flank : model_.flanks()) {
     const int s = flank.side == FlankSide::kRight ? 1 : 0;
     double max = 0.0, sum = 0.0;
     int valid = 0;
     measurement.measure_flank(flank, [&](const PointMeasurement& m) {
       const ContactResult& r = m.contact;
+      if (parameters) parameters->record(flank_index, m);
       ++out.contacts;
       switch (r.status) {
         case ContactResult::Status::kOk:
@@ -121,7 +129,9 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points) const {
       out.flank_max[s].push_back(max);
       out.flank_mean[s].push_back(sum / valid);
     }
+    ++flank_index;
   }
+  if (parameters) out.parameters = parameters->finish(chart_traces);
   return out;
 }
 
@@ -157,6 +167,7 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
   }
   RunResults results;
   results.first_block = options.only_gear ? 0 : options.first_gear / kGearsPerBlock;
+  if (evaluator_) results.parameters.emplace();
   const int total = static_cast<int>(indices.size());
   for (int first = 0; first < total; first += kChunk) {
     const int count = std::min(kChunk, total - first);
@@ -165,7 +176,8 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
     parallel([&] {
       tbb::parallel_for(0, count, [&](int c) {
         if (cancelled()) return;
-        outcomes[c] = measure_gear(indices[first + c], options.record_points);
+        // The first gear of the run is the one whose traces the report charts.
+        outcomes[c] = measure_gear(indices[first + c], options.record_points, first + c == 0);
       });
     });
     if (cancelled()) {
@@ -173,7 +185,8 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
       break;
     }
     BlockMoments block;
-    for (const GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
+    for (GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
+      if (o.parameters) results.parameters->append(o.gear, std::move(*o.parameters));
       for (int s = 0; s < 2; ++s) {
         for (double v : o.point_delta[s]) add_value(results.point[s], block.point[s], v);
         for (double v : o.flank_max[s]) add_value(results.flank_max[s], block.flank_max[s], v);

@@ -15,10 +15,12 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "engine/measure/measurement_model.h"
+#include "engine/parameters/parameter_evaluation.h"
 #include "engine/probing/contact.h"
 #include "engine/scenario/scenario.h"
 #include "engine/stats/relative_histogram.h"
@@ -67,8 +69,9 @@ struct GearOutcome {
   std::vector<double> point_total_abs[2];  // |total point error| with effects (when any), µm
   EffectTotals effects;
   std::uint64_t contacts = 0, failed = 0, edge = 0, collisions = 0;
-  int runout_redraws = 0;           // PerturbedGear::runout_redraws
-  std::vector<ProbedPoint> points;  // only when asked for
+  int runout_redraws = 0;                         // PerturbedGear::runout_redraws
+  std::vector<ProbedPoint> points;                // only when asked for
+  std::optional<GearParameterValues> parameters;  // scenario `evaluation:` only
 };
 
 // Gears per block of the reduction (see the top of this file); also the parallel chunk.
@@ -124,6 +127,7 @@ struct RunResults {
   double gather_s = 0.0, merge_s = 0.0;
   // Merges the moments of a block that follows every block merged so far.
   void fold(const BlockMoments& block);
+  std::optional<ParameterSamples> parameters;  // scenario `evaluation:` only, in gear order
 };
 
 class MonteCarloRun {
@@ -132,8 +136,9 @@ class MonteCarloRun {
   ~MonteCarloRun();
 
   // Measures gear `k` (0-based) with the model's effects drawn (gear_measurement.h) and reduces
-  // its points into the gear's outcome. Thread-safe.
-  GearOutcome measure_gear(int k, bool record_points) const;
+  // its points into the gear's outcome (with `evaluation:`, its parameters, and the traces for
+  // the charts when `chart_traces`). Thread-safe.
+  GearOutcome measure_gear(int k, bool record_points, bool chart_traces = false) const;
   RunResults run(const RunOptions& options) const;
 
   const MeasurementModel& model() const { return model_; }
@@ -142,9 +147,12 @@ class MonteCarloRun {
   const Scenario& scenario() const { return model_.scenario(); }
   int points_per_flank() const { return model_.points_per_flank(); }
   int probed_teeth() const { return model_.probed_teeth(); }
+  // The gear-parameter evaluation of the scenario's `evaluation:` (null without it).
+  const ParameterEvaluator* parameter_evaluator() const { return evaluator_.get(); }
 
  private:
   MeasurementModel model_;
+  std::unique_ptr<const ParameterEvaluator> evaluator_;
 };
 
 }  // namespace gearmc

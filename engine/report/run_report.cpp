@@ -478,7 +478,8 @@ std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r
 }
 
 std::string run_report_html(const Scenario& scenario, const RunResults& r,
-                            const RunPresentation& view, const std::vector<RunFigure>& figures) {
+                            const RunPresentation& view, const std::vector<RunFigure>& figures,
+                            const std::function<void(HtmlReport&)>& first_section) {
   HtmlReport report("gearmc run: " + scenario.name);
   for (const std::string& w : view.warnings) report.paragraph("Warning: " + w);
   std::ostringstream intro;
@@ -495,6 +496,7 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
          << " contact point) in every gear; its random deviations are not used.";
     report.paragraph(mesh.str());
   }
+  if (first_section) first_section(report);
   HtmlTable table;
   table.caption =
       "δRcomp statistics (µm). Quantiles are upper bounds within 0.025 % of the exact order "

@@ -4,6 +4,7 @@
 // histograms.csv, the SVG pictures, report.html and the terminal table. Values in µm.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
@@ -72,8 +73,12 @@ struct RunFigure {
 };
 std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r,
                                    const RunPresentation& view);
+class HtmlReport;
+// `first_section` (when set) adds its blocks right after the run's introduction (the gear
+// parameters' table and charts, parameter_report.h).
 std::string run_report_html(const Scenario& scenario, const RunResults& r,
-                            const RunPresentation& view, const std::vector<RunFigure>& figures);
+                            const RunPresentation& view, const std::vector<RunFigure>& figures,
+                            const std::function<void(HtmlReport&)>& first_section = {});
 
 // The terminal table of δRcomp statistics (and, with effects, the total error and its budget).
 void print_run_tables(std::ostream& out, const Scenario& scenario, const RunResults& r,

@@ -537,7 +537,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   const YamlValue root = parse_yaml_document(yaml_text, source_name);
   const std::string expected_top =
       "a map of scenario keys (name, seed, gear, tolerances, deviations, probing, stylus, run, "
-      "surfaces, effects, claims)";
+      "surfaces, effects, claims, evaluation)";
   if (root.is_null()) {
     throw InputError(root.location(), "", "", expected_top + ", but the scenario is empty");
   }
@@ -600,6 +600,11 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   }
   if (const auto claims = top.find("claims")) {
     scenario.claims = read_claims(*claims, !scenario.effects->empty(), warnings);
+  }
+  if (const auto evaluation = top.find("evaluation")) {
+    scenario.evaluation = read_evaluation(*evaluation, scenario.gear.face_width_mm, warnings);
+    check_evaluation(*evaluation, *scenario.evaluation, scenario.probing, scenario.gear.teeth,
+                     !scenario.surfaces.empty());
   }
   return scenario;
 }

@@ -12,6 +12,7 @@
 #include "engine/probing/mesh_contact_point.h"
 #include "engine/probing/probing_grid.h"
 #include "engine/scenario/claims.h"
+#include "engine/scenario/evaluation_spec.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
@@ -60,6 +61,9 @@ struct Scenario {
   // `claims:` — accuracy claims `gearmc check` decides (claims.h); empty: none. Other commands
   // read and validate them but do not use them.
   std::vector<ClaimSpec> claims;
+  // `evaluation:` — the ISO 1328-1 gear parameters evaluated from every simulated measurement
+  // (evaluation_spec.h); absent = none.
+  std::optional<EvaluationSpec> evaluation;
   // Values that are valid but outside their usual range (parameter_ranges.h), each a whole
   // located message "file:line:col: key: …"; the caller prints them (they are not errors).
   std::vector<std::string> warnings;

@@ -29,17 +29,6 @@ int display_decimals(double u, int ndig) {
   return std::max(0, -static_cast<int>(std::floor(std::log10(u))) + ndig + 1);
 }
 
-double conformance_probability(double y, double u, std::optional<double> lower,
-                               std::optional<double> upper) {
-  const auto below = [&](double limit) {  // P(Y <= limit)
-    if (!(u > 0.0)) return y <= limit ? 1.0 : 0.0;
-    return normal_cdf((limit - y) / u);
-  };
-  const double p_upper = upper ? below(*upper) : 1.0;
-  const double p_lower = lower ? below(*lower) : 0.0;
-  return std::max(0.0, p_upper - p_lower);
-}
-
 Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
   Evaluation e;
   e.gum = evaluate_gum(model);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/io/provenance.h"
+#include "engine/stats/conformity.h"
 #include "engine/uncertainty/gum.h"
 #include "engine/uncertainty/mcm.h"
 #include "engine/uncertainty/model.h"
@@ -36,10 +37,9 @@ struct Evaluation {
   std::vector<std::string> warnings;
 };
 
-// JCGM 106 §7.6: the probability that a measurand with the Gaussian law N(y, u²) lies within
-// [lower, upper] (an absent limit is infinite). u = 0: 1 or 0 by where y is.
-double conformance_probability(double y, double u, std::optional<double> lower,
-                               std::optional<double> upper);
+// JCGM 106 §7.6 conformance probability (engine/stats/conformity.h, shared with the run's gear
+// parameters).
+using gearmc::conformance_probability;
 
 // GUM + MCM + validation. `options` carries the MCM settings (seed, trials, threads, …).
 Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options);

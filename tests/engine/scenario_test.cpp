@@ -299,12 +299,10 @@ TEST(ScenarioErrorTest, UnknownTopLevelKeyWithHint) {
   const InputError e = parse_error("name: x\nsed: 5\n" + kGear);
   expect_at(e, 2, 1);
   EXPECT_EQ(e.key(), "sed");
-  EXPECT_EQ(
-      std::string(e.what()),
-      "t.yaml:2:1: sed: got 'sed', expected a known key (the top level has: name, seed, "
-      "gear, tolerances, deviations, probing, stylus, run, surfaces, effects, claims); did you "
-      "mean "
-      "'seed'?");
+  EXPECT_EQ(std::string(e.what()),
+            "t.yaml:2:1: sed: got 'sed', expected a known key (the top level has: name, seed, "
+            "gear, tolerances, deviations, probing, stylus, run, surfaces, effects, claims, "
+            "evaluation); did you mean 'seed'?");
 }
 
 TEST(ScenarioErrorTest, UnknownNestedKeyWithHintIsFoundBeforeMissingRequiredOne) {
@@ -504,7 +502,8 @@ TEST(ScenarioErrorTest, TopLevelNotAMap) {
   expect_at(list, 1, 1);
   EXPECT_EQ(std::string(list.what()),
             "t.yaml:1:1: got '[gear, seed]', expected a map of scenario keys (name, seed, gear, "
-            "tolerances, deviations, probing, stylus, run, surfaces, effects, claims)");
+            "tolerances, deviations, probing, stylus, run, surfaces, effects, claims, "
+            "evaluation)");
   const InputError scalar = parse_error("hello\n");
   expect_at(scalar, 1, 1);
   EXPECT_THAT(scalar.what(), HasSubstr("got 'hello', expected a map of scenario keys"));
