@@ -1,15 +1,14 @@
 // Monte-Carlo batch over perturbed gears (see monte_carlo.h).
 #include "engine/mc/monte_carlo.h"
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/io/thread_arena.h"
 #include "engine/measure/gear_measurement.h"
 
 namespace gearmc {
@@ -137,23 +136,8 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points, bool chart_tr
 
 RunResults MonteCarloRun::run(const RunOptions& options) const {
   const auto start = std::chrono::steady_clock::now();
-  // threads > 0: exactly that many threads, also above the machine's core count (the global
-  // limit allows them, the arena asks for them), so a thread-independence check with 2 threads
-  // really runs 2 threads on a 1-CPU machine. 0: oneTBB's default (all cores).
-  std::optional<tbb::global_control> limit;
-  std::optional<tbb::task_arena> arena;
-  if (options.threads > 0) {
-    limit.emplace(tbb::global_control::max_allowed_parallelism,
-                  static_cast<std::size_t>(options.threads));
-    arena.emplace(options.threads);
-  }
-  const auto parallel = [&](const std::function<void()>& work) {
-    if (arena) {
-      arena->execute(work);
-    } else {
-      work();
-    }
-  };
+  ThreadArena arena(options.threads);  // --threads (thread_arena.h)
+  const auto parallel = [&](const std::function<void()>& work) { arena.run(work); };
   std::vector<int> indices;
   if (options.only_gear) {
     indices.push_back(*options.only_gear);

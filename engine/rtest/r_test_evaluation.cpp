@@ -3,9 +3,7 @@
 // and u, §7.7 probabilistically symmetric interval).
 #include "engine/rtest/r_test_evaluation.h"
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -13,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include "engine/io/thread_arena.h"
 #include "engine/uncertainty/gum.h"
 #include "engine/uncertainty/mcm.h"
 
@@ -21,29 +20,6 @@ namespace {
 
 using uncertainty::TrialStream;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-class Arena {
- public:
-  explicit Arena(int threads) {
-    if (threads > 0) {
-      limit_.emplace(tbb::global_control::max_allowed_parallelism,
-                     static_cast<std::size_t>(threads));
-      arena_.emplace(threads);
-    }
-  }
-  template <typename F>
-  void run(F&& f) {
-    if (arena_) {
-      arena_->execute(f);
-    } else {
-      f();
-    }
-  }
-
- private:
-  std::optional<tbb::global_control> limit_;
-  std::optional<tbb::task_arena> arena_;
-};
 
 // Runs body(t) for t in [0, n) in parallel chunks; stops early (returns false) when cancelled.
 template <typename Body>
@@ -435,7 +411,7 @@ Verification verify(const RTestModel& m, const RTestResult& r, const RTestRunOpt
 
 RTestResult evaluate_r_test(const RTestModel& m, const RTestRunOptions& o) {
   RTestResult r;
-  Arena arena(o.threads);
+  ThreadArena arena(o.threads);
   const Geometry& g = m.geometry;
   const double p = m.coverage_probability;
 

@@ -2,9 +2,7 @@
 #include "engine/uncertainty/mcm.h"
 
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -15,6 +13,7 @@
 #include <optional>
 #include <sstream>
 
+#include "engine/io/thread_arena.h"
 #include "engine/uncertainty/model_function.h"
 #include "engine/uncertainty/trial_stream.h"
 
@@ -81,29 +80,6 @@ double sd_of_average(const std::vector<double>& v) {
   for (double x : v) ss += (x - mean) * (x - mean);
   return std::sqrt(ss / (h * (h - 1.0)));
 }
-
-class Arena {
- public:
-  explicit Arena(int threads) {
-    if (threads > 0) {
-      limit_.emplace(tbb::global_control::max_allowed_parallelism,
-                     static_cast<std::size_t>(threads));
-      arena_.emplace(threads);
-    }
-  }
-  template <typename F>
-  void run(F&& f) {
-    if (arena_) {
-      arena_->execute(f);
-    } else {
-      f();
-    }
-  }
-
- private:
-  std::optional<tbb::global_control> limit_;
-  std::optional<tbb::task_arena> arena_;
-};
 
 }  // namespace
 
@@ -263,7 +239,7 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
   r.adaptive = !o.trials.has_value();
   r.threads = o.threads;
   r.ranks = o.ranks ? o.ranks->size() : 1;
-  Arena arena(o.threads);
+  ThreadArena arena(o.threads);
   std::vector<std::vector<double>> values(m);
 
   // Trials [first, first + count) split over the ranks; every rank gets all their values.
