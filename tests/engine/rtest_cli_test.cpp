@@ -12,6 +12,7 @@
 #include <string>
 
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 
 namespace gearmc {
 namespace {
@@ -20,10 +21,7 @@ namespace fs = std::filesystem;
 using testing_support::run_gearmc;
 
 std::string temp_path(const std::string& tag) {
-  const fs::path d =
-      fs::path(::testing::TempDir()) / ("rtest_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d.string();
+  return testing_support::fresh_temp_path("rtest_" + tag).string();
 }
 
 const char* kGood = R"M(name: rt_small

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 
 namespace gearmc {
 namespace {
@@ -21,12 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing_support::run_gearmc;
 
-fs::path temp(const std::string& tag) {
-  const fs::path p =
-      fs::path(::testing::TempDir()) / ("sweep_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
+fs::path temp(const std::string& tag) { return testing_support::fresh_temp_path("sweep_" + tag); }
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);

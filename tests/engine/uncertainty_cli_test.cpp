@@ -19,6 +19,7 @@
 
 #include "engine/uncertainty/evaluation.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 
 namespace gearmc {
 namespace {
@@ -27,10 +28,7 @@ namespace fs = std::filesystem;
 using testing_support::run_gearmc;
 
 std::string temp_dir(const std::string& tag) {
-  const fs::path d =
-      fs::path(::testing::TempDir()) / ("unc_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d.string();
+  return testing_support::fresh_temp_path("unc_" + tag).string();
 }
 
 std::string write_model(const std::string& tag, const std::string& text) {
