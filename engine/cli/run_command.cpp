@@ -89,14 +89,6 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   // Fail before the work: the output folder must be writable now, not after the run. Only rank 0
   // writes (the other ranks of an MPI job only compute their share of the gears).
   const Ranks ranks = Ranks::world();
-  if (scenario.evaluation && ranks.size() > 1) {
-    // The gear parameters' per-gear samples are not part of the partial results the ranks send
-    // to rank 0 yet: refuse rather than report the parameters of rank 0's gears alone.
-    throw InputError({scenario.source_path, 0, 0},
-                     scenario.source_path +
-                         ": evaluation: gear parameters are evaluated in one process only; run "
-                         "without mpirun (threads still apply), or remove evaluation:");
-  }
   CreatedFolder folder;
   std::optional<OutputFiles> files;
   std::ofstream points_file;

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "engine/io/bytes.h"
 #include "engine/io/input_error.h"
@@ -81,6 +83,117 @@ RunResults run_local(const MonteCarloRun& mc, const RunOptions& options) {
 
 }  // namespace
 
+namespace {
+
+// The gear parameters' items (scenario `evaluation:`), in gear order: per parameter and side the
+// count, then each item's three values and its budget. The chart traces stay on rank 0, which
+// always runs the first gear of a run or batch.
+void put_values(ByteWriter& w, const std::vector<double>& v) {
+  w.put<std::uint64_t>(v.size());
+  for (double x : v) w.put(x);
+}
+void get_values(ByteReader& in, std::vector<double>& v) {
+  v.resize(static_cast<std::size_t>(in.get<std::uint64_t>()));
+  for (double& x : v) x = in.get<double>();
+}
+void put_trace(ByteWriter& w, const FlankTrace& t) {
+  w.put<std::int64_t>(t.tooth);
+  w.put<std::uint8_t>(t.side == FlankSide::kRight ? 1 : 0);
+  for (const std::vector<double>* v :
+       {&t.x_mm, &t.measured_um, &t.true_um, &t.dense_x_mm, &t.dense_um}) {
+    put_values(w, *v);
+  }
+  w.put(t.range_start_mm);
+  w.put(t.range_end_mm);
+  const TraceResult& m = t.measured_line;
+  for (double x : {m.total_um, m.slope_um, m.form_um, m.intercept_um, m.slope_um_per_mm}) w.put(x);
+  w.put<std::int64_t>(m.samples);
+}
+FlankTrace get_trace(ByteReader& in) {
+  FlankTrace t;
+  t.tooth = static_cast<int>(in.get<std::int64_t>());
+  t.side = in.get<std::uint8_t>() != 0 ? FlankSide::kRight : FlankSide::kLeft;
+  for (std::vector<double>* v : {&t.x_mm, &t.measured_um, &t.true_um, &t.dense_x_mm, &t.dense_um}) {
+    get_values(in, *v);
+  }
+  t.range_start_mm = in.get<double>();
+  t.range_end_mm = in.get<double>();
+  TraceResult& m = t.measured_line;
+  for (double* x : {&m.total_um, &m.slope_um, &m.form_um, &m.intercept_um, &m.slope_um_per_mm}) {
+    *x = in.get<double>();
+  }
+  m.samples = static_cast<int>(in.get<std::int64_t>());
+  return t;
+}
+
+void put_parameters(std::string& out, const std::optional<ParameterSamples>& p) {
+  ByteWriter w(out);
+  w.put<std::uint8_t>(p ? 1 : 0);
+  if (!p) return;
+  // The chart gear's traces (the first gear of the run, on whichever rank ran it).
+  w.put<std::int64_t>(p->chart_gear.value_or(-1));
+  if (p->chart_gear) {
+    const GearTraces& c = p->chart;
+    for (const std::vector<FlankTrace>* traces : {&c.profile, &c.helix}) {
+      w.put<std::uint64_t>(traces->size());
+      for (const FlankTrace& t : *traces) put_trace(w, t);
+    }
+    for (int s = 0; s < 2; ++s) {
+      put_values(w, c.pitch_measured[s]);
+      put_values(w, c.pitch_true[s]);
+    }
+    put_values(w, c.ball_measured);
+    put_values(w, c.ball_true);
+  }
+  for (const auto& sides : p->values) {
+    for (const std::vector<ParameterValue>& items : sides) {
+      w.put<std::uint64_t>(items.size());
+      for (const ParameterValue& v : items) {
+        w.put(v.measured);
+        w.put(v.true_points);
+        w.put(v.true_dense);
+        w.put<std::uint64_t>(v.budget.size());
+        for (double b : v.budget) w.put(b);
+      }
+    }
+  }
+}
+
+std::optional<ParameterSamples> get_parameters(ByteReader& in) {
+  if (in.get<std::uint8_t>() == 0) return std::nullopt;
+  ParameterSamples p;
+  const auto chart_gear = in.get<std::int64_t>();
+  if (chart_gear >= 0) {
+    p.chart_gear = static_cast<int>(chart_gear);
+    GearTraces& c = p.chart;
+    for (std::vector<FlankTrace>* traces : {&c.profile, &c.helix}) {
+      traces->resize(static_cast<std::size_t>(in.get<std::uint64_t>()));
+      for (FlankTrace& t : *traces) t = get_trace(in);
+    }
+    for (int s = 0; s < 2; ++s) {
+      get_values(in, c.pitch_measured[s]);
+      get_values(in, c.pitch_true[s]);
+    }
+    get_values(in, c.ball_measured);
+    get_values(in, c.ball_true);
+  }
+  for (auto& sides : p.values) {
+    for (std::vector<ParameterValue>& items : sides) {
+      items.resize(static_cast<std::size_t>(in.get<std::uint64_t>()));
+      for (ParameterValue& v : items) {
+        v.measured = in.get<double>();
+        v.true_points = in.get<double>();
+        v.true_dense = in.get<double>();
+        v.budget.resize(static_cast<std::size_t>(in.get<std::uint64_t>()));
+        for (double& b : v.budget) b = in.get<double>();
+      }
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
 std::string encode_partial(const RunResults& r) {
   std::string out;
   ByteWriter w(out);
@@ -98,6 +211,7 @@ std::string encode_partial(const RunResults& r) {
     each_moment(b, [&](const RunningStats& s) { s.encode(out); });
     put_effects(out, b.effects);
   }
+  put_parameters(out, r.parameters);
   return out;
 }
 
@@ -119,6 +233,7 @@ RunResults decode_partial(std::string_view bytes) {
     each_moment(b, [&](RunningStats& s) { s = RunningStats::decode(in); });
     b.effects = get_effects(in);
   }
+  r.parameters = get_parameters(in);
   if (!in.done()) throw std::runtime_error("decode_partial: trailing bytes");
   return r;
 }
@@ -143,6 +258,21 @@ void append_partial(RunResults& into, const RunResults& later) {
   into.cancelled = into.cancelled || later.cancelled;
   // Moments: block after block, as one process merges them.
   for (const BlockMoments& b : later.block_moments) into.fold(b);
+  // Gear parameters: `later`'s items follow `into`'s in gear order.
+  if (later.parameters) {
+    if (!into.parameters) into.parameters.emplace();
+    if (!into.parameters->chart_gear && later.parameters->chart_gear) {
+      into.parameters->chart_gear = later.parameters->chart_gear;
+      into.parameters->chart = later.parameters->chart;
+    }
+    for (std::size_t p = 0; p < later.parameters->values.size(); ++p) {
+      for (int s = 0; s < 2; ++s) {
+        auto& to = into.parameters->values[p][s];
+        const auto& from = later.parameters->values[p][s];
+        to.insert(to.end(), from.begin(), from.end());
+      }
+    }
+  }
 }
 
 RunResults run_on_ranks(const MonteCarloRun& mc, RunOptions options, const Ranks& ranks,

@@ -51,6 +51,16 @@ for case in "1 2" "2 1" "3 1" "2 2"; do
 done
 wc -l run_single/out/points.csv
 
+echo "== run with gear parameters (evaluation:): 300 gears, 2 blocks"
+cp "$src/scenarios/p1_reference_parameters.yaml" params.yaml
+run_case params_single 0 1 run params.yaml --gears 300
+for case in "2 1" "3 1"; do
+  set -- $case
+  run_case "params_n$1_t$2" "$1" "$2" run params.yaml --gears 300
+  grep -q '"F_alpha"' "params_n$1_t$2/out/summary.json" || { echo "summary.json lacks F_alpha"; fail=1; }
+  $compare params_single/out "params_n$1_t$2/out" || fail=1
+done
+
 echo "== uncertainty: adaptive (mass calibration) and a fixed M"
 model=$src/scenarios/uncertainty/mass_calibration.yaml
 run_case unc_single 0 1 uncertainty "$model"
