@@ -11,6 +11,7 @@
 #include "engine/io/bytes.h"
 #include "engine/mc/monte_carlo.h"
 #include "engine/mc/run_partials.h"
+#include "engine/parameters/gear_parameters.h"
 #include "engine/ranks/ranks.h"
 
 namespace gearmc {
@@ -57,6 +58,15 @@ void claim_values(const ClaimSpec& claim, const GearOutcome& gear, std::vector<d
   for (int s = 0; s < 2; ++s) {
     if (claim.side == ClaimSide::kLeft && s == 1) continue;
     if (claim.side == ClaimSide::kRight && s == 0) continue;
+    if (claim.quantity == ClaimQuantity::kParameterError) {
+      // measured − true (dense trace) of each item (flank, tooth or gear; F_r: one per gear).
+      const std::optional<GearParameter> p = parameter_from_symbol(claim.parameter);
+      if (!p || !gear.parameters) continue;
+      for (const ParameterValue& v : gear.parameters->values[static_cast<int>(*p)][s]) {
+        out.push_back(v.measured - v.true_dense);
+      }
+      continue;
+    }
     const std::vector<double>& v =
         claim.quantity == ClaimQuantity::kDeltaRcompPoint      ? gear.point_delta[s]
         : claim.quantity == ClaimQuantity::kDeltaRcompFlankMax ? gear.flank_max[s]

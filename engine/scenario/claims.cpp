@@ -18,12 +18,15 @@ constexpr const char* kQuantities = "delta_rcomp.point, delta_rcomp.flank_max or
 ClaimQuantity read_quantity(const YamlValue& value, bool has_effects) {
   const std::string text = value.as_string();
   if (text.rfind("parameters.", 0) == 0) {
-    // Claims on gear parameters (ISO 1328-1 F_alpha, f_pt, …: measured − true) need the
-    // parameter evaluation of the run, which gearmc does not have yet.
-    throw value.error(std::string(kQuantities) +
-                      "; claims on gear parameters (parameters.<symbol>.error) need the gear-"
-                      "parameter evaluation (`evaluation:`), which this version of gearmc does "
-                      "not have yet");
+    // A gear parameter's error, parameters.<symbol>.error: the symbol is checked against the
+    // scenario's `evaluation:` once both are read (parse_scenario).
+    const std::string rest = text.substr(11);
+    const auto dot = rest.rfind('.');
+    if (dot == std::string::npos || dot == 0 || rest.substr(dot) != ".error") {
+      throw value.error(std::string(kQuantities) +
+                        " or parameters.<symbol>.error (e.g. parameters.F_alpha.error)");
+    }
+    return ClaimQuantity::kParameterError;
   }
   if (text == "delta_rcomp.point") return ClaimQuantity::kDeltaRcompPoint;
   if (text == "delta_rcomp.flank_max") return ClaimQuantity::kDeltaRcompFlankMax;
@@ -113,6 +116,10 @@ std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
     const YamlValue quantity = entry.require("quantity", kQuantities);
     claim.quantity_text = quantity.as_string();
     claim.quantity = read_quantity(quantity, has_effects);
+    claim.quantity_where = quantity.location();
+    if (claim.quantity == ClaimQuantity::kParameterError) {
+      claim.parameter = claim.quantity_text.substr(11, claim.quantity_text.size() - 11 - 6);
+    }
     const std::string side = entry.get_choice("side", key_choices("claims.side"))
                                  .value_or(choice_default("claims.side"));
     claim.side = side == "left"    ? ClaimSide::kLeft

@@ -18,6 +18,7 @@ enum class ClaimQuantity {
   kDeltaRcompPoint,     // δRcomp of every valid point, µm
   kDeltaRcompFlankMax,  // the largest δRcomp of each flank, µm
   kTotalErrorPoint,     // |total point error| with the measurement effects, µm
+  kParameterError,      // a gear parameter's measured − true (dense trace), µm, per item
 };
 enum class ClaimSide { kLeft, kRight, kBoth };
 enum class ClaimStatistic { kQuantile, kMean, kStd, kMax };
@@ -33,6 +34,11 @@ struct ClaimSpec {
   double limit_um = 0.0;
   double confidence = 0.95;  // 0 < c < 1
   InputLocation where;       // the claim's `name`
+  // kParameterError: the ISO 1328-1 symbol (F_alpha, …, F_r) of `parameters.<symbol>.error`,
+  // which the scenario's `evaluation:` must evaluate (checked by the scenario reader), and where
+  // the quantity was written.
+  std::string parameter;
+  InputLocation quantity_where;
 };
 
 // The text of the statistic as written ("quantile 0.9973", "mean", "std", "max") and of the

@@ -6,6 +6,7 @@
 // The schema is documented with each section reader below.
 #include "engine/scenario/scenario.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -605,6 +606,25 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
     scenario.evaluation = read_evaluation(*evaluation, scenario.gear.face_width_mm, warnings);
     check_evaluation(*evaluation, *scenario.evaluation, scenario.probing, scenario.gear.teeth,
                      !scenario.surfaces.empty());
+  }
+  // A claim on a gear parameter needs that parameter in `evaluation:`.
+  const auto joined = [](const std::vector<std::string>& v) {
+    std::string out;
+    for (const std::string& x : v) out += (out.empty() ? "" : ", ") + x;
+    return out;
+  };
+  for (const ClaimSpec& c : scenario.claims) {
+    if (c.quantity != ClaimQuantity::kParameterError) continue;
+    const std::vector<std::string>* evaluated =
+        scenario.evaluation ? &scenario.evaluation->parameters : nullptr;
+    if (!evaluated ||
+        std::find(evaluated->begin(), evaluated->end(), c.parameter) == evaluated->end()) {
+      throw InputError(c.quantity_where, "claims.quantity", c.quantity_text,
+                       "a gear parameter the scenario's `evaluation:` evaluates (" +
+                           (evaluated ? "it evaluates: " + joined(*evaluated)
+                                      : std::string("add evaluation: {parameters: all}")) +
+                           ")");
+    }
   }
   return scenario;
 }

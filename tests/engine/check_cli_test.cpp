@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "engine/io/input_error.h"
@@ -72,7 +73,11 @@ TEST(CheckCli, BadClaimsExit2WithPlaceAndWriteNothing) {
       {"parameter",
        "claims:\n  - {name: f, quantity: parameters.F_alpha.error, statistic: max, at_most_um: "
        "1}\n",
-       ":8:25:", "gear-parameter evaluation"},
+       ":8:25:", "add evaluation: {parameters: all}"},
+      {"parameter_form",
+       "claims:\n  - {name: f, quantity: parameters.F_alpha.eror, statistic: max, at_most_um: "
+       "1}\n",
+       ":8:25:", "parameters.<symbol>.error"},
       {"total_without_effects",
        "claims:\n  - {name: t, quantity: total_error.point, statistic: max, at_most_um: 1}\n",
        ":8:25:", "no `effects:`"},
@@ -278,6 +283,49 @@ TEST(CheckCli, P1ClaimsKeepTheirMeasuredVerdicts) {
   EXPECT_LT(j["claims"][1]["bound_um"][1].get<double>(), 2.0);
   EXPECT_EQ(j["gears"], 512);
   fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace gearmc
+
+namespace gearmc {
+namespace {
+
+// A claim on a gear parameter's error (scenario `evaluation:`): decided from the per-item
+// measured − true values of the run. P1's gear on the typical CMM has F_alpha errors with
+// u ≈ 0.7 µm (docs/parameters.md), so "|error| p95 ≤ 5 µm" holds at the first look and
+// "p95 ≤ 0.01 µm" fails there; a symbol the evaluation does not list is bad input.
+TEST(CheckCli, ClaimsOnGearParameterErrors) {
+  std::ifstream in(std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference_parameters.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string base = text.str();
+  const std::string path = temp_path("param_claims") + ".yaml";
+  std::ofstream(path) << base
+                      << "claims:\n"
+                         "  - {name: fa_loose, quantity: parameters.F_alpha.error, statistic: "
+                         "{quantile: 0.95}, at_most_um: 5}\n"
+                         "  - {name: fa_tight, quantity: parameters.F_alpha.error, statistic: "
+                         "{quantile: 0.95}, at_most_um: 0.01}\n";
+  const std::string out = temp_path("param_claims_out");
+  const auto r = run_gearmc("check " + path + " --max-gears 256 --out " + out);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(out + "/check.json"));
+  EXPECT_EQ(j["claims"][0]["verdict"], "holds") << j.dump(1);
+  EXPECT_EQ(j["claims"][1]["verdict"], "fails") << j.dump(1);
+  EXPECT_EQ(j["claims"][0]["gears"], 256);
+
+  const std::string bad = temp_path("param_claims_bad") + ".yaml";
+  std::string limited = base;
+  const auto at = limited.find("evaluation:");
+  ASSERT_NE(at, std::string::npos);
+  std::ofstream(bad) << limited.substr(0, at)
+                     << "evaluation: {parameters: [F_alpha]}\nclaims:\n  - {name: fp, quantity: "
+                        "parameters.F_p.error, statistic: max, at_most_um: 9}\n";
+  const auto b = run_gearmc("check " + bad + " --out " + out + "_bad");
+  EXPECT_EQ(b.exit_code, 2) << b.err;
+  EXPECT_NE(b.err.find("it evaluates: F_alpha"), std::string::npos) << b.err;
+  EXPECT_FALSE(fs::exists(out + "_bad"));
 }
 
 }  // namespace
