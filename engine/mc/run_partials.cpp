@@ -48,7 +48,8 @@ EffectTotals get_effects(ByteReader& in) {
   return e;
 }
 
-// The statistics of a run in a fixed order (for encoding, decoding and merging alike).
+// The statistics of a run (RunResults: ErrorStatistics) or the moments of a block (BlockMoments:
+// RunningStats), which name them alike, in a fixed order (for encoding, decoding and merging).
 template <typename R, typename F>
 void each_statistic(R& r, F f) {
   for (int s = 0; s < 2; ++s) {
@@ -56,15 +57,6 @@ void each_statistic(R& r, F f) {
     f(r.flank_max[s]);
     f(r.flank_mean[s]);
     f(r.total_abs[s]);
-  }
-}
-template <typename B, typename F>
-void each_moment(B& b, F f) {
-  for (int s = 0; s < 2; ++s) {
-    f(b.point[s]);
-    f(b.flank_max[s]);
-    f(b.flank_mean[s]);
-    f(b.total_abs[s]);
   }
 }
 
@@ -208,7 +200,7 @@ std::string encode_partial(const RunResults& r) {
   w.put<std::int64_t>(r.first_block);
   w.put<std::uint64_t>(r.block_moments.size());
   for (const BlockMoments& b : r.block_moments) {
-    each_moment(b, [&](const RunningStats& s) { s.encode(out); });
+    each_statistic(b, [&](const RunningStats& s) { s.encode(out); });
     put_effects(out, b.effects);
   }
   put_parameters(out, r.parameters);
@@ -230,7 +222,7 @@ RunResults decode_partial(std::string_view bytes) {
   const auto blocks = static_cast<std::size_t>(in.get<std::uint64_t>());
   r.block_moments.resize(blocks);
   for (BlockMoments& b : r.block_moments) {
-    each_moment(b, [&](RunningStats& s) { s = RunningStats::decode(in); });
+    each_statistic(b, [&](RunningStats& s) { s = RunningStats::decode(in); });
     b.effects = get_effects(in);
   }
   r.parameters = get_parameters(in);
