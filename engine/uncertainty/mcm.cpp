@@ -14,8 +14,10 @@
 #include <sstream>
 
 #include "engine/io/thread_arena.h"
+#include "engine/stats/conformity.h"
 #include "engine/uncertainty/model_function.h"
 #include "engine/uncertainty/trial_stream.h"
+#include "gears/check.h"
 
 namespace gearmc::uncertainty {
 namespace {
@@ -117,11 +119,7 @@ void sort_values(std::vector<double>& v) {
   }
 }
 
-std::uint64_t coverage_count(std::uint64_t M, double p) {
-  const double pm = p * static_cast<double>(M);
-  if (pm == std::floor(pm)) return static_cast<std::uint64_t>(pm);
-  return static_cast<std::uint64_t>(std::floor(pm + 0.5));
-}
+std::uint64_t coverage_count(std::uint64_t M, double p) { return gearmc::coverage_count(M, p); }
 
 Interval symmetric_interval(const std::vector<double>& sorted, double p) {
   const std::uint64_t M = sorted.size();
@@ -133,18 +131,10 @@ Interval symmetric_interval(const std::vector<double>& sorted, double p) {
 }
 
 Interval shortest_interval(const std::vector<double>& sorted, double p) {
-  const std::uint64_t M = sorted.size();
-  const std::uint64_t q = coverage_count(M, p);
-  std::uint64_t best = 0;
-  double width = sorted[q] - sorted[0];
-  for (std::uint64_t r = 1; r + q < M; ++r) {
-    const double w = sorted[r + q] - sorted[r];
-    if (w < width) {
-      width = w;
-      best = r;
-    }
-  }
-  return {sorted[best], sorted[best + q]};
+  // The O(M) scan of engine/stats/conformity (JCGM 101 §7.7.2); callers check q < M first.
+  const std::optional<CoverageInterval> c = shortest_coverage_interval(sorted, p);
+  GEARMC_CHECK(c.has_value(), "shortest_interval: fewer values than the coverage needs");
+  return {c->lo, c->hi};
 }
 
 double numerical_tolerance(double u, int ndig) {
