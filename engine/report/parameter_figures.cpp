@@ -253,14 +253,7 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
   }
   report.table(c);
   for (const std::string& note : p.notes) report.paragraph("Note: " + note);
-  for (std::size_t i = 0; i < figures.size();) {
-    std::vector<std::pair<std::string, std::string>> row;
-    const int id = figures[i].row;
-    for (; i < figures.size() && figures[i].row == id; ++i) {
-      row.emplace_back(figures[i].svg, figures[i].caption);
-    }
-    report.figure_row(row);
-  }
+  add_figure_rows(report, figures);
 }
 
 }  // namespace gearmc

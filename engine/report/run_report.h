@@ -1,7 +1,8 @@
 // What `gearmc run` tells its user, composed from a run's results: the data-chosen bins of each
 // quantity (shared by the left and right flanks), the laws fitted to the per-flank maximum with
 // an honest verdict, the warnings about contacts that gave no value, summary.json,
-// histograms.csv, the SVG pictures, report.html and the terminal table. Values in µm.
+// histograms.csv, the SVG pictures and report.html (the terminal table: run_terminal.h). Values
+// in µm.
 #pragma once
 
 #include <functional>
@@ -74,14 +75,12 @@ struct RunFigure {
 std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r,
                                    const RunPresentation& view);
 class HtmlReport;
+// Adds `figures` to `report` in rows, consecutive figures with the same `row` side by side.
+void add_figure_rows(HtmlReport& report, const std::vector<RunFigure>& figures);
 // `first_section` (when set) adds its blocks right after the run's introduction (the gear
 // parameters' table and charts, parameter_report.h).
 std::string run_report_html(const Scenario& scenario, const RunResults& r,
                             const RunPresentation& view, const std::vector<RunFigure>& figures,
                             const std::function<void(HtmlReport&)>& first_section = {});
-
-// The terminal table of δRcomp statistics (and, with effects, the total error and its budget).
-void print_run_tables(std::ostream& out, const Scenario& scenario, const RunResults& r,
-                      const RunPresentation& view);
 
 }  // namespace gearmc

@@ -30,6 +30,10 @@ void write_point_row(std::ostream& out, const ProbedPoint& p);
 // "contacts N (failed F, edge E, collisions C) in T s" (wall time, 2 decimals); no line end.
 std::string run_contacts_line(const RunResults& r);
 
+// The terminal table of δRcomp statistics (and, with effects, the total error and its budget).
+void print_run_tables(std::ostream& out, const Scenario& scenario, const RunResults& r,
+                      const RunPresentation& view);
+
 // The terminal summary after the contacts line and the warnings: each mesh flank, the result
 // tables (print_run_tables) and the flank-maximum law of each side.
 void print_run_summary(std::ostream& out, const Scenario& scenario, const RunResults& r,

@@ -7,7 +7,6 @@
 #include <functional>
 #include <limits>
 #include <numbers>
-#include <stdexcept>
 #include <utility>
 
 namespace gearmc {
@@ -15,93 +14,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kEulerGamma = std::numbers::egamma;
-constexpr double kLogSqrt2Pi = 0.91893853320467274178;  // ln sqrt(2 pi)
-
-// --- Incomplete gamma (Press et al., Numerical Recipes 3rd ed., §6.2) -------------------------
-
-// ln(e^-x x^a / Gamma(a)), the common prefactor of the series and the continued fraction.
-double log_gamma_prefactor(double a, double x) { return -x + a * std::log(x) - std::lgamma(a); }
-
-// P(a, x) by the series of Abramowitz & Stegun 6.5.29, for x < a + 1.
-double gamma_p_series(double a, double x) {
-  double term = 1.0 / a, sum = term, ap = a;
-  for (int n = 0; n < 100000; ++n) {
-    ap += 1.0;
-    term *= x / ap;
-    sum += term;
-    if (std::abs(term) < std::abs(sum) * kEps) break;
-  }
-  return sum * std::exp(log_gamma_prefactor(a, x));
-}
-
-// Q(a, x) by the continued fraction of Abramowitz & Stegun 6.5.31 (modified Lentz), x >= a + 1.
-double gamma_q_continued_fraction(double a, double x) {
-  constexpr double kTiny = 1e-300;
-  double b = x + 1.0 - a, c = 1.0 / kTiny, d = 1.0 / b, h = d;
-  for (int i = 1; i < 100000; ++i) {
-    const double an = -i * (i - a);
-    b += 2.0;
-    d = an * d + b;
-    if (std::abs(d) < kTiny) d = kTiny;
-    c = b + an / c;
-    if (std::abs(c) < kTiny) c = kTiny;
-    d = 1.0 / d;
-    const double delta = d * c;
-    h *= delta;
-    if (std::abs(delta - 1.0) < kEps) break;
-  }
-  return std::exp(log_gamma_prefactor(a, x)) * h;
-}
-
-// {P(a, x), Q(a, x)}, each computed directly where it is the smaller one.
-std::pair<double, double> regularized_gamma_pq(double a, double x) {
-  if (!(a > 0.0) || std::isnan(x)) return {kNaN, kNaN};
-  if (x <= 0.0) return {0.0, 1.0};
-  if (std::isinf(x)) return {1.0, 0.0};
-  if (x < a + 1.0) {
-    const double p = gamma_p_series(a, x);
-    return {p, 1.0 - p};
-  }
-  const double q = gamma_q_continued_fraction(a, x);
-  return {1.0 - q, q};
-}
-
-// --- CDF and survival together: the smaller of the two is computed directly -------------------
-
-struct Tails {
-  double cdf, survival;
-};
-
-Tails normal_tails(double z) {
-  return {0.5 * std::erfc(-z / std::numbers::sqrt2), 0.5 * std::erfc(z / std::numbers::sqrt2)};
-}
-
-Tails tails(const Distribution& d, double x) {
-  switch (d.law) {
-    case DistributionLaw::kNormal:
-      return normal_tails((x - d.a) / d.b);
-    case DistributionLaw::kLognormal:
-      if (x <= 0.0) return {0.0, 1.0};
-      return normal_tails((std::log(x) - d.a) / d.b);
-    case DistributionLaw::kGamma: {
-      if (x <= 0.0) return {0.0, 1.0};
-      const auto [p, q] = regularized_gamma_pq(d.a, x / d.b);
-      return {p, q};
-    }
-    case DistributionLaw::kWeibull: {
-      if (x <= 0.0) return {0.0, 1.0};
-      const double t = std::pow(x / d.b, d.a);
-      return {-std::expm1(-t), std::exp(-t)};
-    }
-    case DistributionLaw::kGumbelMax: {
-      const double e = std::exp(-(x - d.a) / d.b);
-      return {std::exp(-e), -std::expm1(-e)};
-    }
-  }
-  return {kNaN, kNaN};
-}
 
 // --- The binned data ---------------------------------------------------------------------------
 
@@ -130,8 +43,8 @@ BinnedData binned_data(const Histogram& h) {
 
 // ln P([lo, hi)) from the tails at the two edges; when the difference is lost to rounding, the
 // midpoint rule (hi - lo) f(mid).
-double log_interval_probability(const Distribution& d, double lo, double hi, const Tails& at_lo,
-                                const Tails& at_hi) {
+double log_interval_probability(const Distribution& d, double lo, double hi,
+                                const DistributionTails& at_lo, const DistributionTails& at_hi) {
   double p, scale;
   if (at_hi.cdf <= 0.5) {
     p = at_hi.cdf - at_lo.cdf;
@@ -149,21 +62,21 @@ double log_likelihood(const Distribution& d, const BinnedData& data) {
   const Histogram& h = *data.histogram;
   double ll = 0.0;
   if (data.underflow > 0) {
-    const double f = tails(d, h.lo()).cdf;
+    const double f = d.tails(h.lo()).cdf;
     if (!(f > 0.0)) return -kInf;
     ll += data.underflow * std::log(f);
   }
   if (data.overflow > 0) {
-    const double s = tails(d, h.hi()).survival;
+    const double s = d.tails(h.hi()).survival;
     if (!(s > 0.0)) return -kInf;
     ll += data.overflow * std::log(s);
   }
   std::size_t cached_edge = static_cast<std::size_t>(-1);
-  Tails cached{};
+  DistributionTails cached{};
   for (const OccupiedBin& bin : data.occupied) {
     const double lo = h.edge(bin.index), hi = h.edge(bin.index + 1);
-    const Tails at_lo = bin.index == cached_edge ? cached : tails(d, lo);
-    const Tails at_hi = tails(d, hi);
+    const DistributionTails at_lo = bin.index == cached_edge ? cached : d.tails(lo);
+    const DistributionTails at_hi = d.tails(hi);
     cached_edge = bin.index + 1;
     cached = at_hi;
     ll += bin.count * log_interval_probability(d, lo, hi, at_lo, at_hi);
@@ -348,11 +261,6 @@ Distribution starting_values(DistributionLaw law, const BinMoments& m) {
   return {};
 }
 
-bool positive_support(DistributionLaw law) {
-  return law == DistributionLaw::kLognormal || law == DistributionLaw::kGamma ||
-         law == DistributionLaw::kWeibull;
-}
-
 // --- Goodness of fit ----------------------------------------------------------------------------
 
 double ks_distance(const Distribution& d, const BinnedData& data) {
@@ -360,7 +268,7 @@ double ks_distance(const Distribution& d, const BinnedData& data) {
   double below = data.underflow, worst = 0.0;
   for (std::size_t j = 0; j <= h.bin_count(); ++j) {
     // Empirical P(X < edge_j) against the fitted F(edge_j).
-    worst = std::max(worst, std::abs(below / data.n - tails(d, h.edge(j)).cdf));
+    worst = std::max(worst, std::abs(below / data.n - d.tails(h.edge(j)).cdf));
     if (j < h.bin_count()) below += static_cast<double>(h.count(j));
   }
   return worst;
@@ -380,13 +288,13 @@ ChiSquare chi_square(const Distribution& d, const BinnedData& data, const FitOpt
     double observed, expected;
   };
   std::vector<Cell> raw;
-  Tails previous = tails(d, h.lo());
+  DistributionTails previous = d.tails(h.lo());
   raw.push_back({data.underflow, data.n * previous.cdf});
   for (std::size_t start = 0; start < h.bin_count(); start += group) {
     const std::size_t end = std::min(start + group, h.bin_count());
     double observed = 0;
     for (std::size_t i = start; i < end; ++i) observed += static_cast<double>(h.count(i));
-    const Tails next = tails(d, h.edge(end));
+    const DistributionTails next = d.tails(h.edge(end));
     const double p = next.cdf <= 0.5 ? next.cdf - previous.cdf : previous.survival - next.survival;
     raw.push_back({observed, data.n * std::max(p, 0.0)});
     previous = next;
@@ -437,135 +345,6 @@ DistributionFit not_applicable(const Distribution& d, std::string note) {
 }
 
 }  // namespace
-
-// --- Public functions ---------------------------------------------------------------------------
-
-std::string_view law_name(DistributionLaw law) {
-  switch (law) {
-    case DistributionLaw::kNormal:
-      return "normal";
-    case DistributionLaw::kLognormal:
-      return "lognormal";
-    case DistributionLaw::kGamma:
-      return "gamma";
-    case DistributionLaw::kWeibull:
-      return "weibull";
-    case DistributionLaw::kGumbelMax:
-      return "gumbel_max";
-  }
-  return "?";
-}
-
-double regularized_gamma_p(double a, double x) { return regularized_gamma_pq(a, x).first; }
-double regularized_gamma_q(double a, double x) { return regularized_gamma_pq(a, x).second; }
-
-std::array<std::string_view, 2> Distribution::parameter_names() const {
-  switch (law) {
-    case DistributionLaw::kNormal:
-      return {"mu", "sigma"};
-    case DistributionLaw::kLognormal:
-      return {"mu_log", "sigma_log"};
-    case DistributionLaw::kGamma:
-    case DistributionLaw::kWeibull:
-      return {"shape", "scale"};
-    case DistributionLaw::kGumbelMax:
-      return {"location", "scale"};
-  }
-  return {"?", "?"};
-}
-
-double Distribution::log_pdf(double x) const {
-  switch (law) {
-    case DistributionLaw::kNormal: {
-      const double z = (x - a) / b;
-      return -0.5 * z * z - std::log(b) - kLogSqrt2Pi;
-    }
-    case DistributionLaw::kLognormal: {
-      if (x <= 0.0) return -kInf;
-      const double lx = std::log(x), z = (lx - a) / b;
-      return -0.5 * z * z - lx - std::log(b) - kLogSqrt2Pi;
-    }
-    case DistributionLaw::kGamma:
-      if (x < 0.0) return -kInf;
-      if (x == 0.0) return a < 1.0 ? kInf : (a == 1.0 ? -std::log(b) : -kInf);
-      return (a - 1.0) * std::log(x) - x / b - std::lgamma(a) - a * std::log(b);
-    case DistributionLaw::kWeibull:
-      if (x < 0.0) return -kInf;
-      if (x == 0.0) return a < 1.0 ? kInf : (a == 1.0 ? -std::log(b) : -kInf);
-      return std::log(a / b) + (a - 1.0) * std::log(x / b) - std::pow(x / b, a);
-    case DistributionLaw::kGumbelMax: {
-      const double z = (x - a) / b;
-      return -std::log(b) - z - std::exp(-z);
-    }
-  }
-  return kNaN;
-}
-
-double Distribution::pdf(double x) const { return std::exp(log_pdf(x)); }
-double Distribution::cdf(double x) const { return tails(*this, x).cdf; }
-double Distribution::survival(double x) const { return tails(*this, x).survival; }
-
-double Distribution::mean() const {
-  switch (law) {
-    case DistributionLaw::kNormal:
-      return a;
-    case DistributionLaw::kLognormal:
-      return std::exp(a + 0.5 * b * b);
-    case DistributionLaw::kGamma:
-      return a * b;
-    case DistributionLaw::kWeibull:
-      return b * std::tgamma(1.0 + 1.0 / a);
-    case DistributionLaw::kGumbelMax:
-      return a + kEulerGamma * b;
-  }
-  return kNaN;
-}
-
-double Distribution::stddev() const {
-  switch (law) {
-    case DistributionLaw::kNormal:
-      return b;
-    case DistributionLaw::kLognormal:
-      return std::sqrt(std::expm1(b * b)) * std::exp(a + 0.5 * b * b);
-    case DistributionLaw::kGamma:
-      return std::sqrt(a) * b;
-    case DistributionLaw::kWeibull: {
-      const double g1 = std::tgamma(1.0 + 1.0 / a), g2 = std::tgamma(1.0 + 2.0 / a);
-      return b * std::sqrt(std::max(g2 - g1 * g1, 0.0));
-    }
-    case DistributionLaw::kGumbelMax:
-      return b * std::numbers::pi / std::sqrt(6.0);
-  }
-  return kNaN;
-}
-
-double Distribution::quantile(double p) const {
-  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("Distribution::quantile: need 0<p<1");
-  // Compare in the tail where the probability is resolved: cdf below the median, survival above.
-  auto below = [&](double x) {  // true when x is left of the quantile
-    const Tails t = tails(*this, x);
-    return p <= 0.5 ? t.cdf < p : t.survival > 1.0 - p;
-  };
-  const double centre = mean(), spread = std::max(stddev(), 1e-300);
-  double lo = centre - spread, hi = centre + spread, step = spread;
-  if (positive_support(law)) lo = std::max(lo, 0.0);
-  while (!below(lo) && lo > -1e300) {
-    step *= 2.0;
-    lo = positive_support(law) ? lo * 0.5 : lo - step;
-    if (positive_support(law) && lo < 1e-300) break;
-  }
-  step = spread;
-  while (below(hi) && hi < 1e300) {
-    step *= 2.0;
-    hi += step;
-  }
-  for (int i = 0; i < 400 && hi - lo > 1e-14 * std::max(std::abs(lo), std::abs(hi)); ++i) {
-    const double mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (below(mid) ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
 
 DistributionFit fit_distribution(const Histogram& histogram, DistributionLaw law,
                                  const FitOptions& options) {

@@ -30,43 +30,10 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/stats/distribution.h"
 #include "engine/stats/histogram.h"
 
 namespace gearmc {
-
-enum class DistributionLaw { kNormal, kLognormal, kGamma, kWeibull, kGumbelMax };
-
-inline constexpr std::array<DistributionLaw, 5> kAllDistributionLaws = {
-    DistributionLaw::kNormal, DistributionLaw::kLognormal, DistributionLaw::kGamma,
-    DistributionLaw::kWeibull, DistributionLaw::kGumbelMax};
-
-// "normal", "lognormal", "gamma", "weibull", "gumbel_max".
-std::string_view law_name(DistributionLaw law);
-
-// One member of a law, with its two parameters (a, b):
-//   normal      a = mean mu (µm),            b = standard deviation sigma (µm)
-//   lognormal   a = mu of ln(x / 1 µm),      b = sigma of ln(x / 1 µm)
-//   gamma       a = shape k,                 b = scale theta (µm)     f ~ x^(k-1) e^(-x/theta)
-//   weibull     a = shape k,                 b = scale lambda (µm)    F = 1 - e^(-(x/lambda)^k)
-//   gumbel_max  a = location mu (µm),        b = scale beta (µm)      F = exp(-e^(-(x-mu)/beta))
-// Formulas: Johnson, Kotz & Balakrishnan, "Continuous Univariate Distributions" (1994-95),
-// chapters 13 (normal), 14 (lognormal), 17 (gamma), 21 (Weibull), 22 (extreme value).
-struct Distribution {
-  DistributionLaw law = DistributionLaw::kNormal;
-  double a = 0.0, b = 1.0;
-
-  // Names of a and b as above: {"mu", "sigma"}, {"mu_log", "sigma_log"}, {"shape", "scale"},
-  // {"shape", "scale"}, {"location", "scale"}.
-  std::array<std::string_view, 2> parameter_names() const;
-  double pdf(double x_um) const;       // density, 1/µm
-  double log_pdf(double x_um) const;   // ln pdf, -inf outside the support
-  double cdf(double x_um) const;       // P(X <= x)
-  double survival(double x_um) const;  // P(X > x), accurate in the upper tail
-  // The x (µm) with cdf(x) = p, 0 < p < 1, by bisection to a relative 1e-14.
-  double quantile(double p) const;
-  double mean() const;    // µm
-  double stddev() const;  // µm
-};
 
 struct DistributionFit {
   Distribution distribution;
@@ -107,12 +74,5 @@ std::vector<DistributionFit> fit_distributions(const Histogram& histogram,
 // The binned log-likelihood of `distribution` for the histogram's values (file comment), the
 // quantity fit_distribution maximises; -inf when the law cannot produce the data.
 double binned_log_likelihood(const Histogram& histogram, const Distribution& distribution);
-
-// Regularised incomplete gamma functions P(a, x) and Q(a, x) = 1 - P(a, x), a > 0, x >= 0
-// (Abramowitz & Stegun 6.5.1; the series 6.5.29 for x < a + 1, the continued fraction 6.5.31
-// otherwise, evaluated as in Press et al., "Numerical Recipes", 3rd ed., §6.2, with the modified
-// Lentz method). Accurate to about 1e-14 relative. Exposed for tests and chi-square p-values.
-double regularized_gamma_p(double a, double x);
-double regularized_gamma_q(double a, double x);
 
 }  // namespace gearmc
