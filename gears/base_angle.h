@@ -25,20 +25,33 @@ inline BaseAngle base_angle(const InvoluteGear& gear, int tooth, FlankSide side,
   return {std::cos(phi_b), std::sin(phi_b)};
 }
 
-// The same at roll length L from `at`, its value at roll length L_at on the same flank: phi_b
-// turns by d = -/+ (L - L_at) / r_b; cos(phi + d) = cos phi cos d - sin phi sin d and
-// sin(phi + d) = sin phi cos d + cos phi sin d, with cos d and sin d from their Taylor series to
-// d^8 and d^7 (Abramowitz & Stegun 4.3.65-66; the first omitted term is below 1e-18 relative for
-// |d| <= 1/32 rad, so the result is exact to a few rounding errors, ~1e-16). Farther away it is
-// base_angle itself. At L = L_at it returns `at` exactly.
-inline BaseAngle base_angle_near(const InvoluteGear& gear, int tooth, FlankSide side,
-                                 const BaseAngle& at, double L_at, double L) {
-  const double d = -side_sign(side) * (L - L_at) / (gear.base_diameter_mm() / 2.0);
-  if (!(std::abs(d) <= 1.0 / 32.0)) return base_angle(gear, tooth, side, L);
+// d phi_b / dL on flank `side`: -1 / r_b on R, +1 / r_b on L (rad/mm).
+inline double base_angle_per_mm(const InvoluteGear& gear, FlankSide side) {
+  return -side_sign(side) / (gear.base_diameter_mm() / 2.0);
+}
+
+// cos and sin of phi + d from those of phi (`at`), for |d| <= 1/32 rad: cos(phi + d) =
+// cos phi cos d - sin phi sin d, sin(phi + d) = sin phi cos d + cos phi sin d, with cos d and
+// sin d from their Taylor polynomials to d^8 and d^7 (Abramowitz & Stegun 4.3.65-66; the first
+// omitted term is below 1e-18 relative for |d| <= 1/32), written as products with the reciprocal
+// factorials (no division: a division chain here cost more time than the sincos it replaces).
+// Exact to a few rounding errors, ~1e-16. At d = 0 it returns `at` exactly.
+inline BaseAngle turn_small(const BaseAngle& at, double d) {
   const double d2 = d * d;
-  const double sin_d = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0)));
-  const double cos_d = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
+  const double sin_d = d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 + d2 * (-1.0 / 5040.0)));
+  const double cos_d =
+      1.0 + d2 * (-0.5 + d2 * (1.0 / 24.0 + d2 * (-1.0 / 720.0 + d2 * (1.0 / 40320.0))));
   return {at.cos * cos_d - at.sin * sin_d, at.sin * cos_d + at.cos * sin_d};
+}
+
+// phi_b at roll length L from `at`, its value at roll length L_at on the same flank, and
+// per_mm = base_angle_per_mm(gear, side): turn_small by d = (L - L_at) per_mm when
+// |d| <= 1/32 rad, else base_angle itself.
+inline BaseAngle base_angle_near(const InvoluteGear& gear, int tooth, FlankSide side,
+                                 const BaseAngle& at, double L_at, double per_mm, double L) {
+  const double d = (L - L_at) * per_mm;
+  if (!(std::abs(d) <= 1.0 / 32.0)) return base_angle(gear, tooth, side, L);
+  return turn_small(at, d);
 }
 
 // InvoluteGear::flank_point from phi_b's cos and sin: the base point r_b e(phi_b), the normal

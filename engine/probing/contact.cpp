@@ -29,13 +29,14 @@ struct Local {
 };
 
 // Where one solve's evaluations take the base point's angle from: its value at the start's
-// roll length, turned by the small angle to each new L (InvoluteGear::base_angle_near), so a
-// solve calls sincos once.
+// roll length, turned by the small angle to each new L (base_angle_near, gears/base_angle.h),
+// so a solve calls sincos once.
 struct AngleAnchor {
   double L;
   BaseAngle angle;
+  double per_mm;  // base_angle_per_mm: one division per solve
   BaseAngle at(const AnalyticFlank& flank, double L_new) const {
-    return base_angle_near(flank.gear(), flank.tooth(), flank.side(), angle, L, L_new);
+    return base_angle_near(flank.gear(), flank.tooth(), flank.side(), angle, L, per_mm, L_new);
   }
 };
 
@@ -195,7 +196,8 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0) {
   ContactResult result;
-  const AngleAnchor anchor{L0, base_angle(flank.gear(), flank.tooth(), flank.side(), L0)};
+  const AngleAnchor anchor{L0, base_angle(flank.gear(), flank.tooth(), flank.side(), L0),
+                           base_angle_per_mm(flank.gear(), flank.side())};
   FlankFramePoint start_frame;  // S(L0, z0): the certificate checks p and n against it
   LocalSolution s =
       local_solve(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), anchor, &start_frame);
