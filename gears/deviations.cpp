@@ -330,6 +330,14 @@ struct TraceBasis {
       first[i] = span;
       for (int k = 0; k < 4; ++k) basis[i][k] = splines[span + k].value(x[i]);
     }
+    for (int k = 0; k < 4; ++k) {
+      basis_k[k].resize(m);
+      for (int i = 0; i < m; ++i) basis_k[k][i] = basis[i][k];
+    }
+    span_end.resize(spans);
+    for (int span = 0; span < spans; ++span) {
+      span_end[span] = span + 1 < spans ? (span + 1) * kSamplesPerSpan : m;
+    }
     for (int j = 0; j < control_points; ++j) greville.push_back(splines[j].greville(j));
     // Trapezoid weights on the uniform grid, and the linear functionals of the mean line.
     const double h = x[1] - x[0];
@@ -349,19 +357,37 @@ struct TraceBasis {
       }
     }
   }
-  // d_i for coefficients c, written into d (size of x).
-  void values(const std::vector<double>& c, std::vector<double>& d) const {
-    d.resize(x.size());
-    for (size_t i = 0; i < x.size(); ++i) {
-      const double* cc = c.data() + first[i];
-      const std::array<double, 4>& B = basis[i];
-      d[i] = B[0] * cc[0] + B[1] * cc[1] + B[2] * cc[2] + B[3] * cc[3];
+  // d_i for coefficients c, written into d[0, x.size()), with their minimum and maximum. Span
+  // by span from the basis stored per k (basis_k[k][i] = basis[i][k]), so that the loops
+  // vectorise; each d_i is the same sum in the same order, B0 c0 + B1 c1 + B2 c2 + B3 c3.
+  void values(const std::vector<double>& c, std::vector<double>& d, double* lo, double* hi) const {
+    if (d.size() < x.size()) d.resize(x.size());  // d may be longer: only x.size() are used
+    const double *B0 = basis_k[0].data(), *B1 = basis_k[1].data(), *B2 = basis_k[2].data(),
+                 *B3 = basis_k[3].data();
+    double* out = d.data();
+    double min0 = std::numeric_limits<double>::infinity(), min1 = min0, max0 = -min0, max1 = -min0;
+    std::size_t i = 0;
+    for (std::size_t span = 0; span < span_end.size(); ++span) {
+      const double c0 = c[span], c1 = c[span + 1], c2 = c[span + 2], c3 = c[span + 3];
+      const std::size_t end = span_end[span];
+      for (; i < end; ++i) out[i] = B0[i] * c0 + B1[i] * c1 + B2[i] * c2 + B3[i] * c3;
     }
+    // Two running minima and maxima (exact whatever the order: no rounding in min and max).
+    const std::size_t m = x.size();
+    for (i = 0; i + 1 < m; i += 2) {
+      min0 = std::min(min0, out[i]), max0 = std::max(max0, out[i]);
+      min1 = std::min(min1, out[i + 1]), max1 = std::max(max1, out[i + 1]);
+    }
+    if (i < m) min0 = std::min(min0, out[i]), max0 = std::max(max0, out[i]);
+    *lo = std::min(min0, min1);
+    *hi = std::max(max0, max1);
   }
   double t0, t1, mx = 0.0;
   std::vector<double> x, greville, mean_weights, slope_weights;
   std::vector<std::array<double, 4>> basis;
+  std::array<std::vector<double>, 4> basis_k;  // basis[i][k] stored per k
   std::vector<int> first;
+  std::vector<std::size_t> span_end;  // one past each span's last sample
 };
 
 namespace {
@@ -408,11 +434,13 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
     b += basis.slope_weights[j] * c[j];
   }
   for (size_t j = 0; j < c.size(); ++j) c[j] -= md + b * (basis.greville[j] - basis.mx);
-  std::vector<double> d;
-  basis.values(c, d);
+  // The grid values in this thread's scratch buffer: no allocation and no zero-filling per
+  // trace (draw() runs ~100 traces per gear).
+  thread_local std::vector<double> d;
+  double lo, hi;
+  basis.values(c, d, &lo, &hi);
   // Its form band (its mean line is now zero): scaled to the target.
-  const auto [lo, hi] = std::minmax_element(d.begin(), d.end());
-  const double band = *hi - *lo;
+  const double band = hi - lo;
   const double to_target = band > 0.0 ? form_target / band : 0.0;
 
   // Compose, measure the ISO way, and scale the whole trace into every tolerance. The form
@@ -421,11 +449,21 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   // return the same to rounding); only the total needs a pass over the grid.
   const double slope = slope_target / range;
   double total_lo = std::numeric_limits<double>::infinity(), total_hi = -total_lo;
-  for (size_t i = 0; i < d.size(); ++i) {
-    const double v = slope * (basis.x[i] - mid) + d[i] * to_target;
-    total_lo = std::min(total_lo, v);
-    total_hi = std::max(total_hi, v);
+  double total_lo1 = total_lo, total_hi1 = total_hi;  // two running extremes (exact)
+  const double* x = basis.x.data();
+  const std::size_t m = basis.x.size();
+  std::size_t i = 0;
+  for (; i + 1 < m; i += 2) {
+    const double v0 = slope * (x[i] - mid) + d[i] * to_target;
+    const double v1 = slope * (x[i + 1] - mid) + d[i + 1] * to_target;
+    total_lo = std::min(total_lo, v0), total_hi = std::max(total_hi, v0);
+    total_lo1 = std::min(total_lo1, v1), total_hi1 = std::max(total_hi1, v1);
   }
+  if (i < m) {
+    const double v = slope * (x[i] - mid) + d[i] * to_target;
+    total_lo = std::min(total_lo, v), total_hi = std::max(total_hi, v);
+  }
+  total_lo = std::min(total_lo, total_lo1), total_hi = std::max(total_hi, total_hi1);
   const TraceEvaluation e{slope * range, band * to_target, total_hi - total_lo};
   double factor = 1.0;
   auto limit = [&](std::optional<double> tolerance, double measured) {

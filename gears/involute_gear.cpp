@@ -3,6 +3,8 @@
 // Table 1 (docs/sources.md) checks d, d_a, d_f, d_b and s.
 #include "gears/involute_gear.h"
 
+#include "gears/base_angle.h"
+
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -13,10 +15,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 double deg_to_rad(double deg) { return deg * kPi / 180.0; }
-
-// Polar unit vector e(phi) and its counter-clockwise perpendicular e'(phi).
-Eigen::Vector3d radial(double phi) { return {std::cos(phi), std::sin(phi), 0.0}; }
-Eigen::Vector3d perpendicular(double phi) { return {-std::sin(phi), std::cos(phi), 0.0}; }
 
 }  // namespace
 
@@ -115,20 +113,10 @@ FlankPoint InvoluteGear::flank_point(int tooth, FlankSide side, double roll_leng
   // theta_b, so the base point sits at theta_b - xi (xi = L / r_b) and the normal, which is the
   // string direction, is e'(theta_b - xi); its tangential component at the flank point is
   // cos(atan xi) > 0, i.e. counter-clockwise, as docs/formats.md defines R. L is the mirror image.
-  const double r_b = d_b_ / 2.0;
-  const double xi = roll_length_mm / r_b;
-  const double sign = side_sign(side);
-  const double centre = tooth_centre_angle_rad(tooth);
-  const double phi_b = centre + sign * (theta_b_ - xi);  // polar angle of the base point
-  FlankPoint fp;
-  fp.base_point = r_b * radial(phi_b);
-  fp.base_point.z() = z_mm;
-  fp.normal = sign * perpendicular(phi_b);
   // dP/dL = (L / r_b) e(phi_b) for both sides: the profile tangent points away from the base.
-  fp.profile_tangent = radial(phi_b);
-  fp.point = fp.base_point + roll_length_mm * fp.normal;
-  fp.profile_curvature_per_mm = roll_length_mm > 0.0 ? 1.0 / roll_length_mm : 0.0;
-  return fp;
+  // The closed form itself is in gears/base_angle.h (shared with the contact solver).
+  return flank_point_at(*this, side, roll_length_mm, z_mm,
+                        base_angle(*this, tooth, side, roll_length_mm));
 }
 
 }  // namespace gearmc

@@ -7,6 +7,8 @@
 //   S_Lz = t delta_z / r_b + delta_Lz n,              S_zz = delta_zz n.
 #include "surfaces/analytic_flank.h"
 
+#include "surfaces/flank_frame.h"
+
 #include <Eigen/Geometry>
 
 namespace gearmc {
@@ -28,16 +30,17 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       expression_(expression),
       ranges_(deviation.derivative_ranges()) {}
 
-FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {
-  const FlankPoint nominal = gear_.flank_point(tooth_, side_, L, z);
-  const double r_b = 0.5 * gear_.base_diameter_mm();
+FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, double z,
+                               const BaseAngle& angle) {
+  const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
+  const double r_b = 0.5 * flank.gear().base_diameter_mm();
   // Deviation and its partials, converted from µm to mm.
   double d, dL, dz, dLL, dzz, dLz = 0.0;
-  deviation_.evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
-  if (expression_) {
+  flank.deviation().evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
+  if (const NormalExpression* expression = flank.expression()) {
     // Five-point differences (normal_expression.h: accurate to ~1e-6 µm/mm in the slopes).
     const NormalExpression::Derivatives e =
-        expression_->derivatives(L, z, tooth_, side_sign(side_));
+        expression->derivatives(L, z, flank.tooth(), side_sign(flank.side()));
     d += e.value;
     dL += e.dL;
     dz += e.dz;
@@ -47,25 +50,52 @@ FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {
   }
   const double delta = 1e-3 * d;
   dL *= 1e-3, dz *= 1e-3, dLL *= 1e-3, dzz *= 1e-3, dLz *= 1e-3;
-  const Eigen::Vector3d& n = nominal.normal;
-  const Eigen::Vector3d& t = nominal.profile_tangent;
-  FlankSurfacePoint out;
-  out.point = nominal.point + delta * n + eccentricity_;
-  out.d_dL = t * ((L + delta) / r_b) + dL * n;
-  out.d_dz = Eigen::Vector3d::UnitZ() + dz * n;
-  out.d2_dL2 = t * ((1.0 + 2.0 * dL) / r_b) + n * (dLL - (L + delta) / (r_b * r_b));
-  out.d2_dLdz = t * (dz / r_b) + dLz * n;
-  out.d2_dz2 = dzz * n;
-  out.nominal_normal = n;
+  FlankFramePoint out;
+  out.point = nominal.point + delta * nominal.normal + flank.eccentricity();
+  out.t = nominal.profile_tangent.head<2>();
+  out.m = nominal.normal.head<2>();
+  out.a = (L + delta) / r_b;
+  out.b = (1.0 + 2.0 * dL) / r_b;
+  out.c = dLL - (L + delta) / (r_b * r_b);
+  out.d_L = dL;
+  out.d_z = dz;
+  out.d_Lz = dLz;
+  out.d_zz = dzz;
+  out.d_z_over_rb = dz / r_b;
   out.deviation_um = d;
   return out;
 }
 
+FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
+  const Eigen::Vector3d t(f.t.x(), f.t.y(), 0.0), n(f.m.x(), f.m.y(), 0.0);
+  FlankSurfacePoint out;
+  out.point = f.point;
+  out.d_dL = t * f.a + f.d_L * n;
+  out.d_dz = Eigen::Vector3d::UnitZ() + f.d_z * n;
+  out.d2_dL2 = t * f.b + n * f.c;
+  out.d2_dLdz = t * f.d_z_over_rb + f.d_Lz * n;
+  out.d2_dz2 = f.d_zz * n;
+  out.nominal_normal = n;
+  out.deviation_um = f.deviation_um;
+  return out;
+}
+
+Eigen::Vector3d surface_point_at(const AnalyticFlank& flank, double L, double z,
+                                 const BaseAngle& angle) {
+  const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
+  double d = flank.deviation().normal_um(L, z);
+  if (const NormalExpression* expression = flank.expression()) {
+    d += expression->value_um(L, z, flank.tooth(), side_sign(flank.side()));
+  }
+  return nominal.point + 1e-3 * d * nominal.normal + flank.eccentricity();
+}
+
+FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {
+  return frame_to_surface(evaluate_frame(*this, L, z, base_angle(gear_, tooth_, side_, L)));
+}
+
 Eigen::Vector3d AnalyticFlank::point(double L, double z) const {
-  const FlankPoint nominal = gear_.flank_point(tooth_, side_, L, z);
-  double d = deviation_.normal_um(L, z);
-  if (expression_) d += expression_->value_um(L, z, tooth_, side_sign(side_));
-  return nominal.point + 1e-3 * d * nominal.normal + eccentricity_;
+  return surface_point_at(*this, L, z, base_angle(gear_, tooth_, side_, L));
 }
 
 }  // namespace gearmc

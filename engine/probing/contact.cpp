@@ -5,6 +5,7 @@
 #include "engine/probing/contact.h"
 
 #include "engine/probing/contact_certificate.h"
+#include "surfaces/flank_frame.h"
 
 #include <Eigen/LU>
 #include <cmath>
@@ -27,9 +28,26 @@ struct Local {
   Eigen::Vector3d point;  // S(L, z), mm
 };
 
+// Where one solve's evaluations take the base point's angle from: its value at the start's
+// roll length, turned by the small angle to each new L (base_angle_near, gears/base_angle.h),
+// so a solve calls sincos once.
+struct AngleAnchor {
+  double L;
+  BaseAngle angle;
+  double per_mm;  // base_angle_per_mm: one division per solve
+  BaseAngle at(const AnalyticFlank& flank, double L_new) const {
+    return base_angle_near(flank.gear(), flank.tooth(), flank.side(), angle, L, per_mm, L_new);
+  }
+};
+
+// The local model of f at (L, z) from S's partials in the flank's frame (t, m, e_z;
+// analytic_flank.h): every scalar product below is one of S_a.n, w_perp.S_a, S_a.S_b, written
+// with t.n, m.n, e_z.n and t.w_perp, m.w_perp, e_z.w_perp (t, m, e_z orthonormal, so e.g.
+// S_L.S_z = delta_L delta_z and |S_L|^2 = a^2 + delta_L^2).
 Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                  double R, double L, double z, FlankSurfacePoint* keep = nullptr) {
-  const FlankSurfacePoint s = flank.evaluate(L, z);
+                  double R, double L, double z, const AngleAnchor& anchor,
+                  FlankFramePoint* keep = nullptr) {
+  const FlankFramePoint s = evaluate_frame(flank, L, z, anchor.at(flank, L));
   if (keep) *keep = s;
   const Eigen::Vector3d w = s.point - p;
   const double wn = w.dot(n);
@@ -46,31 +64,33 @@ Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Ei
   const double q = std::sqrt(q2);
   const double inv_q = 1.0 / q;
   m.f = wn + q;
+  const double tn = s.t.x() * n.x() + s.t.y() * n.y(), mn = s.m.x() * n.x() + s.m.y() * n.y();
+  const double tw = s.t.x() * w_perp.x() + s.t.y() * w_perp.y();
+  const double mw = s.m.x() * w_perp.x() + s.m.y() * w_perp.y();
+  const double zn = n.z(), zw = w_perp.z();
   // First derivatives: S_a.n, w_perp.S_a (a = L, z); the Hessian is symmetric, and
   // S_b_perp.S_a = S_a.S_b - (S_a.n)(S_b.n).
-  const double nL = s.d_dL.dot(n), nz = s.d_dz.dot(n);
-  const double wL = w_perp.dot(s.d_dL), wz = w_perp.dot(s.d_dz);
+  const double nL = s.a * tn + s.d_L * mn, nz = zn + s.d_z * mn;
+  const double wL = s.a * tw + s.d_L * mw, wz = zw + s.d_z * mw;
   m.gradient[0] = nL - wL * inv_q;
   m.gradient[1] = nz - wz * inv_q;
   const double inv_q3 = inv_q * inv_q * inv_q;
-  const double hLL = s.d2_dL2.dot(n) -
-                     (s.d_dL.squaredNorm() - nL * nL + w_perp.dot(s.d2_dL2)) * inv_q -
+  const double hLL = (s.b * tn + s.c * mn) -
+                     (s.a * s.a + s.d_L * s.d_L - nL * nL + (s.b * tw + s.c * mw)) * inv_q -
                      wL * wL * inv_q3;
-  const double hLz = s.d2_dLdz.dot(n) -
-                     (s.d_dL.dot(s.d_dz) - nL * nz + w_perp.dot(s.d2_dLdz)) * inv_q -
+  const double hLz = (s.d_z_over_rb * tn + s.d_Lz * mn) -
+                     (s.d_L * s.d_z - nL * nz + (s.d_z_over_rb * tw + s.d_Lz * mw)) * inv_q -
                      wL * wz * inv_q3;
-  const double hzz = s.d2_dz2.dot(n) -
-                     (s.d_dz.squaredNorm() - nz * nz + w_perp.dot(s.d2_dz2)) * inv_q -
-                     wz * wz * inv_q3;
+  const double hzz =
+      s.d_zz * mn - (1.0 + s.d_z * s.d_z - nz * nz + s.d_zz * mw) * inv_q - wz * wz * inv_q3;
   m.hessian << hLL, hLz, hLz, hzz;
   return m;
 }
 
-// f at (L, z) and the flank point S(L, z) there (mm).
-double height_and_point(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                        const Eigen::Vector3d& n, double R, double L, double z,
-                        Eigen::Vector3d* point) {
-  *point = flank.point(L, z);
+// f at (L, z) and the flank point S(L, z) there (mm), the base point's angle given.
+double height_at(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                 double R, double L, double z, const BaseAngle& angle, Eigen::Vector3d* point) {
+  *point = surface_point_at(flank, L, z, angle);
   const Eigen::Vector3d w = *point - p;
   const double q2 = R * R - (w - w.dot(n) * n).squaredNorm();
   return q2 <= 0.0 ? -std::numeric_limits<double>::infinity() : w.dot(n) + std::sqrt(q2);
@@ -81,7 +101,8 @@ double height_and_point(const AnalyticFlank& flank, const Eigen::Vector3d& p,
 double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                       const Eigen::Vector3d& n, double R, double L, double z) {
   Eigen::Vector3d point;
-  return height_and_point(flank, p, n, R, L, z, &point);
+  return height_at(flank, p, n, R, L, z, base_angle(flank.gear(), flank.tooth(), flank.side(), L),
+                   &point);
 }
 
 namespace {
@@ -98,8 +119,9 @@ struct LocalSolution {
 
 LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
                           const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R,
-                          Eigen::Vector2d x, FlankSurfacePoint* start = nullptr) {
-  Local m = local_model(flank, p, n, R, x[0], x[1], start);
+                          Eigen::Vector2d x, const AngleAnchor& anchor,
+                          FlankFramePoint* start = nullptr) {
+  Local m = local_model(flank, p, n, R, x[0], x[1], anchor, start);
   bool converged = false, at_edge = false;
   double final_height = 0.0, gradient_bound = 0.0;
   Eigen::Vector3d final_point = Eigen::Vector3d::Zero();
@@ -126,7 +148,7 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
       // sphere on a flank is of order 3 / R^2, taken here as 1e3 / R^2 (the resulting
       // certificate term, ~1e-17 mm, is nine orders below its tolerance).
       x += step;
-      final_height = height_and_point(flank, p, n, R, x[0], x[1], &final_point);
+      final_height = height_at(flank, p, n, R, x[0], x[1], anchor.at(flank, x[0]), &final_point);
       at_edge = x[0] < extent.roll_length_min || x[0] > extent.roll_length_max ||
                 x[1] < extent.z_min || x[1] > extent.z_max;
       converged = std::isfinite(final_height);
@@ -136,7 +158,7 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
     }
     Local trial;
     for (int halvings = 0;; ++halvings) {
-      trial = local_model(flank, p, n, R, x[0] + step[0], x[1] + step[1]);
+      trial = local_model(flank, p, n, R, x[0] + step[0], x[1] + step[1], anchor);
       if (trial.reachable && (newton_region || trial.f >= m.f)) break;
       if (halvings == 40) break;
       step *= 0.5;
@@ -174,8 +196,12 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0) {
   ContactResult result;
-  FlankSurfacePoint start;  // S(L0, z0): the certificate checks p and n against it
-  LocalSolution s = local_solve(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), &start);
+  const AngleAnchor anchor{L0, base_angle(flank.gear(), flank.tooth(), flank.side(), L0),
+                           base_angle_per_mm(flank.gear(), flank.side())};
+  FlankFramePoint start_frame;  // S(L0, z0): the certificate checks p and n against it
+  LocalSolution s =
+      local_solve(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), anchor, &start_frame);
+  const FlankSurfacePoint start = frame_to_surface(start_frame);
   result.iterations = s.iterations;
   // The certificate (contact_certificate.h): restart from a higher point until none is left.
   while (s.status == ContactResult::Status::kOk) {
@@ -194,7 +220,7 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
       break;
     }
     ++result.restarts;
-    s = local_solve(flank, extent, p, n, R, c.higher_point);
+    s = local_solve(flank, extent, p, n, R, c.higher_point, anchor);
     result.iterations += s.iterations;
   }
   result.roll_length = s.x[0];
