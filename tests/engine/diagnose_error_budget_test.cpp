@@ -174,6 +174,39 @@ NullDesign null_design() {
   return d;
 }
 
+TEST(DiagnoseErrorBudget, WithoutNullSimulationsTheTablePValuesAreCombinedByBonferroni) {
+  // K = 0 (--null-replicates 0): the χ² law's and Kolmogorov's table p-values, combined as
+  // min(1, 2 min(p_χ², p_KS)), p_χ² counting only at an excess RMS ≥ 0.25 σ; at the numerical
+  // floor the family is χ² alone (factor 1). Residuals N(0, σ²) scaled by 1.5 (a clear excess:
+  // χ² rejects) and by 1 (null), std::mt19937_64 seed 5.
+  const NullDesign design = null_design();
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, design.noise.sigma_um);
+  Residuals r = design.residuals;
+  std::vector<double> draws;
+  for (std::size_t k = 0; k < r.points.size(); ++k) draws.push_back(normal(rng));
+  DiagnoseOptions options;
+  options.selection.null_replicates = 0;
+  options.fit_empirical = false;
+  for (double scale : {1.0, 1.5}) {
+    for (std::size_t k = 0; k < r.points.size(); ++k) r.points[k].residual_um = scale * draws[k];
+    for (bool floor : {false, true}) {
+      NoiseFloor noise = design.noise;
+      noise.at_numerical_floor = floor;
+      const Diagnosis d = diagnose_residuals(r, noise, options);
+      ASSERT_EQ(d.null_replicates, 0);
+      const GapStatistics& g = d.gap_before;
+      ASSERT_TRUE(std::isfinite(g.chi2_p) && std::isfinite(g.ks_p));
+      const double p_chi2 = g.excess_rms_um >= 0.25 * noise.sigma_um ? g.chi2_p : 1.0;
+      const double expected = floor ? p_chi2 : std::min(1.0, 2.0 * std::min(p_chi2, g.ks_p));
+      EXPECT_NEAR(g.combined_p, expected, 1e-15 * (1.0 + expected)) << scale << " " << floor;
+      if (scale > 1.0) {
+        EXPECT_LT(g.combined_p, 0.01) << floor;
+      }
+    }
+  }
+}
+
 TEST(DiagnoseErrorBudget, TheVerdictOnNullResidualsKeepsItsLevel) {
   // 1 000 null datasets: the 100 points' residuals replaced by independent N(0, 0.3²) µm draws
   // (std::mt19937_64 seed 23), each diagnosed (diagnose_residuals) at α = 0.05 with K = 100 null
