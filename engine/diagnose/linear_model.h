@@ -92,8 +92,8 @@ struct ResampledTest {
   double gate = -std::numeric_limits<double>::infinity();
 };
 // The single-step min-P combination of a family of tests calibrated on the same null replicates
-// (Westfall & Young, "Resampling-Based Multiple Testing", Wiley 1993, ch. 2; each replicate's
-// p-values taken from the replicates themselves as in Ge, Dudoit & Speed, TEST 12, 2003, §4):
+// (Westfall & Young, "Resampling-Based Multiple Testing", Wiley 1993; each replicate's p-values
+// taken from the replicates themselves, as in Ge, Dudoit & Speed, TEST 12, 2003):
 // the data and the K replicates are K + 1 samples, exchangeable under the null. Each sample i gets
 // each test's empirical p-value among all K + 1, p_j(i) = #{l : t_j(l) ≥ t_j(i)} / (K + 1) (1 when
 // t_j(i) is gated or NaN), and its smallest, m(i) = min_j p_j(i); the combined p-value is
