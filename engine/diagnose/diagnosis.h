@@ -36,10 +36,13 @@
 //     reported for each ambiguity but do not decide it alone: probe_lobing's p0 column equals
 //     stylus_radius's, so structurally they always overlap, yet 6-lobed residuals say nothing
 //     about a constant. Each ambiguity comes with the measurement that would separate the two.
-//  8. the verdict: gap_detected when an effect is selected or the χ² test (with an excess RMS of
-//     at least the practical size) or the KS test rejects at alpha (the KS test only when the
-//     floor is not the numerical one, NoiseFloor::at_numerical_floor: that floor bounds an exact
-//     prediction's rounding, it is not a law of the residuals); named_effect = the first
+//  8. the verdict: gap_detected when an effect is selected, the point-law stage accepts a law, or
+//     the gap test rejects at alpha: one test of family-wise level alpha made of the χ² test (it
+//     counts only with an excess RMS of at least the practical size) and the KS test (only when
+//     the floor is not the numerical one, NoiseFloor::at_numerical_floor: that floor bounds an
+//     exact prediction's rounding, it is not a law of the residuals), combined by min-P over the
+//     same K null replicates (GapStatistics::combined_p; the gates apply to the replicates as to
+//     the data, so the level stays alpha up to 1/(K + 1)); named_effect = the first
 //     selected effect when the selected effects explain ≥ 50 % of the excess residual variance
 //     (Σr² − nσ²) and no structure remains after them, "unexplained" when a gap is detected but
 //     nothing in the library explains it or structure remains after the library's best fit (the
@@ -138,6 +141,11 @@ struct GapStatistics {
   double ks = kNotAvailable;             // KS distance of r/σ against N(0, 1)
   double ks_p = kNotAvailable;           // from the null simulation
   double excess_rms_um = kNotAvailable;  // √max(0, Σr²/dof − σ²)
+  // The verdict's gap test: the χ² test (only at an excess RMS of at least the practical size)
+  // and the KS test (only off the numerical floor) combined into one test of family-wise level α
+  // by min-P over the same null replicates (linear_model.h min_p_combined_p_value); with no null
+  // simulation, Bonferroni over the two table p-values. A gap when combined_p < α.
+  double combined_p = kNotAvailable;
   // Cluster-aware evidence (cluster_tests.h), reported, not part of the verdict: the energy
   // distance between the residuals and one simulation of the (fitted) model's law at the same
   // points — projected like the residuals — with its paired permutation p-value swapping whole

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -160,6 +161,39 @@ GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, const ResidualLa
   return g;
 }
 
+// The verdict's gap test (GapStatistics::combined_p): the χ² test counts only when the excess
+// RMS √max(0, Σr²/dof − v) reaches the practical size — as a gate on χ²/dof = Σr²/(dof v):
+// χ²/dof ≥ 1 + practical²/v — and the KS test only off the numerical floor.
+struct GapFamily {
+  double chi2_gate = -std::numeric_limits<double>::infinity();
+  bool shape_test = true;
+};
+GapFamily gap_family(const State& state, const ResidualLaw& law) {
+  GapFamily f;
+  const double practical = state.options.selection.min_effect_rms_fraction * state.noise.sigma_um;
+  const double v = law.variance_um2();
+  if (practical > 0.0 && v > 0.0) f.chi2_gate = 1.0 + practical * practical / v;
+  f.shape_test = !state.noise.at_numerical_floor;
+  return f;
+}
+
+// The combined p-value of the gap test on g, from the replicates' χ²/dof and KS values (K ≥ 1,
+// min-P) or, with none, from g's table p-values (Bonferroni over the family's tests).
+double combined_gap_p(const GapStatistics& g, const GapFamily& f, const std::vector<double>& chi2,
+                      const std::vector<double>& ks) {
+  if (!chi2.empty()) {
+    std::vector<ResampledTest> family = {{g.chi2_dof, chi2, f.chi2_gate}};
+    if (f.shape_test) family.push_back({g.ks, ks});
+    return min_p_combined_p_value(family);
+  }
+  const double p_chi2 = g.chi2_dof >= f.chi2_gate ? g.chi2_p : 1.0;
+  const double p_ks = f.shape_test ? g.ks_p : 1.0;
+  if (std::isnan(g.chi2_p) && std::isnan(p_ks)) return kNotAvailable;
+  const double smallest =
+      std::min(std::isnan(p_chi2) ? 1.0 : p_chi2, std::isnan(p_ks) ? 1.0 : p_ks);
+  return std::min(1.0, (f.shape_test ? 2.0 : 1.0) * smallest);
+}
+
 // The centred law of a residual under the noise floor: the model's per-point law, or a Gaussian
 // of the floor's σ when the floor carries none (given, or estimated from the residuals).
 ResidualLaw floor_law(const NoiseFloor& noise) {
@@ -291,6 +325,10 @@ void simulate_null(const State& state, Diagnosis& out) {
       g->ks_p = ks_p_value(g->ks, rows);
     }
   }
+  out.gap_before.combined_p =
+      combined_gap_p(out.gap_before, gap_family(state, law_before), chi2_before, ks_before);
+  out.gap_after.combined_p =
+      combined_gap_p(out.gap_after, gap_family(state, law_after), chi2_after, ks_after);
 
   // 5b. Cluster-aware evidence: flanks for the paired energy test, teeth for the bootstrap.
   if (out.null_replicates > 0 && !unit) {
@@ -375,16 +413,10 @@ void make_verdict(const State& state, Diagnosis& out) {
   const SelectionOptions& so = options.selection;
   const PointLawStage& stage = out.point_law;
   const std::vector<int>& selected = out.selection.selected;
-  const double sigma = noise.sigma_um;
-  // 8. The verdict.
-  const double practical = so.min_effect_rms_fraction * sigma;
-  // At the numerical floor the floor is a bound on exactness, not a law of the residuals: only
-  // residuals beyond it (χ²) make a gap, not their shape (KS).
-  const bool shape_test = !noise.at_numerical_floor;
-  auto gap_rejects = [&](const GapStatistics& g) {
-    return (g.chi2_p < so.alpha && g.excess_rms_um >= practical) ||
-           (shape_test && g.ks_p < so.alpha);
-  };
+  // 8. The verdict. The gap test is one test of level α (combined_p: χ² at the practical size,
+  // KS off the numerical floor — there the floor bounds an exact prediction's rounding, it is not
+  // a law of the residuals, so only residuals beyond it make a gap, not their shape).
+  auto gap_rejects = [&](const GapStatistics& g) { return g.combined_p < so.alpha; };
   out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
   out.unexplained_structure = gap_rejects(out.gap_after);
   const double v0 = law_before.variance_um2();

@@ -26,6 +26,7 @@ Json gap_json(const GapStatistics& g) {
   j["ks_p"] = number(g.ks_p);
   j["chi2_dof"] = number(g.chi2_dof);
   j["chi2_p"] = number(g.chi2_p);
+  j["combined_p"] = number(g.combined_p);
   j["dof"] = g.dof;
   j["excess_rms_um"] = number(g.excess_rms_um);
   j["energy_um"] = number(g.energy_um);

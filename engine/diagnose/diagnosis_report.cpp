@@ -176,7 +176,8 @@ std::string generic_where(const ReportData& r, const Diagnosis& d) {
 std::string gap_phrase(const GapStatistics& g, double sigma, int replicates) {
   return "residual RMS " + fixed(g.rms_um) + " µm against a noise floor of " + fixed(sigma) +
          " µm (χ²/dof " + fixed(g.chi2_dof, 2) + ", " + p_text(g.chi2_p, replicates) +
-         "; KS distance " + fixed(g.ks, 3) + ", " + p_text(g.ks_p, replicates) + ")";
+         "; KS distance " + fixed(g.ks, 3) + ", " + p_text(g.ks_p, replicates) +
+         "; the two as one test, " + p_text(g.combined_p, replicates) + ")";
 }
 
 // ", X µm with the fitted <effect>" when a point-law effect widened the noise floor.
@@ -321,7 +322,8 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
     << " % of the excess variance). ";
   if (d.unexplained_structure) {
     s << "Unexplained structure remains after it (χ²/dof " << fixed(d.gap_after.chi2_dof, 2) << ", "
-      << p_text(d.gap_after.chi2_p, k) << "; KS " << p_text(d.gap_after.ks_p, k) << "). ";
+      << p_text(d.gap_after.chi2_p, k) << "; KS " << p_text(d.gap_after.ks_p, k)
+      << "; the two as one test, " << p_text(d.gap_after.combined_p, k) << "). ";
   }
   s << "fitted.yaml is the model with it added.";
   return s.str();

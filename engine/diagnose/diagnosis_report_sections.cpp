@@ -252,6 +252,8 @@ void gap_section(HtmlReport& report, const ReportContext& ctx) {
     t.rows.push_back(
         {{"KS distance to the point law", fixed(d.gap_before.ks, 4), fixed(d.gap_after.ks, 4)}});
     t.rows.push_back({{"KS p-value", p_text(d.gap_before.ks_p, k), p_text(d.gap_after.ks_p, k)}});
+    t.rows.push_back({{"gap test p-value (χ² and KS as one test of level α, min-P)",
+                       p_text(d.gap_before.combined_p, k), p_text(d.gap_after.combined_p, k)}});
     auto interval = [](const GapStatistics& g) {
       return std::isfinite(g.rms_lo_um) ? fixed(g.rms_lo_um) + " – " + fixed(g.rms_hi_um) : "–";
     };

@@ -212,6 +212,38 @@ double empirical_p_value(double observed, const std::vector<double>& null_values
   return (1.0 + static_cast<double>(at_least)) / (1.0 + static_cast<double>(null_values.size()));
 }
 
+double min_p_combined_p_value(const std::vector<ResampledTest>& family) {
+  if (family.empty() || family.front().null_values.empty()) return kNaN;
+  const std::size_t samples = family.front().null_values.size() + 1;  // the data is sample 0
+  bool any = false;
+  for (const ResampledTest& t : family) {
+    if (t.null_values.size() + 1 != samples) return kNaN;  // not the same replicates
+    any = any || std::isfinite(t.observed);
+  }
+  if (!any) return kNaN;
+  // m(i) as an integer count (p = count / (K + 1)), so ties compare exactly.
+  std::vector<std::size_t> smallest(samples, samples);
+  for (const ResampledTest& t : family) {
+    std::vector<double> all(samples);
+    all[0] = t.observed;
+    std::copy(t.null_values.begin(), t.null_values.end(), all.begin() + 1);
+    std::vector<double> sorted;
+    for (double v : all) {
+      if (!std::isnan(v)) sorted.push_back(v);
+    }
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < samples; ++i) {
+      if (std::isnan(all[i]) || !(all[i] >= t.gate)) continue;  // cannot reject: p = 1
+      const auto at_least = static_cast<std::size_t>(
+          sorted.end() - std::lower_bound(sorted.begin(), sorted.end(), all[i]));
+      smallest[i] = std::min(smallest[i], at_least);
+    }
+  }
+  std::size_t as_small = 0;
+  for (std::size_t m : smallest) as_small += m <= smallest[0] ? 1 : 0;
+  return static_cast<double>(as_small) / static_cast<double>(samples);
+}
+
 double sample_quantile(std::vector<double> values, double q) {
   if (values.empty()) return kNaN;
   std::sort(values.begin(), values.end());

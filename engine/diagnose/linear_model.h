@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 namespace gearmc {
@@ -80,6 +81,28 @@ double mad_sigma(std::vector<double> values);
 // that rejects for large values: (1 + #{null >= observed}) / (K + 1) (Davison & Hinkley,
 // "Bootstrap Methods and their Application", 1997, ch. 4; never 0, Phipson & Smyth 2010).
 double empirical_p_value(double observed, const std::vector<double>& null_values);
+
+// One test of a family combined by min-P (below): its statistic, which rejects for large values,
+// on the data and on each of the K null replicates (the same replicates, in the same order, for
+// every test of the family), and a gate: a statistic below `gate` (or NaN) cannot reject, on the
+// data and on every replicate alike (e.g. a minimum practical size; −inf: no gate).
+struct ResampledTest {
+  double observed = 0.0;
+  std::vector<double> null_values;
+  double gate = -std::numeric_limits<double>::infinity();
+};
+// The single-step min-P combination of a family of tests calibrated on the same null replicates
+// (Westfall & Young, "Resampling-Based Multiple Testing", Wiley 1993; each replicate's p-values
+// taken from the replicates themselves, as in Ge, Dudoit & Speed, TEST 12, 2003):
+// the data and the K replicates are K + 1 samples, exchangeable under the null. Each sample i gets
+// each test's empirical p-value among all K + 1, p_j(i) = #{l : t_j(l) ≥ t_j(i)} / (K + 1) (1 when
+// t_j(i) is gated or NaN), and its smallest, m(i) = min_j p_j(i); the combined p-value is
+// #{i : m(i) ≤ m(data)} / (K + 1). For the data p_j is empirical_p_value. The m(i) are
+// exchangeable under the null, so P(combined p ≤ c/(K + 1)) ≤ c/(K + 1): the family-wise level is
+// exact up to the Monte-Carlo resolution 1/(K + 1), whatever the tests' dependence (a test that
+// repeats another costs nothing, an independent one about halves the level of each). NaN when no
+// test has a finite statistic on the data or the family has no replicates.
+double min_p_combined_p_value(const std::vector<ResampledTest>& family);
 // The q-quantile (0..1) of values, linear interpolation between order statistics (Hyndman &
 // Fan 1996, type 7).
 double sample_quantile(std::vector<double> values, double q);
