@@ -9,6 +9,8 @@
 #include "engine/diagnose/linear_model.h"
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_lobing.h"
+#include "engine/effects/rotary_table.h"
+#include "engine/effects/stylus_bending.h"
 #include "engine/effects/warmup_straightness.h"
 
 namespace gearmc {
@@ -89,7 +91,7 @@ const std::vector<std::string>& candidate_effect_names() {
   static const std::vector<std::string> names = {
       "probe_lobing", "stylus_radius", "scale",        "thermal_expansion",
       "drift",        "squareness",    "eccentricity", "step_quantization",
-      "probe_warmup", "straightness"};
+      "probe_warmup", "straightness",  "rotary_table", "stylus_bending"};
   return names;
 }
 
@@ -171,6 +173,23 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
         {{0, "xy_um", "µm"}, {1, "xz_um", "µm"}, {2, "yx_um", "µm"}, {3, "yz_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
+  {  // rotary_table: every parameter is linear; the axial pair vanishes on a spur gear (n_z = 0)
+    CandidateDesign d = start("rotary_table");
+    std::vector<Pick> picks;
+    for (std::size_t i = 0; i < RotaryTableEffect::parameter_names().size(); ++i) {
+      picks.push_back(
+          {static_cast<int>(i), RotaryTableEffect::parameter_names()[i], i < 4 ? "µm" : "arcsec"});
+    }
+    add_columns(d, RotaryTableEffect(std::vector<EffectParameter>(8, fixed(0.0))),
+                std::vector<double>(8, 0.0), picks, points);
+    out.push_back(std::move(d));
+  }
+  {  // stylus_bending with a vertical stylus (the default)
+    CandidateDesign d = start("stylus_bending");
+    add_columns(d, StylusBendingEffect(fixed(0.0), Eigen::Vector3d::UnitZ()), {0.0},
+                {{0, "deflection_um", "µm"}}, points);
+    out.push_back(std::move(d));
+  }
   if (!options.only.empty()) {
     std::erase_if(out, [&](const CandidateDesign& d) {
       return std::find(options.only.begin(), options.only.end(), d.name) == options.only.end();
@@ -210,6 +229,16 @@ std::string separating_measurement(std::string_view a, std::string_view b) {
     return "measure a calibrated artefact of another size (a ring gauge or a master gear of "
            "another diameter): a scale or thermal error grows with the distance from the centre, a "
            "radius or pre-travel error does not";
+  }
+  if (pair.count("rotary_table") == 1) {
+    return "remeasure with the gear turned on the rotary table by a few teeth (or measure a "
+           "master gear of known pitch and runout): the table's errors stay with the table angle, "
+           "the gear's set-up eccentricity and its own pitch deviations turn with the gear";
+  }
+  if (pair.count("stylus_bending") == 1) {
+    return "probe a calibrated sphere at several elevations (or the gear with a horizontal "
+           "stylus): bending grows with sin² of the angle between the approach and the stylus, a "
+           "radius error is the same in every direction";
   }
   if (pair.count("probe_warmup") == 1) {
     return "switch the probe on well before the measurement (or re-probe the first points at the "

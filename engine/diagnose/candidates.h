@@ -23,6 +23,11 @@
 //                      of the sequence: exact when the truth has that constant, first-order
 //                      otherwise)
 //   straightness       xy_um, xz_um, yx_um, yz_um (n_x (c_y/L)², …; L = 100 mm, the default)
+//   rotary_table       radial_cos_um, radial_sin_um, axial_cos_um, axial_sin_um (not observable
+//                      on a spur gear: n_z = 0), angular_cos_1_arcsec … angular_sin_2_arcsec, at
+//                      the table angle θ_k = 2π(k − 1)/z of the point's tooth (rotary_table.h)
+//   stylus_bending     deflection_um (−sin²γ for a vertical stylus: −1 on every spur-gear flank,
+//                      the same column as stylus_radius)
 //
 // No candidate is an intercept and the base model has none: a constant shift along n is itself a
 // physical effect here (stylus radius error, uncompensated pre-travel p0, the quantisation mean),
@@ -68,7 +73,7 @@ struct CandidateOptions {
 
 // The library's order of candidates (docs/formats.md): probe_lobing, stylus_radius, scale,
 // thermal_expansion, drift, squareness, eccentricity, step_quantization, probe_warmup,
-// straightness (ties in the selection are broken in this order).
+// straightness, rotary_table, stylus_bending (ties in the selection are broken in this order).
 const std::vector<std::string>& candidate_effect_names();
 
 // The candidates' design matrices at `points` (PointContext of each measured point: nominal p

@@ -427,6 +427,16 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   diagnosis_stages::measure_gap(state, out);         // 5 (diagnosis_gap.cpp)
   diagnosis_stages::simulate_null(state, out);       // 5–6
   diagnosis_stages::make_verdict(state, out);        // 8
+  // rotary_table's angular positioning error turns each tooth exactly as the gear's own pitch
+  // deviation of that tooth would: no candidate can hold the gear's pitch, so the verdict says it.
+  for (const FittedEffect& e : out.effects) {
+    if (e.name != "rotary_table") continue;
+    out.notes.push_back(
+        "rotary_table: its angular positioning error turns each tooth as the gear's own pitch "
+        "deviations do, so from one set-up it is ambiguous with the pitch deviations of the "
+        "gear (a master's calibrated pitch, if the model has it wrong); remeasure with the gear "
+        "turned on the table by a few teeth to tell them apart");
+  }
   return out;
 }
 

@@ -91,6 +91,7 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
     context = point_context(row.p, row.n, row.n, row.order - first, last - first + 1, row.tooth,
                             row.side, R);
     context.base_radius_mm = 0.5 * pipeline.gear().base_diameter_mm();
+    context.teeth = pipeline.gear().teeth();
 
     Eigen::Vector3d centre = row.p + R * row.n;  // nominal contact
     const auto& plan = model_points(row.gear);

@@ -5,6 +5,8 @@
 #include "engine/effects/empirical_effect.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
+#include "engine/effects/rotary_table.h"
+#include "engine/effects/stylus_bending.h"
 #include "engine/effects/warmup_straightness.h"
 #include "engine/io/parameter_ranges.h"
 #include "engine/io/scenario_keys.h"
@@ -305,6 +307,19 @@ EffectChain parse_effects(const YamlValue& section, InputWarnings* warnings) {
               .value_or(default_of(m, "length_mm")));
     } else if (name == "empirical") {
       effect = read_empirical(m, warnings);
+    } else if (name == "rotary_table") {
+      std::vector<EffectParameter> parameters;
+      for (const std::string& key : RotaryTableEffect::parameter_names()) {
+        parameters.push_back(read_parameter(m, key, warnings));
+      }
+      effect = std::make_unique<RotaryTableEffect>(std::move(parameters));
+    } else if (name == "stylus_bending") {
+      const std::string axis =
+          m.get_choice("stylus_axis", key_choices(key_path(m, "stylus_axis"))).value_or("z");
+      effect = std::make_unique<StylusBendingEffect>(
+          read_parameter(m, "deflection_um", warnings),
+          axis == "x" ? Eigen::Vector3d::UnitX()
+                      : (axis == "y" ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ()));
     } else {
       effect = std::make_unique<NoiseEffect>(read_parameter(m, "sigma_um", warnings));
     }

@@ -38,6 +38,7 @@ struct PointContext {
   FlankSide side = FlankSide::kLeft;
   double stylus_radius_mm = 0.5;
   double base_radius_mm = 0.0;  // the gear's base radius r_b (roll length √(r² − r_b²)); 0: unknown
+  int teeth = 0;  // the gear's number of teeth z (tooth k's centre line at 2π(k − 1)/z); 0: unknown
 };
 
 // The physical order in which effects act on a reading (an EffectChain applies them sorted by

@@ -217,7 +217,25 @@ const RangeTable& effect_ranges() {
        {"effects.empirical.terms.a_um", "µm", closed(-1000, 1000), -20, 20,
         "structure left after the library's fit, usually below a few µm", "a value in nm?"},
        {"effects.empirical.terms.b_um", "µm", closed(-1000, 1000), -20, 20,
-        "structure left after the library's fit, usually below a few µm", "a value in nm?"}}};
+        "structure left after the library's fit, usually below a few µm", "a value in nm?"},
+       {"effects.rotary_table.radial_cos_um", "µm", closed(-1000, 1000), -10, 10,
+        "rotary-table radial runout 0.1–3 µm", "a value in nm?"},
+       {"effects.rotary_table.radial_sin_um", "µm", closed(-1000, 1000), -10, 10,
+        "rotary-table radial runout 0.1–3 µm", "a value in nm?"},
+       {"effects.rotary_table.axial_cos_um", "µm", closed(-1000, 1000), -10, 10,
+        "rotary-table axial runout 0.1–3 µm", "a value in nm?"},
+       {"effects.rotary_table.axial_sin_um", "µm", closed(-1000, 1000), -10, 10,
+        "rotary-table axial runout 0.1–3 µm", "a value in nm?"},
+       {"effects.rotary_table.angular_cos_1_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+       {"effects.rotary_table.angular_sin_1_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+       {"effects.rotary_table.angular_cos_2_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+       {"effects.rotary_table.angular_sin_2_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+       {"effects.stylus_bending.deflection_um", "µm", closed(-1000, 1000), -10, 10,
+        "uncompensated stylus bending 0.1–2 µm", "a value in nm?"}}};
   return table;
 }
 

@@ -65,6 +65,7 @@ void GearMeasurement::measure_flank(
         m.context = point_context(fp.point, fp.normal, (r.centre - r.contact).normalized(), q.order,
                                   model_.sequence_length(), flank.tooth, flank.side, R);
         m.context.base_radius_mm = 0.5 * gear.base_diameter_mm();
+        m.context.teeth = gear.teeth();
         RandomStream rng = point_effect_stream(model_.scenario().seed, k_, q.order);
         m.recorded_centre = effects.apply(m.context, effect_values_, r.centre, rng, contributions);
         for (double c : contributions) m.total_error_um += c;

@@ -346,6 +346,7 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
                                           "random",
                                           "distribution",
                                           "eccentricity",
+                                          "stylus_axis",
                                           "pitch",
                                           "thickness",
                                           "profile",
