@@ -3,10 +3,12 @@
 #include "engine/diagnose/candidates.h"
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <set>
 
 #include "engine/diagnose/linear_model.h"
+#include "engine/effects/artefact_form.h"
 #include "engine/effects/effects.h"
 #include "engine/effects/probe_lobing.h"
 #include "engine/effects/rotary_table.h"
@@ -91,7 +93,7 @@ const std::vector<std::string>& candidate_effect_names() {
   static const std::vector<std::string> names = {
       "probe_lobing", "stylus_radius", "scale",        "thermal_expansion",
       "drift",        "squareness",    "eccentricity", "step_quantization",
-      "probe_warmup", "straightness",  "rotary_table", "stylus_bending"};
+      "probe_warmup", "straightness",  "rotary_table", "stylus_bending", "artefact_form"};
   return names;
 }
 
@@ -190,6 +192,37 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
                 {{0, "deflection_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
+  // artefact_form: only when asked for (`only` names it; see candidates.h); the ranges are the
+  // measured points' own.
+  const bool form_asked =
+      std::find(options.only.begin(), options.only.end(), "artefact_form") != options.only.end();
+  if (!points.empty() && form_asked) {
+    FormRanges r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                 std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (const PointContext& p : points) {
+      const double roll = ArtefactFormEffect::roll_length_mm(p);
+      r.profile_from_mm = std::min(r.profile_from_mm, roll);
+      r.profile_to_mm = std::max(r.profile_to_mm, roll);
+      r.face_from_mm = std::min(r.face_from_mm, p.p.z());
+      r.face_to_mm = std::max(r.face_to_mm, p.p.z());
+    }
+    // One profile position or one section: a range of 1 mm about it (the orders 2, 3 columns are
+    // then constant or repeat each other and are marked not observable).
+    if (!(r.profile_to_mm > r.profile_from_mm)) r.profile_to_mm = r.profile_from_mm + 1.0;
+    if (!(r.face_to_mm > r.face_from_mm)) r.face_to_mm = r.face_from_mm + 1.0;
+    CandidateDesign d = start("artefact_form");
+    std::vector<Pick> picks;
+    for (int k = 0; k < kArtefactFormParameters; ++k) {
+      picks.push_back({k, ArtefactFormEffect::parameter_names()[k], "µm"});
+    }
+    add_columns(d, ArtefactFormEffect({}, r), std::vector<double>(kArtefactFormParameters, 0.0),
+                picks, points);
+    d.settings = {{"profile_from_mm", r.profile_from_mm},
+                  {"profile_to_mm", r.profile_to_mm},
+                  {"face_from_mm", r.face_from_mm},
+                  {"face_to_mm", r.face_to_mm}};
+    out.push_back(std::move(d));
+  }
   if (!options.only.empty()) {
     std::erase_if(out, [&](const CandidateDesign& d) {
       return std::find(options.only.begin(), options.only.end(), d.name) == options.only.end();
@@ -239,6 +272,11 @@ std::string separating_measurement(std::string_view a, std::string_view b) {
     return "probe a calibrated sphere at several elevations (or the gear with a horizontal "
            "stylus): bending grows with sin² of the angle between the approach and the stylus, a "
            "radius error is the same in every direction";
+  }
+  if (pair.count("artefact_form") == 1) {
+    return "measure the master gear again turned on the table (or on another CMM, or use its "
+           "calibrated form): the artefact's form turns with the gear and stays on every tooth, "
+           "the machine's errors stay with the machine's axes";
   }
   if (pair.count("probe_warmup") == 1) {
     return "switch the probe on well before the measurement (or re-probe the first points at the "

@@ -28,6 +28,16 @@
 //                      the table angle θ_k = 2π(k − 1)/z of the point's tooth (rotary_table.h)
 //   stylus_bending     deflection_um (−sin²γ for a vertical stylus: −1 on every spur-gear flank,
 //                      the same column as stylus_radius)
+//   artefact_form      left_/right_ × profile_2/3, helix_2/3 _um (P_k of the normalised roll length
+//                      or face position on the point's own side, 0 on the other: the artefact's
+//                      form, exact), with the evaluation ranges taken from the measured points
+//                      (the smallest and largest roll length and z), written to `settings`.
+//                      Not a default candidate: only when CandidateOptions::only names it
+//                      (`diagnose --candidates …,artefact_form`). Its helix and profile columns
+//                      are the P₂, P₃ columns of an empirical term along face position or roll
+//                      length, and the term's refit beside the library (refit_with_empirical in
+//                      diagnosis_gap.cpp) assumes the joint design has full rank: with both, the
+//                      fitted.yaml it writes double-counts the shared part.
 //
 // No candidate is an intercept and the base model has none: a constant shift along n is itself a
 // physical effect here (stylus radius error, uncompensated pre-travel p0, the quantisation mean),
@@ -54,6 +64,8 @@ struct CandidateDesign {
   std::vector<std::string> units;         // unit of each coefficient
   Eigen::MatrixXd x;                      // points × columns, µm of reading per unit
   std::vector<bool> observable;           // column carries information on this plan
+  // Settings the columns were made with, as a scenario's keys (artefact_form's ranges).
+  std::vector<std::pair<std::string, double>> settings;
   // The observable columns only (what the selection and fits use).
   Eigen::MatrixXd observable_columns() const;
   std::vector<int> observable_indices() const;
@@ -73,7 +85,8 @@ struct CandidateOptions {
 
 // The library's order of candidates (docs/formats.md): probe_lobing, stylus_radius, scale,
 // thermal_expansion, drift, squareness, eccentricity, step_quantization, probe_warmup,
-// straightness, rotary_table, stylus_bending (ties in the selection are broken in this order).
+// straightness, rotary_table, stylus_bending, artefact_form (ties in the selection are broken in
+// this order).
 const std::vector<std::string>& candidate_effect_names();
 
 // The candidates' design matrices at `points` (PointContext of each measured point: nominal p

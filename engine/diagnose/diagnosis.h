@@ -62,6 +62,7 @@
 #include <vector>
 
 #include "engine/diagnose/candidates.h"
+#include "engine/diagnose/coordinate_grid.h"
 #include "engine/diagnose/empirical_term.h"
 #include "engine/diagnose/outlier_screen.h"
 #include "engine/diagnose/point_law_stage.h"
@@ -120,6 +121,9 @@ struct FittedEffect {
   // values (noise: σ of the readings' whole Gaussian part; step: q), not increments.
   bool absolute = false;
   std::vector<Ambiguity> ambiguous;  // empty: identified on this plan
+  // Settings the effect's columns were made with (CandidateDesign::settings; artefact_form's
+  // evaluation ranges), written to fitted.yaml beside the parameters.
+  std::vector<std::pair<std::string, double>> settings;
   // Readings of several gears (or repeated measurements, numbered as gears): whether the
   // effect's value differs from gear to gear (diagnosis_stages.h per_gear_variation: an F test
   // of one value per gear against one shared value, the other effects kept shared), its p-value,
@@ -199,6 +203,10 @@ struct Diagnosis {
   // accepted point law's (a fitted noise or step quantisation adds to the irreducible spread).
   double noise_floor_after_um = kNotAvailable;
   PointLawStage point_law;
+  // Whether the readings' coordinates lie on a grid per axis (coordinate_grid.h); when `named`,
+  // the effect scale_resolution is in `effects` (its steps, absolute) and named when nothing else
+  // is, and the noise floor includes its spread.
+  CoordinateGrid coordinate_grid;
   Selection selection;
   std::vector<std::string> candidate_names;  // index → name for `selection`
   // Harmonic spectrum against approach azimuth, orders 0..spectrum_max_order (µm).
@@ -225,6 +233,7 @@ struct PreparedResiduals {
   Residuals residuals;  // without the excluded readings
   OutlierScreen outliers;
   NoiseFloor noise;
+  CoordinateGrid grid;  // the coordinate-grid stage on the kept readings
 };
 PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readings,
                                     const std::string& readings_path,

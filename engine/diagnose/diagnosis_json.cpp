@@ -104,6 +104,12 @@ std::string diagnosis_json(const Diagnosis& d) {
     // Point-law effects give their own values, the linear ones increments to the model's.
     je["parameters_are"] = e.absolute ? "values" : "increments";
     je["std_errors"] = values_json(e.parameters, true);
+    if (!e.settings.empty()) {
+      Json settings = Json::object();
+      for (const auto& [key, value] : e.settings) settings[key] = number(value);
+      je["settings"] = settings;
+    }
+    if (e.name == "artefact_form") je["kind"] = "artefact";  // the workpiece's, not the CMM's
     Json units = Json::object();
     for (const FittedValue& v : e.parameters) units[v.name] = v.unit;
     je["units"] = units;
@@ -182,6 +188,32 @@ std::string diagnosis_json(const Diagnosis& d) {
                       {"second_differences", st.differences},
                       {"chosen", st.chosen > 0 ? Json(st.best().name) : Json("none")},
                       {"hypotheses", hypotheses}};
+  }
+  {
+    const CoordinateGrid& g = d.coordinate_grid;
+    Json axes = Json::object();
+    const char* names[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+      const CoordinateGridAxis& axis = g.axes[static_cast<std::size_t>(a)];
+      axes[names[a]] = {{"step_um", number(axis.step_um)},
+                        {"resultant", number(axis.resultant)},
+                        {"observable", axis.observable}};
+    }
+    j["coordinate_grid"] = {{"ran", g.ran},
+                            {"skipped_because", g.skipped_because},
+                            {"points", g.points},
+                            {"axes", axes},
+                            {"rms_um", number(g.rms_um)},
+                            {"false_alarm", number(g.false_alarm)},
+                            {"in_model", g.in_model},
+                            {"named", g.named},
+                            {"note", g.note}};
+    if (g.check.ran) {
+      j["coordinate_grid"]["latched_model_check"] = {{"replicates", g.check.replicates},
+                                                     {"ks", number(g.check.ks)},
+                                                     {"rms_um", number(g.check.rms_um)},
+                                                     {"p", number(g.check.p)}};
+    }
   }
   j["unexplained_structure"] = d.unexplained_structure;
   if (d.unexplained_structure) {

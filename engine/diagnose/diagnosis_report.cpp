@@ -209,6 +209,45 @@ void verdict_section(HtmlReport& report, const ReportContext& ctx) {
       "round.");
 }
 
+// The verdict when the first effect is the artefact's form (a property of the master gear, told
+// as such) or the scales' resolution (read off the coordinates' grid), up to "fitted.yaml".
+std::string artefact_or_grid_verdict(const DiagnosisReportInput& in, const ReportData& r) {
+  const Diagnosis& d = in.diagnosis;
+  const FittedEffect& e = d.effects.front();
+  const int k = d.null_replicates;
+  std::ostringstream s;
+  if (e.name == "artefact_form") {
+    s << "Gap found: the artefact's form, not a CMM error. What disagreed: " << points_phrase(in)
+      << ", " << gap_phrase(d.gap_before, r.sigma, k) << ". Where: on every tooth alike, along the "
+      << "flank's own coordinates (roll length and face position), as a workpiece's form does; a "
+      << "machine error follows the machine's axes and changes from tooth to tooth. How big: "
+      << parameter_list(e, ", ") << " (Legendre terms, µm at the ends of the range";
+    for (const auto& [key, value] : e.settings) s << "; " << key << " " << fixed(value, 3);
+    s << "; ΔBIC " << fixed(e.evidence.delta_bic, 0) << ", " << p_text(e.evidence.p_null, k)
+      << "). These are the master gear's own profile and helix form: keep them with this artefact "
+         "(compare them with its calibration certificate); do not correct the CMM with them. ";
+  } else {
+    s << "Gap found: the scales' resolution: " << d.coordinate_grid.note
+      << "; the model has no such grid. Along the flank normal the latching adds a zero-mean "
+         "spread the model lacks (the noise floor now includes it: "
+      << fixed(d.noise.sigma_um) << " µm). ";
+  }
+  for (std::size_t x = 1; x < d.effects.size(); ++x) {
+    s << "Together with " << d.effects[x].name << " with " << parameter_list(d.effects[x], ", ")
+      << ". ";
+  }
+  if (!e.ambiguous.empty()) {
+    s << "On this probing plan it cannot be told apart from";
+    for (const Ambiguity& a : e.ambiguous) s << " " << a.with;
+    s << "; to separate them, " << e.ambiguous.front().separate_by << ". ";
+  }
+  s << "Gap: RMS " << fixed(d.gap_before.rms_um) << " µm → " << fixed(d.gap_after.rms_um)
+    << " µm with it, " << fixed(d.held_out_rms_um) << " µm held out ("
+    << held_out_split_text(d.held_out_split) << "). ";
+  if (d.unexplained_structure) s << "Unexplained structure remains after it. ";
+  return s.str();
+}
+
 }  // namespace
 
 std::string diagnosis_verdict(const DiagnosisReportInput& in) {
@@ -287,6 +326,13 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
     return s.str();
   }
   const FittedEffect& e = d.effects.front();
+  if (e.name == "artefact_form" || e.name == "scale_resolution") {
+    s << artefact_or_grid_verdict(in, r) << "fitted.yaml is the model with it added"
+      << (e.name == "artefact_form" ? " as the separate entry artefact_form, marked as the "
+                                      "artefact's own form."
+                                    : ".");
+    return s.str();
+  }
   s << "Gap found, explained by " << e.name << ". What disagreed: " << points_phrase(in) << ", "
     << gap_phrase(d.gap_before, r.sigma, k) << ". Where: " << effect_where(e, d, r);
   const std::string axes = axes_phrase(r, 1);
@@ -349,6 +395,10 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
   } else {
     const FittedEffect& e = d.effects.front();
     verdict = "gap: " + e.name + " (" + parameter_list(e, ", ") + ")";
+    if (e.name == "artefact_form") {
+      verdict = "gap: the artefact's form, not a CMM error: artefact_form (" +
+                parameter_list(e, ", ") + ")";
+    }
     if (!d.ambiguous_with.empty()) {
       verdict += ", ambiguous with";
       for (const std::string& a : d.ambiguous_with) verdict += " " + a;

@@ -391,6 +391,22 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
           entry[v.name] = value;
         }
       }
+      if (e.name == "artefact_form") {  // the ranges the terms were fitted on
+        for (const auto& [key, value] : e.settings) {
+          if (own && entry[key].IsDefined() &&
+              std::abs(entry[key].as<double>(value) - value) > 1e-9) {
+            result.notes.push_back(
+                "artefact_form: the model's own terms were given on another "
+                "range; the fitted increments are on the measured range (" +
+                key + " " + format_fitted_number(value) + "), check the terms written");
+          }
+          entry[key] = number_node(value);
+        }
+        result.notes.push_back(
+            "artefact_form is the master gear's own profile and helix form (a property of the "
+            "artefact, not of the CMM): keep it with this artefact, do not correct the CMM with "
+            "it");
+      }
       if (const auto* warmup = dynamic_cast<const ProbeWarmupEffect*>(own);
           warmup && std::abs(warmup->time_constant() - kWarmupTimeConstant) > 1e-12) {
         result.notes.push_back(

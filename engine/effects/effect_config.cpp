@@ -1,12 +1,17 @@
 // Reading the `effects:` section of a scenario into an EffectChain (see effect_config.h).
 #include "engine/effects/effect_config.h"
 
+#include <optional>
+#include <utility>
+
+#include "engine/effects/artefact_form.h"
 #include "engine/effects/effects.h"
 #include "engine/effects/empirical_effect.h"
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
 #include "engine/effects/rotary_table.h"
 #include "engine/effects/stylus_bending.h"
+#include "engine/effects/scale_resolution.h"
 #include "engine/effects/warmup_straightness.h"
 #include "engine/io/parameter_ranges.h"
 #include "engine/io/scenario_keys.h"
@@ -244,6 +249,37 @@ std::unique_ptr<MeasurementEffect> read_empirical(const YamlMap& m, InputWarning
                                            std::move(parameters));
 }
 
+// `artefact_form:` — the eight form terms and the two evaluation ranges (required: the form's
+// coordinates are normalised on them; each range from < to).
+std::unique_ptr<MeasurementEffect> read_artefact_form(const YamlMap& m, InputWarnings* warnings) {
+  std::vector<EffectParameter> parameters;
+  for (const std::string& key : ArtefactFormEffect::parameter_names()) {
+    parameters.push_back(read_parameter(m, key, warnings));
+  }
+  // Every range value is range-checked before a missing one is reported (the first error is the
+  // value that is wrong, not its absent neighbour).
+  const std::vector<std::pair<std::string, std::string>> keys = {
+      {"profile_from_mm", "the roll length (mm) where the profile range starts"},
+      {"profile_to_mm", "the roll length (mm) where the profile range ends"},
+      {"face_from_mm", "the face position z (mm) where the helix range starts"},
+      {"face_to_mm", "the face position z (mm) where the helix range ends"}};
+  std::vector<std::optional<double>> values;
+  for (const auto& [key, what] : keys) {
+    values.push_back(get_ranged(m, key, range_of(m, key), warnings));
+  }
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (!values[k]) throw m.missing(keys[k].first, keys[k].second);
+  }
+  FormRanges r{*values[0], *values[1], *values[2], *values[3]};
+  if (!(r.profile_to_mm > r.profile_from_mm)) {
+    throw m.find("profile_to_mm")->error("a roll length above profile_from_mm");
+  }
+  if (!(r.face_to_mm > r.face_from_mm)) {
+    throw m.find("face_to_mm")->error("a face position above face_from_mm");
+  }
+  return std::make_unique<ArtefactFormEffect>(std::move(parameters), r);
+}
+
 }  // namespace
 
 const std::vector<std::string>& effect_names() {
@@ -320,6 +356,12 @@ EffectChain parse_effects(const YamlValue& section, InputWarnings* warnings) {
           read_parameter(m, "deflection_um", warnings),
           axis == "x" ? Eigen::Vector3d::UnitX()
                       : (axis == "y" ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ()));
+    } else if (name == "artefact_form") {
+      effect = read_artefact_form(m, warnings);
+    } else if (name == "scale_resolution") {
+      effect = std::make_unique<ScaleResolutionEffect>(read_parameter(m, "x_um", warnings),
+                                                       read_parameter(m, "y_um", warnings),
+                                                       read_parameter(m, "z_um", warnings));
     } else {
       effect = std::make_unique<NoiseEffect>(read_parameter(m, "sigma_um", warnings));
     }

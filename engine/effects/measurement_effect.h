@@ -49,6 +49,7 @@ enum class EffectStage {
   kMachine = 2,     // CMM geometry and its drift: scale, squareness, drift
   kController = 3,  // how the trigger is latched: servo step quantisation
   kNoise = 4,       // random probing noise
+  kReadout = 5,     // the scales' count latched on each axis's grid (scale_resolution)
 };
 
 // One parameter of an effect: a value in `unit`, fixed or drawn once per gear.
