@@ -417,7 +417,8 @@ TEST(EffectConfig, BadInputNamesFileLineColumnKeyAndExpectation) {
                "e.yaml:1:1: scael: got 'scael', expected a known key (the top level has: "
                "probe_lobing, stylus_radius, tip_form, scale, squareness, thermal_expansion, "
                "drift, step_quantization, eccentricity, noise, probe_warmup, straightness, "
-               "empirical, rotary_table, stylus_bending, artefact_form, scale_resolution); did you mean 'scale'?");
+               "artefact_form, scale_resolution, empirical, rotary_table, stylus_bending); did "
+               "you mean 'scale'?");
   expect_error(
       "noise: {sigma_um: -1}\n",
       "e.yaml:1:19: noise.sigma_um: got '-1', expected a number from 0 to 100 µm (probing noise "
