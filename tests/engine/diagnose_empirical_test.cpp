@@ -21,22 +21,16 @@
 #include "engine/io/input_error.h"
 #include "engine/mc/simulate.h"
 
+#include "tests/support/effect_chain.h"
+
 namespace gearmc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kNoiseUm = 0.3;
 
-EffectChain chain(const std::string& yaml) {
-  return parse_effects(parse_yaml_document(yaml, "effects.yaml"));
-}
-
-double reading_change(const EffectChain& c, const PointContext& point) {
-  const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;
-  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
-  const Eigen::Vector3d moved = c.apply(point, c.nominal(), start, rng);
-  return 1000.0 * (moved - start).dot(point.n);
-}
+using testing_support::chain;
+using testing_support::reading_change;
 
 TEST(EmpiricalEffect, LegendreAndHarmonicTermsMatchHandValues) {
   PointContext p;

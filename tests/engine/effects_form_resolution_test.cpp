@@ -27,18 +27,13 @@
 #include "tests/support/run_gearmc.h"
 #include "tests/support/text_files.h"
 
+#include "tests/support/effect_chain.h"
+
 namespace gearmc {
 namespace {
 
-EffectChain chain(const std::string& yaml) {
-  return parse_effects(parse_yaml_document(yaml, "effects.yaml"));
-}
-
-double reading_change(const EffectChain& c, const PointContext& point) {
-  const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;
-  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
-  return 1000.0 * (c.apply(point, c.nominal(), start, rng) - start).dot(point.n);
-}
+using testing_support::chain;
+using testing_support::reading_change;
 
 constexpr const char* kRanges =
     "profile_from_mm: 30, profile_to_mm: 50, face_from_mm: -10, face_to_mm: 10";

@@ -24,18 +24,14 @@
 #include "tests/support/run_gearmc.h"
 #include "tests/support/text_files.h"
 
+#include "tests/support/effect_chain.h"
+
 namespace gearmc {
 namespace {
 
-EffectChain chain(const std::string& yaml) {
-  return parse_effects(parse_yaml_document(yaml, "e.yaml"));
-}
+using testing_support::reading_change;
 
-double reading_change(const EffectChain& c, const PointContext& point) {
-  const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;
-  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
-  return 1000.0 * (c.apply(point, c.nominal(), start, rng) - start).dot(point.n);
-}
+EffectChain chain(const std::string& yaml) { return testing_support::chain(yaml, "e.yaml"); }
 
 PointContext at(const Eigen::Vector3d& p, const Eigen::Vector3d& n, int tooth, int teeth) {
   PointContext c;

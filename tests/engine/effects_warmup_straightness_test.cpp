@@ -12,18 +12,13 @@
 #include "engine/effects/warmup_straightness.h"
 #include "engine/mc/simulate.h"
 
+#include "tests/support/effect_chain.h"
+
 namespace gearmc {
 namespace {
 
-EffectChain chain(const std::string& yaml) {
-  return parse_effects(parse_yaml_document(yaml, "effects.yaml"));
-}
-
-double reading_change(const EffectChain& c, const PointContext& point) {
-  const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;
-  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
-  return 1000.0 * (c.apply(point, c.nominal(), start, rng) - start).dot(point.n);
-}
+using testing_support::chain;
+using testing_support::reading_change;
 
 TEST(ProbeWarmup, PretravelChangeFollowsTheExponentialApproach) {
   // change 0.8 µm, τ 0.3: at s = 0.5, w = (1 − e^(−5/3)) / (1 − e^(−10/3)) = 0.811124 / 0.964326
