@@ -390,94 +390,11 @@ PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readi
   return out;
 }
 
-namespace {
-
-// The coordinate grid as the fitted effect scale_resolution (its steps, read off the lattice).
-FittedEffect scale_resolution_effect(const CoordinateGrid& grid) {
-  FittedEffect e;
-  e.name = "scale_resolution";
-  e.absolute = true;
-  const char* names[3] = {"x_um", "y_um", "z_um"};
-  for (int a = 0; a < 3; ++a) {
-    const CoordinateGridAxis& axis = grid.axes[static_cast<std::size_t>(a)];
-    FittedValue v{names[a], "µm"};
-    v.estimable = axis.observable && axis.step_um > 0.0;
-    if (v.estimable) {
-      v.value = axis.step_um;
-      v.std_error = 0.0;  // read off the lattice, not estimated
-    }
-    e.coefficients.push_back(v);
-  }
-  e.parameters = e.coefficients;
-  CandidateTest& t = e.evidence;
-  t.name = e.name;
-  t.candidate = -1;
-  t.p_null = grid.false_alarm;
-  t.effect_rms_um = grid.rms_um;
-  t.significant = t.practical = t.accepted = true;
-  t.note = "coordinate-grid stage: " + grid.note + "; p_null is the Rayleigh bound";
-  e.fitted_rms_um = grid.rms_um;
-  return e;
-}
-
-}  // namespace
-
 Diagnosis diagnose_prepared(const PreparedResiduals& prepared, const DiagnoseOptions& options) {
   Diagnosis d = diagnose_residuals(prepared.residuals, prepared.noise, options);
   d.outliers = prepared.outliers;
   d.coordinate_grid = prepared.grid;
-  CoordinateGrid& grid = d.coordinate_grid;
-  // With a grid named or in the model: does the latched model explain the residuals' law (a
-  // lumpy one the gap's KS test rejects, coordinate_grid.h)? Only when nothing else was found.
-  const bool nothing_else = d.effects.empty() && !d.empirical.fitted;
-  bool explained = false;
-  if (d.status == "tested" && grid.found() && (grid.named || grid.in_model)) {
-    std::array<double, 3> steps = {0.0, 0.0, 0.0};
-    for (int a = 0; a < 3; ++a) {
-      if (grid.axes[a].observable) steps[a] = grid.axes[a].step_um;
-    }
-    const double sigma_before =
-        std::sqrt(std::max(0.0, d.noise.sigma_um * d.noise.sigma_um - grid.rms_um * grid.rms_um));
-    grid.check = latched_model_check(prepared.residuals.points, steps, sigma_before,
-                                     d.noise.sigma_um, std::max(d.null_replicates, 199), d.seed);
-    explained = nothing_else && grid.check.p >= d.alpha;
-  }
-  const auto leave_unexplained = [&](const std::string& why) {
-    d.unexplained_structure = false;
-    d.partially_explained_by.clear();
-    d.unexplained_along = {};
-    std::erase_if(d.notes,
-                  [](const std::string& n) { return n.rfind("structure remains", 0) == 0; });
-    std::ostringstream text;
-    text << why << " (the residuals' KS distance " << grid.check.ks << " and RMS "
-         << grid.check.rms_um
-         << " µm are those of readings simulated with the latching, p = " << grid.check.p
-         << " over " << grid.check.replicates << ")";
-    d.notes.push_back(text.str());
-  };
-  if (d.status == "tested" && grid.named) {
-    d.effects.push_back(scale_resolution_effect(grid));
-    d.effects.back().step = static_cast<int>(d.effects.size()) - 1;
-    d.gap_detected = true;
-    if (d.named_effect == "none" || (d.named_effect == "unexplained" && explained)) {
-      if (d.named_effect == "unexplained") {
-        leave_unexplained(
-            "the residuals' shape that the gap tests reject is the latching's: with a step larger "
-            "than the noise each point's error is set by its position");
-      }
-      d.named_effect = "scale_resolution";
-    }
-    d.notes.push_back("scale resolution: " + grid.note + "; the noise floor includes its spread");
-  } else if (d.status == "tested" && grid.in_model && d.named_effect == "unexplained" &&
-             explained) {
-    leave_unexplained(
-        "no gap: the residuals' shape that the gap tests reject is the latching's "
-        "the model has");
-    d.named_effect = "none";
-    d.gap_detected = false;
-  } else if (grid.found()) {
-    d.notes.push_back("coordinate grid: " + grid.note);
-  }
+  diagnosis_stages::coordinate_grid_verdict(prepared, d);
   const OutlierScreen& screen = d.outliers;
   if (!screen.excluded.empty()) {
     std::ostringstream text;

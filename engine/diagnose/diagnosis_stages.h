@@ -2,7 +2,8 @@
 // diagnosis.cpp selects and fits the effects, judges their ambiguity and runs the point-law
 // stage; diagnosis_gap.cpp measures the gap before and after (with the held-out check, the null
 // simulation of its statistics, the spectrum and the cluster-aware evidence) and makes the
-// verdict. Internal to engine/diagnose. Residuals in µm.
+// verdict; diagnosis_grid.cpp adds the coordinate grid's part. Internal to engine/diagnose.
+// Residuals in µm.
 #pragma once
 
 #include <Eigen/Core>
@@ -86,5 +87,10 @@ HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int column
 // The axis along which `residual_um` (one per point) varies most (Diagnosis::unexplained_along).
 Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points,
                                         const std::vector<double>& residual_um);
+
+// After the selection, the fit and the gap (diagnose_prepared): the coordinate grid of
+// `prepared` (scale resolution) into `d` — named as the effect scale_resolution, or explaining a
+// residual law the gap tests reject (diagnosis_grid.cpp).
+void coordinate_grid_verdict(const PreparedResiduals& prepared, Diagnosis& d);
 
 }  // namespace gearmc::diagnosis_stages
