@@ -70,4 +70,10 @@ inline FlankPoint flank_point_at(const InvoluteGear& gear, FlankSide side, doubl
   return fp;
 }
 
+// phi_b's cos and sin of a nominal flank point made by InvoluteGear::flank_point (or
+// flank_point_at): its profile tangent is e(phi_b), the same two numbers, so no sincos.
+inline BaseAngle planned_base_angle(const FlankPoint& fp) {
+  return {fp.profile_tangent.x(), fp.profile_tangent.y()};
+}
+
 }  // namespace gearmc

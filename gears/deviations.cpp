@@ -52,6 +52,7 @@ CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficient
                "a cubic B-spline needs at least 4 coefficients and t1 > t0");
   const int spans = static_cast<int>(c_.size()) - 3;
   h_ = (t1_ - t0_) / spans;
+  inverse_h_ = spans / (t1_ - t0_);
   poly_.resize(spans);
   for (int k = 0; k < spans; ++k) {
     // Taylor coefficients at the span start; the third derivative is constant on the span.
@@ -140,7 +141,9 @@ void CubicBSpline::evaluate(double t, double* value, double* first, double* seco
   }
   const double tc = std::clamp(t, t0_, t1_);
   const int spans = static_cast<int>(poly_.size());
-  const int k = std::clamp(static_cast<int>((tc - t0_) / h_), 0, spans - 1);
+  // (tc - t0) / h rounded differently at a span's end only picks the neighbouring span, whose
+  // polynomial has the same value there to rounding (C2 spline).
+  const int k = std::clamp(static_cast<int>((tc - t0_) * inverse_h_), 0, spans - 1);
   const std::array<double, 4>& q = poly_[k];
   const double u = tc - (t0_ + k * h_);
   const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));

@@ -75,6 +75,7 @@ class CubicBSpline {
   // Value and derivatives inside [t0, t1] by the basis functions of span `span` (3..n-1).
   void evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const;
   double t0_ = 0.0, t1_ = 1.0, h_ = 1.0;
+  double inverse_h_ = 1.0;  // 1 / h_: the span index by a multiplication, not a division
   std::vector<double> c_;
   // Each span's cubic in power form about its start: v = p0 + p1 u + p2 u^2 + p3 u^3, built
   // once from the B-spline so that an evaluation is one Horner step.

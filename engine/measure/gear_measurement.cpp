@@ -48,7 +48,7 @@ void GearMeasurement::measure_flank(
     m.plan = &q;
     m.contact = flank.mesh ? flank.mesh->probe(fp.point, fp.normal, R)
                            : solve_contact(surface, model_.extent(), fp.point, fp.normal, R,
-                                           q.roll_length_mm, q.z_mm);
+                                           q.roll_length_mm, q.z_mm, planned_base_angle(fp));
     ContactResult& r = m.contact;
     // The real stylus path is the nominal one moved along n by |t - R| (t = (O - p)·n); the
     // clearances are 1-Lipschitz in the path's position, so a path whose nominal clearance

@@ -130,17 +130,24 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
     // Newton step for the maximum; where the Hessian is not negative definite, shift it
     // (Levenberg) so the step still goes uphill.
     Eigen::Matrix2d H = m.hessian;
-    const double trace = H.trace(), det = H.determinant();
-    if (!(trace < 0.0 && det > 0.0)) {
+    const double trace = H.trace();
+    double det = H.determinant();
+    const bool shifted = !(trace < 0.0 && det > 0.0);
+    if (shifted) {
       const double largest = 0.5 * trace + std::sqrt(std::max(0.0, 0.25 * trace * trace - det));
       H -= (largest + 1.0 / R) * Eigen::Matrix2d::Identity();
+      det = H.determinant();
     }
-    Eigen::Vector2d step = -H.inverse() * m.gradient;
+    // -H^-1 g of the symmetric 2 x 2 H by its adjugate: one division.
+    const double inverse_det = 1.0 / det;
+    Eigen::Vector2d step((H(0, 1) * m.gradient[1] - H(1, 1) * m.gradient[0]) * inverse_det,
+                         (H(1, 0) * m.gradient[0] - H(0, 0) * m.gradient[1]) * inverse_det);
     // Backtracking: never accept a large step that lowers f (or leaves the sphere's reach).
     // Near the maximum f changes by ~|step|^2 / R, below its rounding error once the step is
     // under ~1e-6 mm, so there the pure Newton step (quadratic convergence) is taken.
-    const bool newton_region = H == m.hessian && step.norm() < kNewtonRegion;
-    if (newton_region && step.norm() < kFinishStep) {
+    const double step2 = step.squaredNorm();  // compared squared: no square root in the chain
+    const bool newton_region = !shifted && step2 < kNewtonRegion * kNewtonRegion;
+    if (newton_region && step2 < kFinishStep * kFinishStep) {
       // Quadratic convergence: the error after this step is ~(3/2) |step|^2 / R (f''' / 2f''
       // with f'' ~ 1/R, f''' ~ 3/R^2): below 1e-9 mm = 0.001 nm for any stylus of R >= 0.15 mm,
       // so the step is taken and only the point (not the derivatives) is evaluated there. The
@@ -171,7 +178,7 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
       at_edge = true;
       break;
     }
-    if (step.norm() < kStepTolerance) {
+    if (step.squaredNorm() < kStepTolerance * kStepTolerance) {
       converged = true;
       final_height = m.f;
       final_point = m.point;
@@ -195,13 +202,21 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
 ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0) {
+  return solve_contact(flank, extent, p, n, R, L0, z0,
+                       base_angle(flank.gear(), flank.tooth(), flank.side(), L0));
+}
+
+ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
+                            const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
+                            double z0, const BaseAngle& angle_at_L0) {
   ContactResult result;
-  const AngleAnchor anchor{L0, base_angle(flank.gear(), flank.tooth(), flank.side(), L0),
-                           base_angle_per_mm(flank.gear(), flank.side())};
+  const AngleAnchor anchor{L0, angle_at_L0, base_angle_per_mm(flank.gear(), flank.side())};
   FlankFramePoint start_frame;  // S(L0, z0): the certificate checks p and n against it
   LocalSolution s =
       local_solve(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), anchor, &start_frame);
-  const FlankSurfacePoint start = frame_to_surface(start_frame);
+  const ContactStart start(start_frame.point,
+                           Eigen::Vector3d(start_frame.m.x(), start_frame.m.y(), 0.0),
+                           start_frame.deviation_um);
   result.iterations = s.iterations;
   // The certificate (contact_certificate.h): restart from a higher point until none is left.
   while (s.status == ContactResult::Status::kOk) {

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "gears/base_angle.h"
 #include "surfaces/analytic_flank.h"
 
 namespace gearmc {
@@ -66,6 +67,13 @@ inline constexpr int kMaxCertificateRestarts = 8;
 ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0);
+// The same with the base point's angle at L0 given (gears/base_angle.h): the planned point's
+// profile tangent is (cos, sin) of it (InvoluteGear::flank_point), so a caller holding the
+// nominal flank point saves the solve's one sincos. `angle_at_L0` must be base_angle(gear,
+// tooth, side, L0) of the flank; the other overload computes it.
+ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
+                            const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
+                            double z0, const BaseAngle& angle_at_L0);
 
 // Whether the stylus, on its way from `approach_mm` outside the planned point to the contact
 // centre O (both along n), stays clear of the rest of the tooth space of the flank `tooth`,

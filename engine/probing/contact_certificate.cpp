@@ -39,8 +39,8 @@ struct ExactBound {
 // and H_uu = J^-T M J^-1 with J = [[u_L, u_z], [0, 1]]. sin phi and cos phi are bounded over the
 // box symmetric about L0, so the sign of t0 does not matter.
 ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                       const Eigen::Vector3d& n, double R, double L0,
-                       const FlankSurfacePoint& start, double L_min, double L_max) {
+                       const Eigen::Vector3d& n, double R, double L0, const ContactStart& start,
+                       double L_min, double L_max) {
   ExactBound out;
   if (flank.expression() != nullptr) return out;  // no exact derivative bounds
   // The closed form needs p = P(L0, p_z) + 0 on the nominal flank and n = n(L0), transverse;
@@ -52,6 +52,7 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
     return out;
   }
   const double r_b = 0.5 * flank.gear().base_diameter_mm();
+  const double inv_rb = 1.0 / r_b;  // divisions by r_b and u_L below are multiplications
   const double c_tau = (eps - eps.dot(n) * n).norm();  // >= |eps.t0|
   const FlankDeviation::Ranges& rg = flank.deviation_derivative_ranges();
   auto mm = [](CubicBSpline::Range r) { return Interval{1e-3 * r.lo, 1e-3 * r.hi}; };
@@ -65,14 +66,15 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   // and needs no bound of the footprint there. On the upper side |N| >= L0 sin(Phi) (the r_b
   // term is >= 0 there), on the lower side the full expression below.
   double half = 1.2 * (R + c_tau) * r_b / L0, Phi = 0.0, D = 0.0, L_lo = 0.0, L_hi = 0.0;
+  const double dL_mag = dL.magnitude(), dz_mag = dz.magnitude();
   bool bounded = false;
   for (int attempt = 0; attempt < 4 && !bounded; ++attempt) {
     if (attempt > 0) half *= 1.5;
     L_lo = std::max(L0 - half, L_min);
     L_hi = std::min(L0 + half, L_max);
     if (L_lo <= 0.0) return out;
-    Phi = half / r_b;
-    D = std::abs(delta0) + dL.magnitude() * half + dz.magnitude() * R;
+    Phi = half * inv_rb;
+    D = std::abs(delta0) + dL_mag * half + dz_mag * R;
     const double N_up = L0 * (Phi - Phi * Phi * Phi / 6.0);
     const double N_down = N_up - r_b * (0.5 * Phi * Phi + Phi * Phi * Phi * Phi / 24.0);
     const bool lower_cut = L0 - half<L_min, upper_cut = L0 + half> L_max;
@@ -82,26 +84,26 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   if (!bounded) return out;
   // Bounds with the signs known (a > 0, u_L > 0, |sin phi| <= Phi, cos phi >= 1 - Phi^2/2):
   // ub = upper bound, mag = bound of the modulus.
-  const double a_lo = (L_lo - D) / r_b, a_hi = (L_hi + D) / r_b;
-  const double uL_lo = a_lo * (1.0 - 0.5 * Phi * Phi) - dL.magnitude() * Phi;
+  const double a_lo = (L_lo - D) * inv_rb, a_hi = (L_hi + D) * inv_rb;
+  const double uL_lo = a_lo * (1.0 - 0.5 * Phi * Phi) - dL_mag * Phi;
   if (a_lo <= 0.0 || uL_lo <= 0.0) return out;
-  const double dL_mag = dL.magnitude(), dz_mag = dz.magnitude();
-  const double slope_term = dL_mag * (1.0 + 2.0 * dL_mag) / r_b;
+  const double inv_uL = 1.0 / uL_lo;
+  const double slope_term = dL_mag * (1.0 + 2.0 * dL_mag) * inv_rb;
   // M_LL = (a (delta_LL - a / r_b) - delta_L (1 + 2 delta_L) / r_b) / u_L
-  const double num_LL_ub = a_hi * std::max(dLL.hi, 0.0) - a_lo * a_lo / r_b + slope_term;
-  const double M_LL_ub = num_LL_ub >= 0.0 ? num_LL_ub / uL_lo : num_LL_ub / (a_hi + dL_mag * Phi);
-  const double M_LL_mag = (a_hi * dLL.magnitude() + a_hi * a_hi / r_b + slope_term) / uL_lo;
-  const double M_Lz_mag = dL_mag * dz_mag / r_b / uL_lo;        // delta_Lz = 0
-  const double M_zz_ub = a_hi * std::max(dzz.hi, 0.0) / uL_lo;  // a delta_zz / u_L
-  const double r_mag = dz_mag * Phi / uL_lo;                    // |u_z(tau) / u_L|
+  const double num_LL_ub = a_hi * std::max(dLL.hi, 0.0) - a_lo * a_lo * inv_rb + slope_term;
+  const double M_LL_ub = num_LL_ub >= 0.0 ? num_LL_ub * inv_uL : num_LL_ub / (a_hi + dL_mag * Phi);
+  const double M_LL_mag = (a_hi * dLL.magnitude() + a_hi * a_hi * inv_rb + slope_term) * inv_uL;
+  const double M_Lz_mag = dL_mag * dz_mag * inv_rb * inv_uL;     // delta_Lz = 0
+  const double M_zz_ub = a_hi * std::max(dzz.hi, 0.0) * inv_uL;  // a delta_zz / u_L
+  const double r_mag = dz_mag * Phi * inv_uL;                    // |u_z(tau) / u_L|
   // H_tt = M_LL / u_L^2, H_tz = (M_Lz - r M_LL) / u_L, H_zz = r^2 M_LL - 2 r M_Lz + M_zz.
-  const double H_tt_ub = M_LL_ub >= 0.0 ? M_LL_ub / (uL_lo * uL_lo) : 0.0;
-  const double H_tz_mag = (M_Lz_mag + r_mag * M_LL_mag) / uL_lo;
+  const double H_tt_ub = M_LL_ub >= 0.0 ? M_LL_ub * inv_uL * inv_uL : 0.0;
+  const double H_tz_mag = (M_Lz_mag + r_mag * M_LL_mag) * inv_uL;
   const double H_zz_ub = r_mag * r_mag * std::max(M_LL_ub, 0.0) + 2.0 * r_mag * M_Lz_mag + M_zz_ub;
   // Gershgorin: the largest eigenvalue is at most max(H_tt + |H_tz|, H_zz + |H_tz|). (H_tt's
   // negative part, the involute's convexity, is dropped: a bound, not an estimate.)
   out.kappa = std::max(H_tt_ub, H_zz_ub) + H_tz_mag;
-  out.inverse_jacobian = std::sqrt(1.0 / (uL_lo * uL_lo) + r_mag * r_mag + 1.0);
+  out.inverse_jacobian = std::sqrt(inv_uL * inv_uL + r_mag * r_mag + 1.0);
   return out;
 }
 
@@ -384,7 +386,7 @@ double exact_curvature_bound(const AnalyticFlank& flank, const Eigen::Vector3d& 
 
 ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                    const Eigen::Vector3d& n, double R, double L0,
-                                   const FlankSurfacePoint& start, const Eigen::Vector2d& x_star,
+                                   const ContactStart& start, const Eigen::Vector2d& x_star,
                                    double t_star, double gradient_bound, double L_min,
                                    double L_max) {
   const ExactBound b = exact_bound(flank, p, n, R, L0, start, L_min, L_max);

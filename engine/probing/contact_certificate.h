@@ -64,6 +64,18 @@ struct ContactCertificate {
   bool sampled = false;  // stage 2 was needed (stage 1 did not prove it)
 };
 
+// What stage 1 needs of the flank at the planned point (L0, p_z): S there, the nominal normal
+// n(L0) and the deviation there. A FlankSurfacePoint converts to it.
+struct ContactStart {
+  Eigen::Vector3d point;           // S(L0, p_z), mm
+  Eigen::Vector3d nominal_normal;  // n(L0), unit
+  double deviation_um;             // delta(L0, p_z), µm
+  ContactStart(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal, double deviation)
+      : point(point_mm), nominal_normal(normal), deviation_um(deviation) {}
+  ContactStart(const FlankSurfacePoint& s)  // NOLINT: implicit on purpose
+      : ContactStart(s.point, s.nominal_normal, s.deviation_um) {}
+};
+
 // p, n: planned point and nominal outward unit normal; R: tip radius; L0: the planned roll
 // length and `start` = flank.evaluate(L0, p_z) (stage 1 needs p = P(L0, p_z) on the nominal
 // flank and n = n(L0); it checks that with `start` and otherwise leaves the point to stage 2);
@@ -75,7 +87,7 @@ struct ContactCertificate {
 // exists.
 ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                    const Eigen::Vector3d& n, double R, double L0,
-                                   const FlankSurfacePoint& start, const Eigen::Vector2d& x_star,
+                                   const ContactStart& start, const Eigen::Vector2d& x_star,
                                    double t_star, double gradient_bound, double L_min = 0.0,
                                    double L_max = std::numeric_limits<double>::infinity());
 

@@ -47,19 +47,36 @@ void BM_AnalyticContact(benchmark::State& state) {
   const ProbingGridCoordinates grid = probing_grid_coordinates(f.gear, f.scenario.probing.grid);
   const FlankExtent extent{f.gear.form_roll_length_mm(), f.gear.tip_roll_length_mm(), 0.0,
                            f.gear.face_width_mm()};
+  // The planned points are nominal, the same for every gear: computed once, outside the timing,
+  // as a run's probing plan computes them once (engine/measure/measurement_model.h). Each solve
+  // takes the base point's angle from its planned point, as the run does.
+  struct Planned {
+    FlankPoint fp;
+    double L, z;
+  };
+  std::vector<Planned> planned;
+  for (int tooth = 1; tooth <= f.gear.teeth(); ++tooth) {
+    for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      for (double z : grid.heights) {
+        for (double L : grid.roll_lengths) {
+          planned.push_back({f.gear.flank_point(tooth, side, L, z), L, z});
+        }
+      }
+    }
+  }
   std::int64_t solves = 0;
   double sink = 0.0;
   for (auto _ : state) {
+    const Planned* next = planned.data();
     for (int tooth = 1; tooth <= f.gear.teeth(); ++tooth) {
       for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
         const AnalyticFlank flank(f.gear, tooth, side, g.flank(tooth, side), g.eccentricity_mm);
-        for (double z : grid.heights) {
-          for (double L : grid.roll_lengths) {
-            const FlankPoint fp = f.gear.flank_point(tooth, side, L, z);
-            const ContactResult r = solve_contact(flank, extent, fp.point, fp.normal, 0.5, L, z);
-            sink += r.delta_um;
-            ++solves;
-          }
+        const std::size_t per_flank = grid.heights.size() * grid.roll_lengths.size();
+        for (std::size_t k = 0; k < per_flank; ++k, ++next) {
+          const ContactResult r = solve_contact(flank, extent, next->fp.point, next->fp.normal, 0.5,
+                                                next->L, next->z, planned_base_angle(next->fp));
+          sink += r.delta_um;
+          ++solves;
         }
       }
     }
