@@ -28,12 +28,13 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       deviation_(deviation),
       eccentricity_(eccentricity_mm.x(), eccentricity_mm.y(), 0.0),
       expression_(expression),
-      ranges_(deviation.derivative_ranges()) {}
+      ranges_(deviation.derivative_ranges()),
+      inverse_base_radius_(2.0 / gear.base_diameter_mm()) {}
 
 FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, double z,
                                const BaseAngle& angle) {
   const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
-  const double r_b = 0.5 * flank.gear().base_diameter_mm();
+  const double inv_rb = flank.inverse_base_radius();  // products, not divisions, in the chain
   // Deviation and its partials, converted from µm to mm.
   double d, dL, dz, dLL, dzz, dLz = 0.0;
   flank.deviation().evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
@@ -54,14 +55,14 @@ FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, double z,
   out.point = nominal.point + delta * nominal.normal + flank.eccentricity();
   out.t = nominal.profile_tangent.head<2>();
   out.m = nominal.normal.head<2>();
-  out.a = (L + delta) / r_b;
-  out.b = (1.0 + 2.0 * dL) / r_b;
-  out.c = dLL - (L + delta) / (r_b * r_b);
+  out.a = (L + delta) * inv_rb;
+  out.b = (1.0 + 2.0 * dL) * inv_rb;
+  out.c = dLL - out.a * inv_rb;
   out.d_L = dL;
   out.d_z = dz;
   out.d_Lz = dLz;
   out.d_zz = dzz;
-  out.d_z_over_rb = dz / r_b;
+  out.d_z_over_rb = dz * inv_rb;
   out.deviation_um = d;
   return out;
 }

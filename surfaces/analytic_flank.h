@@ -40,6 +40,8 @@ class AnalyticFlank {
   const FlankDeviation& deviation() const { return deviation_; }
   const NormalExpression* expression() const { return expression_; }
   const Eigen::Vector3d& eccentricity() const { return eccentricity_; }
+  // 1 / r_b (1/mm): the partials divide by the base radius at every evaluation.
+  double inverse_base_radius() const { return inverse_base_radius_; }
   // The deviation's partials' ranges over all (L, z), µm/mm and µm/mm² (exact; computed once
   // here, FlankDeviation::derivative_ranges); without the expression.
   const FlankDeviation::Ranges& deviation_derivative_ranges() const { return ranges_; }
@@ -52,6 +54,7 @@ class AnalyticFlank {
   Eigen::Vector3d eccentricity_;
   const NormalExpression* expression_;
   FlankDeviation::Ranges ranges_;
+  double inverse_base_radius_;
 };
 
 }  // namespace gearmc
