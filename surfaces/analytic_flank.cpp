@@ -31,42 +31,6 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       ranges_(deviation.derivative_ranges()),
       inverse_base_radius_(2.0 / gear.base_diameter_mm()) {}
 
-FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, double z,
-                               const BaseAngle& angle) {
-  const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
-  const double inv_rb = flank.inverse_base_radius();  // products, not divisions, in the chain
-  // Deviation and its partials, converted from µm to mm.
-  double d, dL, dz, dLL, dzz, dLz = 0.0;
-  flank.deviation().evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
-  if (const NormalExpression* expression = flank.expression()) {
-    // Five-point differences (normal_expression.h: accurate to ~1e-6 µm/mm in the slopes).
-    const NormalExpression::Derivatives e =
-        expression->derivatives(L, z, flank.tooth(), side_sign(flank.side()));
-    d += e.value;
-    dL += e.dL;
-    dz += e.dz;
-    dLL += e.dLL;
-    dzz += e.dzz;
-    dLz += e.dLz;
-  }
-  const double delta = 1e-3 * d;
-  dL *= 1e-3, dz *= 1e-3, dLL *= 1e-3, dzz *= 1e-3, dLz *= 1e-3;
-  FlankFramePoint out;
-  out.point = nominal.point + delta * nominal.normal + flank.eccentricity();
-  out.t = nominal.profile_tangent.head<2>();
-  out.m = nominal.normal.head<2>();
-  out.a = (L + delta) * inv_rb;
-  out.b = (1.0 + 2.0 * dL) * inv_rb;
-  out.c = dLL - out.a * inv_rb;
-  out.d_L = dL;
-  out.d_z = dz;
-  out.d_Lz = dLz;
-  out.d_zz = dzz;
-  out.d_z_over_rb = dz * inv_rb;
-  out.deviation_um = d;
-  return out;
-}
-
 FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
   const Eigen::Vector3d t(f.t.x(), f.t.y(), 0.0), n(f.m.x(), f.m.y(), 0.0);
   FlankSurfacePoint out;
@@ -79,16 +43,6 @@ FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
   out.nominal_normal = n;
   out.deviation_um = f.deviation_um;
   return out;
-}
-
-Eigen::Vector3d surface_point_at(const AnalyticFlank& flank, double L, double z,
-                                 const BaseAngle& angle) {
-  const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
-  double d = flank.deviation().normal_um(L, z);
-  if (const NormalExpression* expression = flank.expression()) {
-    d += expression->value_um(L, z, flank.tooth(), side_sign(flank.side()));
-  }
-  return nominal.point + 1e-3 * d * nominal.normal + flank.eccentricity();
 }
 
 FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {

@@ -26,14 +26,56 @@ struct FlankFramePoint {
   double deviation_um;  // delta(L, z), µm
 };
 
-// S and its partials at (L, z) with phi_b's cos and sin at L given (base_angle.h).
-FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, double z,
-                               const BaseAngle& angle);
+// S and its partials at (L, z) with phi_b's cos and sin at L given (base_angle.h). Inline: the
+// contact solver's Newton step keeps the frame in registers.
+inline FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, double z,
+                                      const BaseAngle& angle) {
+  const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
+  const double inv_rb = flank.inverse_base_radius();  // products, not divisions, in the chain
+  // Deviation and its partials, converted from µm to mm.
+  double d, dL, dz, dLL, dzz, dLz = 0.0;
+  flank.deviation().evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
+  if (const NormalExpression* expression = flank.expression()) {
+    // Five-point differences (normal_expression.h: accurate to ~1e-6 µm/mm in the slopes).
+    const NormalExpression::Derivatives e =
+        expression->derivatives(L, z, flank.tooth(), side_sign(flank.side()));
+    d += e.value;
+    dL += e.dL;
+    dz += e.dz;
+    dLL += e.dLL;
+    dzz += e.dzz;
+    dLz += e.dLz;
+  }
+  const double delta = 1e-3 * d;
+  dL *= 1e-3, dz *= 1e-3, dLL *= 1e-3, dzz *= 1e-3, dLz *= 1e-3;
+  FlankFramePoint out;
+  out.point = nominal.point + delta * nominal.normal + flank.eccentricity();
+  out.t = nominal.profile_tangent.head<2>();
+  out.m = nominal.normal.head<2>();
+  out.a = (L + delta) * inv_rb;
+  out.b = (1.0 + 2.0 * dL) * inv_rb;
+  out.c = dLL - out.a * inv_rb;
+  out.d_L = dL;
+  out.d_z = dz;
+  out.d_Lz = dLz;
+  out.d_zz = dzz;
+  out.d_z_over_rb = dz * inv_rb;
+  out.deviation_um = d;
+  return out;
+}
+
 // The vectors of FlankSurfacePoint from the frame form (AnalyticFlank::evaluate is this of
 // evaluate_frame: the same values).
 FlankSurfacePoint frame_to_surface(const FlankFramePoint& f);
 // S(L, z) with phi_b's cos and sin at L given (AnalyticFlank::point is this with base_angle).
-Eigen::Vector3d surface_point_at(const AnalyticFlank& flank, double L, double z,
-                                 const BaseAngle& angle);
+inline Eigen::Vector3d surface_point_at(const AnalyticFlank& flank, double L, double z,
+                                        const BaseAngle& angle) {
+  const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
+  double d = flank.deviation().normal_um(L, z);
+  if (const NormalExpression* expression = flank.expression()) {
+    d += expression->value_um(L, z, flank.tooth(), side_sign(flank.side()));
+  }
+  return nominal.point + 1e-3 * d * nominal.normal + flank.eccentricity();
+}
 
 }  // namespace gearmc
