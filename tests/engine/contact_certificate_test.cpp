@@ -218,6 +218,38 @@ TEST(ContactCertificate, SteepBumpsNoOkPointBelowTheBruteForceMaximum) {
   EXPECT_GT(restarted, 0);  // the surface does put Newton on lower bumps
 }
 
+TEST(Contact, TheAngleOfThePlannedPointGivesTheSameContactBitForBit) {
+  // A run passes each planned point's base angle to the solver (no sincos per solve); the
+  // overload that computes it must give the same answer to the last bit, statuses and
+  // iteration counts included: P1's gear, a drawn gear (seed 7, gear 5), every flank of three
+  // teeth at P1's grid.
+  const InvoluteGear gear = p1_gear();
+  const GearSampler sampler(gear, testing_support::p1_tolerance_set(), DeviationModel{}, 7);
+  const PerturbedGear g = sampler.draw(5);
+  const FlankExtent extent{gear.form_roll_length_mm(), gear.tip_roll_length_mm(), 0.0,
+                           gear.face_width_mm()};
+  int compared = 0;
+  for (int tooth : {1, 9, 17}) {
+    for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      const AnalyticFlank flank(gear, tooth, side, g.flank(tooth, side), g.eccentricity_mm);
+      for (const PlannedPoint& pp : plan_flank(gear, ProbingGridSpec{}, tooth, side)) {
+        const FlankPoint fp = gear.flank_point(tooth, side, pp.roll_length, pp.z);
+        const ContactResult a =
+            solve_contact(flank, extent, fp.point, fp.normal, 0.5, pp.roll_length, pp.z);
+        const ContactResult b = solve_contact(flank, extent, fp.point, fp.normal, 0.5,
+                                              pp.roll_length, pp.z, planned_base_angle(fp));
+        ASSERT_EQ(a.status, b.status);
+        EXPECT_EQ(a.iterations, b.iterations);
+        EXPECT_EQ(a.delta_um, b.delta_um);
+        EXPECT_EQ(a.normal_error_um, b.normal_error_um);
+        EXPECT_EQ((a.contact - b.contact).norm(), 0.0);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 3 * 2 * 50);  // P1's grid: 10 x 5 points per flank
+}
+
 TEST(ContactCertificate, ExactStageProvesP1FieldsAndRefusesAWavyOne) {
   const InvoluteGear gear = p1_gear();
   const ToleranceSet tol = testing_support::p1_tolerance_set();

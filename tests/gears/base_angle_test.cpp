@@ -54,5 +54,22 @@ TEST(BaseAngle, FlankPointFromANearbyAngleIsTheGearsFlankPoint) {
   }
 }
 
+TEST(BaseAngle, APlannedPointCarriesItsAngleBitForBit) {
+  // The contact solver takes phi_b at the planned roll length from the planned point's profile
+  // tangent (planned_base_angle) instead of calling sincos: it must be base_angle's own two
+  // numbers, exactly, on every tooth and side and along the whole profile.
+  const InvoluteGear gear(p1_gear_parameters());
+  for (int tooth = 1; tooth <= gear.teeth(); ++tooth) {
+    for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      for (double L = gear.form_roll_length_mm(); L <= gear.tip_roll_length_mm(); L += 0.37) {
+        const BaseAngle direct = base_angle(gear, tooth, side, L);
+        const BaseAngle planned = planned_base_angle(gear.flank_point(tooth, side, L, 5.0));
+        EXPECT_EQ(planned.cos, direct.cos) << tooth << " " << L;
+        EXPECT_EQ(planned.sin, direct.sin) << tooth << " " << L;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gearmc
