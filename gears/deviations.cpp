@@ -480,11 +480,21 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
 }
 
 // The real flank's signed normal distance (mm, + outside the material) of point X (datum frame,
-// mm), and the roll length of its foot, for the flank of `tooth` on `side` of a perturbed gear:
-// closed form for an involute, r_b (inv(alpha_X) +/- phi - theta_b), minus the deviation at the
-// foot (first order in the deviation; its error is d * slope^2, far below a nanometre).
-double distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, int tooth,
-                              FlankSide side, const Eigen::Vector2d& X, double z) {
+// mm) for the flank of `tooth` on `side` of a perturbed gear, and its gradient (per mm, datum
+// frame): closed form for an involute, r_b (inv(alpha_X) +/- phi - theta_b), minus the deviation
+// at the foot of roll length L = r_b (theta_b -/+ phi + alpha_X) (first order in the deviation;
+// its error is d * slope^2, far below a nanometre). With the radial and tangential unit vectors
+// e_rho, e_phi of X and sin(alpha_X) = sqrt(rho^2 - r_b^2) / rho, cos(alpha_X) = r_b / rho:
+//   d inv(alpha)/d rho = tan^2(alpha) d alpha/d rho = sin(alpha) / r_b, so the nominal part has
+//   the gradient sin(alpha) e_rho +/- cos(alpha) e_phi (the flank's unit normal at the foot);
+//   grad L = cos^2(alpha) / sin(alpha) e_rho -/+ cos(alpha) e_phi, times -1e-3 d'(L) for the
+//   deviation part.
+struct FlankDistance {
+  double distance_mm;
+  Eigen::Vector2d gradient;
+};
+FlankDistance distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, int tooth,
+                                     FlankSide side, const Eigen::Vector2d& X, double z) {
   const Eigen::Vector2d Xg = X - g.eccentricity_mm;  // into the gear's own frame
   const double r_b = gear.base_diameter_mm() / 2.0;
   const double rho = Xg.norm();
@@ -496,7 +506,19 @@ double distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, 
   const double theta_b = gear.base_half_angle_rad();
   const double distance = r_b * (involute_function(alpha_x) + s * phi - theta_b);
   const double foot_L = r_b * (theta_b - s * phi + alpha_x);
-  return distance - 1e-3 * g.flank(tooth, side).normal_um(foot_L, z);
+  const FlankDeviation& f = g.flank(tooth, side);
+  double pv, p1, p2;
+  f.profile_form.evaluate(foot_L, &pv, &p1, &p2);
+  const double d_um = f.offset_um + f.profile_slope_um_per_mm * (foot_L - f.profile_mid_mm) + pv +
+                      f.helix_slope_um_per_mm * (z - f.helix_mid_mm) + f.helix_form.value(z);
+  const double dL_um_per_mm = f.profile_slope_um_per_mm + p1;
+  const Eigen::Vector2d e_rho = Xg / rho, e_phi(-e_rho.y(), e_rho.x());
+  const double sin_a = t / rho, cos_a = r_b / rho;
+  Eigen::Vector2d gradient = sin_a * e_rho + s * cos_a * e_phi;
+  if (sin_a > 0.0) {
+    gradient -= 1e-3 * dL_um_per_mm * (cos_a * cos_a / sin_a * e_rho - s * cos_a * e_phi);
+  }
+  return {distance - 1e-3 * d_um, gradient};
 }
 
 }  // namespace
@@ -520,19 +542,17 @@ double radial_runout_um(const InvoluteGear& gear, const PerturbedGear& g) {
     const int next = k % teeth + 1;
     const double angle = gear.tooth_centre_angle_rad(k) + half;
     Eigen::Vector2d X = rho_nominal * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-    auto residual = [&](const Eigen::Vector2d& Y) {
-      return Eigen::Vector2d(
-          distance_to_real_flank(gear, g, k, FlankSide::kRight, Y, z) - r_ball,
-          distance_to_real_flank(gear, g, next, FlankSide::kLeft, Y, z) - r_ball);
-    };
-    for (int iter = 0; iter < 20; ++iter) {  // Newton, finite-difference Jacobian
-      const Eigen::Vector2d f = residual(X);
-      if (f.cwiseAbs().maxCoeff() < 1e-10) break;
-      constexpr double h = 1e-7;
-      Eigen::Matrix2d J;
-      J.col(0) = (residual(X + Eigen::Vector2d(h, 0)) - f) / h;
-      J.col(1) = (residual(X + Eigen::Vector2d(0, h)) - f) / h;
-      X -= J.partialPivLu().solve(f);
+    // Newton on (distance to the right flank, distance to the left flank) = (r_ball, r_ball)
+    // with the closed-form gradients as the Jacobian's rows: two distance evaluations per step.
+    for (int iter = 0; iter < 20; ++iter) {
+      const FlankDistance a = distance_to_real_flank(gear, g, k, FlankSide::kRight, X, z);
+      const FlankDistance b = distance_to_real_flank(gear, g, next, FlankSide::kLeft, X, z);
+      const double fa = a.distance_mm - r_ball, fb = b.distance_mm - r_ball;
+      if (std::max(std::abs(fa), std::abs(fb)) < 1e-10) break;
+      // The two flank normals of a space are far from parallel (about 2 alpha apart).
+      const double det = a.gradient.x() * b.gradient.y() - a.gradient.y() * b.gradient.x();
+      X.x() -= (fa * b.gradient.y() - fb * a.gradient.y()) / det;
+      X.y() -= (a.gradient.x() * fb - b.gradient.x() * fa) / det;
     }
     rho_min = std::min(rho_min, X.norm());
     rho_max = std::max(rho_max, X.norm());
