@@ -25,6 +25,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include "gears/check.h"
@@ -46,36 +49,14 @@ double knot(int i, int n, double t0, double t1) {
 
 }  // namespace
 
-CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients)
-    : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
-  GEARMC_CHECK(c_.size() >= 4 && t1_ > t0_,
-               "a cubic B-spline needs at least 4 coefficients and t1 > t0");
-  const int spans = static_cast<int>(c_.size()) - 3;
-  h_ = (t1_ - t0_) / spans;
-  poly_.resize(spans);
-  for (int k = 0; k < spans; ++k) {
-    // Taylor coefficients at the span start; the third derivative is constant on the span.
-    const double a = knot(k + 3, static_cast<int>(c_.size()), t0_, t1_);
-    const double b = knot(k + 4, static_cast<int>(c_.size()), t0_, t1_);
-    double v, d1, d2a, d2b;
-    evaluate_on_span(k + 3, a, &v, &d1, &d2a);
-    evaluate_on_span(k + 3, b, nullptr, nullptr, &d2b);
-    poly_[k] = {v, d1, 0.5 * d2a, (d2b - d2a) / (6.0 * (b - a))};
-  }
-}
+namespace {
 
-double CubicBSpline::greville(int i) const {
-  const int n = static_cast<int>(c_.size());
-  return (knot(i + 1, n, t0_, t1_) + knot(i + 2, n, t0_, t1_) + knot(i + 3, n, t0_, t1_)) / 3.0;
-}
-
-void CubicBSpline::evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const {
-  // Basis functions and their first two derivatives on knot span `span` (Piegl & Tiller,
-  // The NURBS Book, algorithm A2.3, degree 3).
+// The basis functions N_{span-3} .. N_span and their first two derivatives at t on knot span
+// `span` (3 .. n - 1) of the clamped uniform knot vector with n coefficients on [t0, t1]
+// (Piegl & Tiller, The NURBS Book, algorithm A2.3, degree 3): ders[k][j] = N^(k)_{span-3+j}(t).
+void basis_derivatives(int span, double t, int n, double t0, double t1, double ders[3][4]) {
   constexpr int p = 3;
-  const int n = static_cast<int>(c_.size());
-  auto U = [&](int i) { return knot(i, n, t0_, t1_); };
-
+  auto U = [&](int i) { return knot(i, n, t0, t1); };
   double ndu[p + 1][p + 1], left[p + 1], right[p + 1];
   ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
@@ -90,7 +71,6 @@ void CubicBSpline::evaluate_on_span(int span, double t, double* v, double* d1, d
     }
     ndu[j][j] = saved;
   }
-  double ders[3][p + 1];
   for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
   double a[2][p + 1];
   for (int r = 0; r <= p; ++r) {
@@ -121,16 +101,75 @@ void CubicBSpline::evaluate_on_span(int span, double t, double* v, double* d1, d
     ders[1][j] *= p;
     ders[2][j] *= p * (p - 1);
   }
-  double value = 0.0, first = 0.0, second = 0.0;
-  for (int j = 0; j <= p; ++j) {
-    const double c = c_[span - p + j];
-    value += c * ders[0][j];
-    first += c * ders[1][j];
-    second += c * ders[2][j];
+}
+
+}  // namespace
+
+CubicBSplineBasis::CubicBSplineBasis(int coefficients) : n_(coefficients) {
+  GEARMC_CHECK(n_ >= 4, "a cubic B-spline needs at least 4 coefficients");
+  const int spans = n_ - 3;
+  matrices_.resize(spans);
+  for (int k = 0; k < spans; ++k) {
+    // On the integer knots (h = 1): value, slope and half the curvature at the span start, and
+    // the constant third derivative from the curvature at both ends.
+    double start[3][4], end[3][4];
+    basis_derivatives(k + 3, k, n_, 0.0, spans, start);
+    basis_derivatives(k + 3, k + 1, n_, 0.0, spans, end);
+    for (int j = 0; j < 4; ++j) {
+      matrices_[k][0][j] = start[0][j];
+      matrices_[k][1][j] = start[1][j];
+      matrices_[k][2][j] = 0.5 * start[2][j];
+      matrices_[k][3][j] = (end[2][j] - start[2][j]) / 6.0;
+    }
   }
-  if (v) *v = value;
-  if (d1) *d1 = first;
-  if (d2) *d2 = second;
+}
+
+const CubicBSplineBasis& CubicBSplineBasis::of(int coefficients) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<const CubicBSplineBasis>> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<const CubicBSplineBasis>& basis = cache[coefficients];
+  if (!basis) basis = std::make_unique<const CubicBSplineBasis>(coefficients);
+  return *basis;
+}
+
+CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients)
+    : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
+  GEARMC_CHECK(c_.size() >= 4 && t1_ > t0_,
+               "a cubic B-spline needs at least 4 coefficients and t1 > t0");
+  build(CubicBSplineBasis::of(static_cast<int>(c_.size())));
+}
+
+CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients,
+                           const CubicBSplineBasis& basis)
+    : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
+  GEARMC_CHECK(c_.size() >= 4 && t1_ > t0_,
+               "a cubic B-spline needs at least 4 coefficients and t1 > t0");
+  GEARMC_CHECK(basis.coefficients() == static_cast<int>(c_.size()),
+               "a cubic B-spline's basis must have as many coefficients as the spline");
+  build(basis);
+}
+
+void CubicBSpline::build(const CubicBSplineBasis& basis) {
+  const int spans = static_cast<int>(c_.size()) - 3;
+  h_ = (t1_ - t0_) / spans;
+  // Taylor coefficients in u = t - t_k from those in s = u / h: q_m / h^m.
+  const double g1 = 1.0 / h_, g2 = g1 * g1, g3 = g2 * g1;
+  poly_.resize(spans);
+  for (int k = 0; k < spans; ++k) {
+    const CubicBSplineBasis::Matrix& M = basis.matrix(k);
+    const double* c = c_.data() + k;
+    std::array<double, 4> q;
+    for (int m = 0; m < 4; ++m) {
+      q[m] = M[m][0] * c[0] + M[m][1] * c[1] + M[m][2] * c[2] + M[m][3] * c[3];
+    }
+    poly_[k] = {q[0], q[1] * g1, q[2] * g2, q[3] * g3};
+  }
+}
+
+double CubicBSpline::greville(int i) const {
+  const int n = static_cast<int>(c_.size());
+  return (knot(i + 1, n, t0_, t1_) + knot(i + 2, n, t0_, t1_) + knot(i + 3, n, t0_, t1_)) / 3.0;
 }
 
 void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {

@@ -43,12 +43,38 @@ struct DeviationModel {
   int helix_form_control_points = 6;
 };
 
+// The clamped uniform cubic B-spline basis with n coefficients (n - 3 spans) in the unit
+// parameter: on span k the spline is sum_j c[k + j] N_{k+j}, a cubic whose Taylor coefficients
+// about the span start, in s = (t - t_k) / h (h the span length), are a fixed linear map of the
+// span's four coefficients: q = matrix(k) (c[k], .., c[k + 3]). The map depends only on n and k
+// (the same for every interior span; the first and last three differ); it is computed once from
+// the basis functions and their derivatives (Piegl & Tiller, The NURBS Book, algorithm A2.3) on
+// the integer knots 0, 0, 0, 0, 1, 2, .., n - 3, .., n - 3.
+class CubicBSplineBasis {
+ public:
+  using Matrix = std::array<std::array<double, 4>, 4>;  // [Taylor order m][coefficient j]
+  explicit CubicBSplineBasis(int coefficients);
+  // The basis for n coefficients, built on first use and kept (thread-safe).
+  static const CubicBSplineBasis& of(int coefficients);
+  int coefficients() const { return n_; }
+  int spans() const { return n_ - 3; }
+  const Matrix& matrix(int span) const { return matrices_[span]; }
+
+ private:
+  int n_;
+  std::vector<Matrix> matrices_;
+};
+
 // Clamped uniform cubic B-spline on [t0, t1], linearly continued outside (value and slope of
 // the end), so it is C2 inside and C1 everywhere. Values in µm, t in mm.
 class CubicBSpline {
  public:
   CubicBSpline() = default;  // identically zero
   CubicBSpline(double t0, double t1, std::vector<double> coefficients);
+  // The same with the basis given (it must be CubicBSplineBasis::of(coefficients.size()) or an
+  // equal one): no look-up of the shared basis.
+  CubicBSpline(double t0, double t1, std::vector<double> coefficients,
+               const CubicBSplineBasis& basis);
   double value(double t) const;
   double derivative(double t) const;         // µm/mm
   double second_derivative(double t) const;  // µm/mm²
@@ -72,12 +98,11 @@ class CubicBSpline {
   double t1() const { return t1_; }
 
  private:
-  // Value and derivatives inside [t0, t1] by the basis functions of span `span` (3..n-1).
-  void evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const;
+  void build(const CubicBSplineBasis& basis);  // h_ and poly_ from c_
   double t0_ = 0.0, t1_ = 1.0, h_ = 1.0;
   std::vector<double> c_;
   // Each span's cubic in power form about its start: v = p0 + p1 u + p2 u^2 + p3 u^3, built
-  // once from the B-spline so that an evaluation is one Horner step.
+  // once from the coefficients (CubicBSplineBasis) so that an evaluation is one Horner step.
   std::vector<std::array<double, 4>> poly_;
 };
 
