@@ -90,6 +90,9 @@ class CubicBSpline {
   struct Ranges {
     Range value, first, second;
   };
+  // The exact range over [t0, t1] of value(t) + slope (t - mid) (µm; slope in µm/mm, mid in
+  // mm): from each span's cubic, its ends and the roots of its quadratic derivative.
+  Range value_range(double slope = 0.0, double mid = 0.0) const;
   // The ranges of the first and second derivative over the whole real line (the linear
   // continuation adds the end slopes and a zero second derivative): exact, from the spans'
   // cubics. value is left at (-inf, inf).
@@ -169,7 +172,7 @@ struct EvaluationRanges {
 };
 EvaluationRanges evaluation_ranges(const InvoluteGear& gear);
 
-struct TraceBasis;  // deviations.cpp: a trace's dense grid with its B-spline basis
+struct TraceBasis;  // deviations.cpp: a trace's B-spline basis and mean-line functionals
 
 // Draws perturbed gears within the resolved tolerances. Thread-safe: draw() is const and every
 // random number comes from the gear's own streams (seed, gear index, purpose, flank).
@@ -187,7 +190,7 @@ class GearSampler {
   DeviationModel model_;
   std::uint64_t seed_;
   EvaluationRanges ranges_;
-  // Dense evaluation grids of the profile and helix traces with their B-spline basis.
+  // The B-spline bases of the profile and helix traces with their mean-line functionals.
   std::shared_ptr<const TraceBasis> profile_basis_, helix_basis_;
 };
 
