@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "gears/cubic_bspline.h"
 #include "gears/deviations.h"
 #include "tests/support/p1_fixtures.h"
 
