@@ -1,14 +1,16 @@
-// Deviation model of perturbed gears: cubic B-spline form fields, the ISO evaluation of
-// deviation traces, the radial-runout measurement, and the sampler that draws gear k within its
-// tolerances.
+// Deviation model of perturbed gears: the flanks' deviation fields (their form parts are the
+// cubic B-splines of cubic_bspline.cpp), the ISO evaluation of deviation traces, the
+// radial-runout measurement, and the sampler that draws gear k within its tolerances.
 //
 // How the sampler keeps every drawn gear within tolerance (README, "Deviation model"):
 //  * profile and helix: a random smooth shape (B-spline, N(0,1) control values, its mean line
 //    removed exactly through the spline's linear precision) is scaled to a drawn form band,
 //    a drawn slope is added, and the sum is scaled by one factor <= 1 so that slope, form and
-//    total, measured the ISO way on a dense grid (64 samples per spline span), are within
-//    their tolerances times (1 - kSafety). The margin covers the difference between the dense
-//    grid and the continuous trace (at most h^2/8 max|d''|, about 3e-4 of the form band).
+//    total of the continuous trace, measured the ISO way and exactly (the mean line from the
+//    spline's integrals, the bands from each span's cubic: its ends and the roots of its
+//    quadratic derivative), are within their tolerances times (1 - kSafety). The margin keeps
+//    the traces clear of their limits under rounding and under sampled evaluations (a trace
+//    sampled at spacing s may read up to s^2/8 max|d''| off its continuous band).
 //  * pitch: each flank's location is drawn within +/- f_pb/4 (f_pb = min(f_pb, f_pt cos alpha)),
 //    then made zero-mean per side, so consecutive flanks differ by at most f_pb/2; the other half
 //    of the budget is left to eccentricity, whose contribution to a single pitch is at most 2 e
@@ -20,11 +22,11 @@
 //  * thickness: the rack shift lies in [-(E_Hs + T_H), -E_Hs] (GOST 1643-81 magnitudes).
 #include "gears/deviations.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 #include "gears/check.h"
@@ -34,170 +36,9 @@ namespace gearmc {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kSafety = 1e-3;     // relative margin kept below each tolerance
-constexpr int kSamplesPerSpan = 64;  // dense grid of the sampler's trace evaluation
-
-// Knot vector of a clamped uniform cubic B-spline with n coefficients on [t0, t1].
-double knot(int i, int n, double t0, double t1) {
-  const int spans = n - 3;
-  const int j = std::clamp(i - 3, 0, spans);
-  return t0 + (t1 - t0) * j / spans;
-}
+constexpr double kSafety = 1e-3;  // relative margin kept below each tolerance
 
 }  // namespace
-
-CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficients)
-    : t0_(t0), t1_(t1), c_(std::move(coefficients)) {
-  GEARMC_CHECK(c_.size() >= 4 && t1_ > t0_,
-               "a cubic B-spline needs at least 4 coefficients and t1 > t0");
-  const int spans = static_cast<int>(c_.size()) - 3;
-  h_ = (t1_ - t0_) / spans;
-  inverse_h_ = spans / (t1_ - t0_);
-  poly_.resize(spans);
-  for (int k = 0; k < spans; ++k) {
-    // Taylor coefficients at the span start; the third derivative is constant on the span.
-    const double a = knot(k + 3, static_cast<int>(c_.size()), t0_, t1_);
-    const double b = knot(k + 4, static_cast<int>(c_.size()), t0_, t1_);
-    double v, d1, d2a, d2b;
-    evaluate_on_span(k + 3, a, &v, &d1, &d2a);
-    evaluate_on_span(k + 3, b, nullptr, nullptr, &d2b);
-    poly_[k] = {v, d1, 0.5 * d2a, (d2b - d2a) / (6.0 * (b - a))};
-  }
-}
-
-double CubicBSpline::greville(int i) const {
-  const int n = static_cast<int>(c_.size());
-  return (knot(i + 1, n, t0_, t1_) + knot(i + 2, n, t0_, t1_) + knot(i + 3, n, t0_, t1_)) / 3.0;
-}
-
-void CubicBSpline::evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const {
-  // Basis functions and their first two derivatives on knot span `span` (Piegl & Tiller,
-  // The NURBS Book, algorithm A2.3, degree 3).
-  constexpr int p = 3;
-  const int n = static_cast<int>(c_.size());
-  auto U = [&](int i) { return knot(i, n, t0_, t1_); };
-
-  double ndu[p + 1][p + 1], left[p + 1], right[p + 1];
-  ndu[0][0] = 1.0;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - U(span + 1 - j);
-    right[j] = U(span + j) - t;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
-  }
-  double ders[3][p + 1];
-  for (int j = 0; j <= p; ++j) ders[0][j] = ndu[j][p];
-  double a[2][p + 1];
-  for (int r = 0; r <= p; ++r) {
-    int s1 = 0, s2 = 1;
-    a[0][0] = 1.0;
-    for (int k = 1; k <= 2; ++k) {
-      double d = 0.0;
-      const int rk = r - k, pk = p - k;
-      if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
-      }
-      const int j1 = rk >= -1 ? 1 : -rk;
-      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-      for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
-      }
-      if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
-      }
-      ders[k][r] = d;
-      std::swap(s1, s2);
-    }
-  }
-  for (int j = 0; j <= p; ++j) {
-    ders[1][j] *= p;
-    ders[2][j] *= p * (p - 1);
-  }
-  double value = 0.0, first = 0.0, second = 0.0;
-  for (int j = 0; j <= p; ++j) {
-    const double c = c_[span - p + j];
-    value += c * ders[0][j];
-    first += c * ders[1][j];
-    second += c * ders[2][j];
-  }
-  if (v) *v = value;
-  if (d1) *d1 = first;
-  if (d2) *d2 = second;
-}
-
-void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {
-  if (c_.empty()) {
-    *value = *first = *second = 0.0;
-    return;
-  }
-  const double tc = std::clamp(t, t0_, t1_);
-  const int spans = static_cast<int>(poly_.size());
-  // (tc - t0) / h rounded differently at a span's end only picks the neighbouring span, whose
-  // polynomial has the same value there to rounding (C2 spline).
-  const int k = std::clamp(static_cast<int>((tc - t0_) * inverse_h_), 0, spans - 1);
-  const std::array<double, 4>& q = poly_[k];
-  const double u = tc - (t0_ + k * h_);
-  const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));
-  const double d1 = q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]);
-  if (t != tc) {  // linear continuation outside [t0, t1]: C1
-    *value = v + d1 * (t - tc);
-    *first = d1;
-    *second = 0.0;
-    return;
-  }
-  *value = v;
-  *first = d1;
-  *second = 2.0 * q[2] + 6.0 * u * q[3];
-}
-
-CubicBSpline::Ranges CubicBSpline::derivative_ranges() const {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  if (c_.empty()) return {{-inf, inf}, {0.0, 0.0}, {0.0, 0.0}};
-  Ranges r{{-inf, inf}, {inf, -inf}, {0.0, 0.0}};  // the continuation's second derivative 0
-  auto add = [](Range& range, double v) {
-    range.lo = std::min(range.lo, v);
-    range.hi = std::max(range.hi, v);
-  };
-  for (const std::array<double, 4>& q : poly_) {
-    auto first = [&](double u) { return q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]); };
-    add(r.first, first(0.0));
-    add(r.first, first(h_));
-    add(r.second, 2.0 * q[2]);
-    add(r.second, 2.0 * q[2] + 6.0 * h_ * q[3]);
-    if (q[3] != 0.0) {
-      const double u = -q[2] / (3.0 * q[3]);
-      if (u > 0.0 && u < h_) add(r.first, first(u));
-    }
-  }
-  return r;
-}
-
-double CubicBSpline::value(double t) const {
-  double v, d1, d2;
-  evaluate(t, &v, &d1, &d2);
-  return v;
-}
-
-double CubicBSpline::derivative(double t) const {
-  double v, d1, d2;
-  evaluate(t, &v, &d1, &d2);
-  return d1;
-}
-
-double CubicBSpline::second_derivative(double t) const {
-  double v, d1, d2;
-  evaluate(t, &v, &d1, &d2);
-  return d2;
-}
 
 double FlankDeviation::normal_um(double L, double z) const {
   return offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + profile_form.value(L) +
@@ -305,92 +146,61 @@ double amplitude_draw(const DeviationDistribution& law, RandomStream& rng) {
 
 }  // namespace
 
-// A trace's dense evaluation grid (kSamplesPerSpan samples per spline span, uniform) with the
-// B-spline basis precomputed on it, so that drawing a trace is a few passes of fused
-// multiply-adds instead of spline evaluations. Everything here is linear in the coefficients c:
-//   grid values      d_i = sum_k basis[i][k] c[first[i] + k]
-//   mean line        md = mean_weights . c,  slope b = slope_weights . c   (trapezoid-weighted
-//                    least squares, as evaluate_trace), about the weighted centre mx.
+// What drawing a trace needs of its spline basis, once per sampler: the spans' Taylor maps, the
+// Greville abscissae and the two linear functionals of the least-squares mean line of the
+// continuous trace over [t0, t1] (ISO 1328-1 defines it over the trace): for s(t) = sum c_j N_j,
+//   mean  md = (1/R) integral s dt = mean_weights . c,
+//   slope b  = integral (t - mid) s dt / (R^3 / 12) = slope_weights . c     (R = t1 - t0),
+// integrated exactly from each span's cubic (sum of q_m h^(m+1) / (m+1) and the like).
 struct TraceBasis {
-  TraceBasis(int control_points, double start, double end) : t0(start), t1(end) {
+  TraceBasis(int control_points, double start, double end)
+      : t0(start),
+        t1(end),
+        h((end - start) / (control_points - 3)),
+        mid(0.5 * (start + end)),
+        spline(CubicBSplineBasis::of(control_points)) {
     const int spans = control_points - 3;
-    const int m = kSamplesPerSpan * spans + 1;
-    x.resize(m);
-    for (int i = 0; i < m; ++i) x[i] = t0 + (t1 - t0) * i / (m - 1);
-    // Basis values by evaluating the spline of each unit coefficient vector (the spline class
-    // is the single implementation of the basis; this runs once per sampler).
-    std::vector<double> e(control_points, 0.0);
-    std::vector<CubicBSpline> splines;
-    for (int j = 0; j < control_points; ++j) {
-      std::fill(e.begin(), e.end(), 0.0);
-      e[j] = 1.0;
-      splines.emplace_back(t0, t1, e);
-    }
-    basis.resize(m);
-    first.resize(m);
-    for (int i = 0; i < m; ++i) {
-      const int span = std::min(i / kSamplesPerSpan, spans - 1);  // support: c[span .. span+3]
-      first[i] = span;
-      for (int k = 0; k < 4; ++k) basis[i][k] = splines[span + k].value(x[i]);
-    }
-    for (int k = 0; k < 4; ++k) {
-      basis_k[k].resize(m);
-      for (int i = 0; i < m; ++i) basis_k[k][i] = basis[i][k];
-    }
-    span_end.resize(spans);
-    for (int span = 0; span < spans; ++span) {
-      span_end[span] = span + 1 < spans ? (span + 1) * kSamplesPerSpan : m;
-    }
-    for (int j = 0; j < control_points; ++j) greville.push_back(splines[j].greville(j));
-    // Trapezoid weights on the uniform grid, and the linear functionals of the mean line.
-    const double h = x[1] - x[0];
-    std::vector<double> w(m, h);
-    w.front() = w.back() = 0.5 * h;
-    double W = 0.0;
-    for (int i = 0; i < m; ++i) W += w[i], mx += w[i] * x[i];
-    mx /= W;
-    double sxx = 0.0;
-    for (int i = 0; i < m; ++i) sxx += w[i] * (x[i] - mx) * (x[i] - mx);
+    const CubicBSpline zero(t0, t1, std::vector<double>(control_points, 0.0), spline);
+    for (int j = 0; j < control_points; ++j) greville.push_back(zero.greville(j));
+    const double R = t1 - t0;
     mean_weights.assign(control_points, 0.0);
     slope_weights.assign(control_points, 0.0);
-    for (int i = 0; i < m; ++i) {
-      for (int k = 0; k < 4; ++k) {
-        mean_weights[first[i] + k] += w[i] * basis[i][k] / W;
-        slope_weights[first[i] + k] += w[i] * (x[i] - mx) * basis[i][k] / sxx;
+    for (int k = 0; k < spans; ++k) {
+      const CubicBSplineBasis::Matrix& M = spline.matrix(k);
+      const double start_offset = t0 + k * h - mid;
+      for (int j = 0; j < 4; ++j) {
+        // In the unit parameter s = u / h: integral_0^h q(u/h) du = h sum q_m / (m + 1) and
+        // integral_0^h u q(u/h) du = h^2 sum q_m / (m + 2).
+        double i0 = 0.0, i1 = 0.0;
+        for (int m = 0; m < 4; ++m) {
+          i0 += M[m][j] / (m + 1);
+          i1 += M[m][j] / (m + 2);
+        }
+        i0 *= h;
+        i1 *= h * h;
+        mean_weights[k + j] += i0 / R;
+        slope_weights[k + j] += (start_offset * i0 + i1) / (R * R * R / 12.0);
       }
     }
   }
-  // d_i for coefficients c, written into d[0, x.size()), with their minimum and maximum. Span
-  // by span from the basis stored per k (basis_k[k][i] = basis[i][k]), so that the loops
-  // vectorise; each d_i is the same sum in the same order, B0 c0 + B1 c1 + B2 c2 + B3 c3.
-  void values(const std::vector<double>& c, std::vector<double>& d, double* lo, double* hi) const {
-    if (d.size() < x.size()) d.resize(x.size());  // d may be longer: only x.size() are used
-    const double *B0 = basis_k[0].data(), *B1 = basis_k[1].data(), *B2 = basis_k[2].data(),
-                 *B3 = basis_k[3].data();
-    double* out = d.data();
-    double min0 = std::numeric_limits<double>::infinity(), min1 = min0, max0 = -min0, max1 = -min0;
-    std::size_t i = 0;
-    for (std::size_t span = 0; span < span_end.size(); ++span) {
-      const double c0 = c[span], c1 = c[span + 1], c2 = c[span + 2], c3 = c[span + 3];
-      const std::size_t end = span_end[span];
-      for (; i < end; ++i) out[i] = B0[i] * c0 + B1[i] * c1 + B2[i] * c2 + B3[i] * c3;
+  // Taylor coefficients (in u = t - t_k) of every span of the spline with coefficients c.
+  void taylor(const std::vector<double>& c, std::vector<std::array<double, 4>>& q) const {
+    const int spans = spline.spans();
+    q.resize(spans);
+    const double g1 = 1.0 / h, g2 = g1 * g1, g3 = g2 * g1;
+    for (int k = 0; k < spans; ++k) {
+      const CubicBSplineBasis::Matrix& M = spline.matrix(k);
+      const double* ck = c.data() + k;
+      double r[4];
+      for (int m = 0; m < 4; ++m) {
+        r[m] = M[m][0] * ck[0] + M[m][1] * ck[1] + M[m][2] * ck[2] + M[m][3] * ck[3];
+      }
+      q[k] = {r[0], r[1] * g1, r[2] * g2, r[3] * g3};
     }
-    // Two running minima and maxima (exact whatever the order: no rounding in min and max).
-    const std::size_t m = x.size();
-    for (i = 0; i + 1 < m; i += 2) {
-      min0 = std::min(min0, out[i]), max0 = std::max(max0, out[i]);
-      min1 = std::min(min1, out[i + 1]), max1 = std::max(max1, out[i + 1]);
-    }
-    if (i < m) min0 = std::min(min0, out[i]), max0 = std::max(max0, out[i]);
-    *lo = std::min(min0, min1);
-    *hi = std::max(max0, max1);
   }
-  double t0, t1, mx = 0.0;
-  std::vector<double> x, greville, mean_weights, slope_weights;
-  std::vector<std::array<double, 4>> basis;
-  std::array<std::vector<double>, 4> basis_k;  // basis[i][k] stored per k
-  std::vector<int> first;
-  std::vector<std::size_t> span_end;  // one past each span's last sample
+  double t0, t1, h, mid;
+  const CubicBSplineBasis& spline;  // owned by CubicBSplineBasis::of (lives for the program)
+  std::vector<double> greville, mean_weights, slope_weights;
 };
 
 namespace {
@@ -409,7 +219,7 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   *form = CubicBSpline();
   if (!tol.any()) return;
   const double t0 = basis.t0, t1 = basis.t1;
-  const double range = t1 - t0, mid = 0.5 * (t0 + t1);
+  const double range = t1 - t0, mid = basis.mid;
 
   // Targets. With only a total tolerance (GOST f_f, F_beta) the drawn total band is split
   // between slope and form by a uniform fraction.
@@ -427,7 +237,7 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   }
 
   // Form shape: N(0,1) control values with their least-squares mean line removed. The spline
-  // reproduces lines exactly (linear precision), so subtracting the line md + b (x - mx) from
+  // reproduces lines exactly (linear precision), so subtracting the line md + b (t - mid) from
   // the coefficients at their Greville abscissae subtracts it from the curve.
   std::vector<double> c(basis.greville.size());
   for (double& v : c) v = rng.normal();
@@ -436,37 +246,30 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
     md += basis.mean_weights[j] * c[j];
     b += basis.slope_weights[j] * c[j];
   }
-  for (size_t j = 0; j < c.size(); ++j) c[j] -= md + b * (basis.greville[j] - basis.mx);
-  // The grid values in this thread's scratch buffer: no allocation and no zero-filling per
-  // trace (draw() runs ~100 traces per gear).
-  thread_local std::vector<double> d;
-  double lo, hi;
-  basis.values(c, d, &lo, &hi);
-  // Its form band (its mean line is now zero): scaled to the target.
+  for (size_t j = 0; j < c.size(); ++j) c[j] -= md + b * (basis.greville[j] - mid);
+  // The spans' cubics in this thread's scratch buffer (no allocation per trace; draw() runs
+  // ~100 traces per gear), and the shape's form band: its mean line is now zero, so the band
+  // is max - min, exact from the cubics. Scaled to the target.
+  thread_local std::vector<std::array<double, 4>> q;
+  basis.taylor(c, q);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  double lo = inf, hi = -inf;
+  for (const std::array<double, 4>& span : q) widen_by_cubic(span, basis.h, &lo, &hi);
   const double band = hi - lo;
   const double to_target = band > 0.0 ? form_target / band : 0.0;
 
-  // Compose, measure the ISO way, and scale the whole trace into every tolerance. The form
-  // part has a zero mean line, so the composed trace's mean line is the drawn line itself: its
-  // slope deviation is slope * range and its form band is the scaled band (evaluate_trace would
-  // return the same to rounding); only the total needs a pass over the grid.
+  // Compose and scale the whole trace into every tolerance. The form part has a zero mean line,
+  // so the composed trace's mean line is the drawn line itself: its slope deviation is
+  // slope * range and its form band the scaled band; its total band (between parallels to
+  // d = 0) is max - min of line + scaled shape, exact from each span's cubic again.
   const double slope = slope_target / range;
-  double total_lo = std::numeric_limits<double>::infinity(), total_hi = -total_lo;
-  double total_lo1 = total_lo, total_hi1 = total_hi;  // two running extremes (exact)
-  const double* x = basis.x.data();
-  const std::size_t m = basis.x.size();
-  std::size_t i = 0;
-  for (; i + 1 < m; i += 2) {
-    const double v0 = slope * (x[i] - mid) + d[i] * to_target;
-    const double v1 = slope * (x[i + 1] - mid) + d[i + 1] * to_target;
-    total_lo = std::min(total_lo, v0), total_hi = std::max(total_hi, v0);
-    total_lo1 = std::min(total_lo1, v1), total_hi1 = std::max(total_hi1, v1);
+  double total_lo = inf, total_hi = -inf;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const std::array<double, 4> composed = {
+        to_target * q[k][0] + slope * (t0 + static_cast<double>(k) * basis.h - mid),
+        to_target * q[k][1] + slope, to_target * q[k][2], to_target * q[k][3]};
+    widen_by_cubic(composed, basis.h, &total_lo, &total_hi);
   }
-  if (i < m) {
-    const double v = slope * (x[i] - mid) + d[i] * to_target;
-    total_lo = std::min(total_lo, v), total_hi = std::max(total_hi, v);
-  }
-  total_lo = std::min(total_lo, total_lo1), total_hi = std::max(total_hi, total_hi1);
   const TraceEvaluation e{slope * range, band * to_target, total_hi - total_lo};
   double factor = 1.0;
   auto limit = [&](std::optional<double> tolerance, double measured) {
@@ -479,15 +282,25 @@ void draw_trace(const TraceTolerances& tol, const DeviationDistribution& slope_l
   factor *= 1.0 - kSafety;
   for (double& v : c) v *= to_target * factor;
   *slope_um_per_mm = slope * factor;
-  *form = CubicBSpline(t0, t1, std::move(c));
+  *form = CubicBSpline(t0, t1, std::move(c), basis.spline);
 }
 
 // The real flank's signed normal distance (mm, + outside the material) of point X (datum frame,
-// mm), and the roll length of its foot, for the flank of `tooth` on `side` of a perturbed gear:
-// closed form for an involute, r_b (inv(alpha_X) +/- phi - theta_b), minus the deviation at the
-// foot (first order in the deviation; its error is d * slope^2, far below a nanometre).
-double distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, int tooth,
-                              FlankSide side, const Eigen::Vector2d& X, double z) {
+// mm) for the flank of `tooth` on `side` of a perturbed gear, and its gradient (per mm, datum
+// frame): closed form for an involute, r_b (inv(alpha_X) +/- phi - theta_b), minus the deviation
+// at the foot of roll length L = r_b (theta_b -/+ phi + alpha_X) (first order in the deviation;
+// its error is d * slope^2, far below a nanometre). With the radial and tangential unit vectors
+// e_rho, e_phi of X and sin(alpha_X) = sqrt(rho^2 - r_b^2) / rho, cos(alpha_X) = r_b / rho:
+//   d inv(alpha)/d rho = tan^2(alpha) d alpha/d rho = sin(alpha) / r_b, so the nominal part has
+//   the gradient sin(alpha) e_rho +/- cos(alpha) e_phi (the flank's unit normal at the foot);
+//   grad L = cos^2(alpha) / sin(alpha) e_rho -/+ cos(alpha) e_phi, times -1e-3 d'(L) for the
+//   deviation part.
+struct FlankDistance {
+  double distance_mm;
+  Eigen::Vector2d gradient;
+};
+FlankDistance distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, int tooth,
+                                     FlankSide side, const Eigen::Vector2d& X, double z) {
   const Eigen::Vector2d Xg = X - g.eccentricity_mm;  // into the gear's own frame
   const double r_b = gear.base_diameter_mm() / 2.0;
   const double rho = Xg.norm();
@@ -499,7 +312,19 @@ double distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, 
   const double theta_b = gear.base_half_angle_rad();
   const double distance = r_b * (involute_function(alpha_x) + s * phi - theta_b);
   const double foot_L = r_b * (theta_b - s * phi + alpha_x);
-  return distance - 1e-3 * g.flank(tooth, side).normal_um(foot_L, z);
+  const FlankDeviation& f = g.flank(tooth, side);
+  double pv, p1, p2;
+  f.profile_form.evaluate(foot_L, &pv, &p1, &p2);
+  const double d_um = f.offset_um + f.profile_slope_um_per_mm * (foot_L - f.profile_mid_mm) + pv +
+                      f.helix_slope_um_per_mm * (z - f.helix_mid_mm) + f.helix_form.value(z);
+  const double dL_um_per_mm = f.profile_slope_um_per_mm + p1;
+  const Eigen::Vector2d e_rho = Xg / rho, e_phi(-e_rho.y(), e_rho.x());
+  const double sin_a = t / rho, cos_a = r_b / rho;
+  Eigen::Vector2d gradient = sin_a * e_rho + s * cos_a * e_phi;
+  if (sin_a > 0.0) {
+    gradient -= 1e-3 * dL_um_per_mm * (cos_a * cos_a / sin_a * e_rho - s * cos_a * e_phi);
+  }
+  return {distance - 1e-3 * d_um, gradient};
 }
 
 }  // namespace
@@ -523,19 +348,17 @@ double radial_runout_um(const InvoluteGear& gear, const PerturbedGear& g) {
     const int next = k % teeth + 1;
     const double angle = gear.tooth_centre_angle_rad(k) + half;
     Eigen::Vector2d X = rho_nominal * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-    auto residual = [&](const Eigen::Vector2d& Y) {
-      return Eigen::Vector2d(
-          distance_to_real_flank(gear, g, k, FlankSide::kRight, Y, z) - r_ball,
-          distance_to_real_flank(gear, g, next, FlankSide::kLeft, Y, z) - r_ball);
-    };
-    for (int iter = 0; iter < 20; ++iter) {  // Newton, finite-difference Jacobian
-      const Eigen::Vector2d f = residual(X);
-      if (f.cwiseAbs().maxCoeff() < 1e-10) break;
-      constexpr double h = 1e-7;
-      Eigen::Matrix2d J;
-      J.col(0) = (residual(X + Eigen::Vector2d(h, 0)) - f) / h;
-      J.col(1) = (residual(X + Eigen::Vector2d(0, h)) - f) / h;
-      X -= J.partialPivLu().solve(f);
+    // Newton on (distance to the right flank, distance to the left flank) = (r_ball, r_ball)
+    // with the closed-form gradients as the Jacobian's rows: two distance evaluations per step.
+    for (int iter = 0; iter < 20; ++iter) {
+      const FlankDistance a = distance_to_real_flank(gear, g, k, FlankSide::kRight, X, z);
+      const FlankDistance b = distance_to_real_flank(gear, g, next, FlankSide::kLeft, X, z);
+      const double fa = a.distance_mm - r_ball, fb = b.distance_mm - r_ball;
+      if (std::max(std::abs(fa), std::abs(fb)) < 1e-10) break;
+      // The two flank normals of a space are far from parallel (about 2 alpha apart).
+      const double det = a.gradient.x() * b.gradient.y() - a.gradient.y() * b.gradient.x();
+      X.x() -= (fa * b.gradient.y() - fb * a.gradient.y()) / det;
+      X.y() -= (a.gradient.x() * fb - b.gradient.x() * fa) / det;
     }
     rho_min = std::min(rho_min, X.norm());
     rho_max = std::max(rho_max, X.norm());

@@ -18,6 +18,7 @@
 #include <span>
 #include <vector>
 
+#include "gears/cubic_bspline.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
 
@@ -41,45 +42,6 @@ struct DeviationModel {
   // evaluation range (>= 4). Correlation length ≈ range / (n - 3): more = wavier = larger slopes.
   int profile_form_control_points = 8;
   int helix_form_control_points = 6;
-};
-
-// Clamped uniform cubic B-spline on [t0, t1], linearly continued outside (value and slope of
-// the end), so it is C2 inside and C1 everywhere. Values in µm, t in mm.
-class CubicBSpline {
- public:
-  CubicBSpline() = default;  // identically zero
-  CubicBSpline(double t0, double t1, std::vector<double> coefficients);
-  double value(double t) const;
-  double derivative(double t) const;         // µm/mm
-  double second_derivative(double t) const;  // µm/mm²
-  // Value and both derivatives at once (the contact solver's hot path).
-  void evaluate(double t, double* value, double* first, double* second) const;
-  // Greville abscissa of coefficient i: a spline with coefficients a + b*greville(i) is the
-  // line a + b t exactly (linear precision).
-  double greville(int i) const;
-  const std::vector<double>& coefficients() const { return c_; }
-  struct Range {
-    double lo, hi;
-  };
-  struct Ranges {
-    Range value, first, second;
-  };
-  // The ranges of the first and second derivative over the whole real line (the linear
-  // continuation adds the end slopes and a zero second derivative): exact, from the spans'
-  // cubics. value is left at (-inf, inf).
-  Ranges derivative_ranges() const;
-  double t0() const { return t0_; }
-  double t1() const { return t1_; }
-
- private:
-  // Value and derivatives inside [t0, t1] by the basis functions of span `span` (3..n-1).
-  void evaluate_on_span(int span, double t, double* v, double* d1, double* d2) const;
-  double t0_ = 0.0, t1_ = 1.0, h_ = 1.0;
-  double inverse_h_ = 1.0;  // 1 / h_: the span index by a multiplication, not a division
-  std::vector<double> c_;
-  // Each span's cubic in power form about its start: v = p0 + p1 u + p2 u^2 + p3 u^3, built
-  // once from the B-spline so that an evaluation is one Horner step.
-  std::vector<std::array<double, 4>> poly_;
 };
 
 // One flank's normal deviation d(L, z) = offset + profile_slope*(L - L_mid) + profile_form(L)
@@ -145,7 +107,7 @@ struct EvaluationRanges {
 };
 EvaluationRanges evaluation_ranges(const InvoluteGear& gear);
 
-struct TraceBasis;  // deviations.cpp: a trace's dense grid with its B-spline basis
+struct TraceBasis;  // deviations.cpp: a trace's B-spline basis and mean-line functionals
 
 // Draws perturbed gears within the resolved tolerances. Thread-safe: draw() is const and every
 // random number comes from the gear's own streams (seed, gear index, purpose, flank).
@@ -163,7 +125,7 @@ class GearSampler {
   DeviationModel model_;
   std::uint64_t seed_;
   EvaluationRanges ranges_;
-  // Dense evaluation grids of the profile and helix traces with their B-spline basis.
+  // The B-spline bases of the profile and helix traces with their mean-line functionals.
   std::shared_ptr<const TraceBasis> profile_basis_, helix_basis_;
 };
 

@@ -2,6 +2,7 @@
 #include "engine/mc/monte_carlo.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
@@ -153,23 +154,11 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
   results.first_block = options.only_gear ? 0 : options.first_gear / kGearsPerBlock;
   if (evaluator_) results.parameters.emplace();
   const int total = static_cast<int>(indices.size());
-  for (int first = 0; first < total; first += kChunk) {
-    const int count = std::min(kChunk, total - first);
-    std::vector<GearOutcome> outcomes(count);
-    const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
-    parallel([&] {
-      tbb::parallel_for(0, count, [&](int c) {
-        if (cancelled()) return;
-        // The first gear of the run is the one whose traces the report charts.
-        outcomes[c] = measure_gear(indices[first + c], options.record_points, first + c == 0);
-      });
-    });
-    if (cancelled()) {
-      results.cancelled = true;
-      break;
-    }
+  const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
+  // Merges one measured chunk into the results, in gear order (deterministic statistics).
+  const auto merge = [&](std::vector<GearOutcome>& outcomes, int first) {
     BlockMoments block;
-    for (GearOutcome& o : outcomes) {  // fixed order: deterministic statistics
+    for (GearOutcome& o : outcomes) {
       if (o.parameters) results.parameters->append(o.gear, std::move(*o.parameters));
       for (int s = 0; s < 2; ++s) {
         for (double v : o.point_delta[s]) add_value(results.point[s], block.point[s], v);
@@ -191,8 +180,49 @@ RunResults MonteCarloRun::run(const RunOptions& options) const {
     }
     results.fold(block);
     if (options.keep_block_moments) results.block_moments.push_back(std::move(block));
-    if (options.progress) options.progress(first + count, total);
-  }
+    if (options.progress) options.progress(first + static_cast<int>(outcomes.size()), total);
+  };
+  // A pipeline of two stages: while the arena's threads measure chunk i + 1, this thread merges
+  // chunk i (the merge is serial, so without the overlap the other cores would idle through
+  // it), then helps measuring. At most two chunks of outcomes are alive; chunks are merged in
+  // order, so the results stay bit-identical for any thread count. With one thread the chunk's
+  // measuring task runs when this thread waits for it, after the merge.
+  parallel([&] {
+    std::vector<GearOutcome> measured;  // the chunk waiting for its merge (never empty when set)
+    int measured_first = 0;
+    for (int first = 0; first < total; first += kChunk) {
+      const int count = std::min(kChunk, total - first);
+      std::vector<GearOutcome> outcomes(count);
+      tbb::task_group measuring;
+      measuring.run([&] {
+        tbb::parallel_for(0, count, [&](int c) {
+          if (cancelled()) return;
+          // The first gear of the run is the one whose traces the report charts.
+          outcomes[c] = measure_gear(indices[first + c], options.record_points, first + c == 0);
+        });
+      });
+      try {
+        if (!measured.empty()) merge(measured, measured_first);
+      } catch (...) {
+        measuring.cancel();  // outcomes and indices must outlive the measuring task
+        try {
+          measuring.wait();
+        } catch (...) {  // the merge's exception is the one reported
+        }
+        throw;
+      }
+      measured.clear();
+      measured.shrink_to_fit();
+      measuring.wait();
+      if (cancelled()) {
+        results.cancelled = true;
+        return;
+      }
+      measured = std::move(outcomes);
+      measured_first = first;
+    }
+    if (!measured.empty()) merge(measured, measured_first);
+  });
   results.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return results;
 }

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 namespace gearmc {
@@ -18,8 +19,6 @@ constexpr int kShift = 52 - RelativeHistogram::kMantissaBits;  // bits below the
 constexpr std::size_t kBucketsPerBlock = std::size_t{1} << RelativeHistogram::kMantissaBits;
 constexpr std::size_t kBlocks = 2047;  // biased exponents of finite doubles, 0 .. 2046
 
-// The bucket key of a finite |x| > 0: its bits without the sign, shifted down.
-std::uint64_t key_of(double magnitude) { return std::bit_cast<std::uint64_t>(magnitude) >> kShift; }
 // The lower edge of bucket `key` (a magnitude); key + 1 gives the upper edge (+inf past the
 // largest finite bucket).
 double edge_of(std::uint64_t key) { return std::bit_cast<double>(key << kShift); }
@@ -27,39 +26,41 @@ double edge_of(std::uint64_t key) { return std::bit_cast<double>(key << kShift);
 }  // namespace
 
 struct RelativeHistogram::Side {
-  // block_of[e] = index into blocks/block_totals for biased exponent e, or -1.
-  std::vector<std::int32_t> block_of = std::vector<std::int32_t>(kBlocks, -1);
-  std::vector<std::vector<std::uint64_t>> blocks;
-  std::vector<std::uint64_t> block_totals;
+  // blocks[e]: the kBucketsPerBlock counts of biased exponent e followed by their total, or null
+  // until a value with that exponent comes (adding a value is an index and two increments).
+  std::vector<std::unique_ptr<std::uint64_t[]>> blocks =
+      std::vector<std::unique_ptr<std::uint64_t[]>>(kBlocks);
+
+  Side() = default;
+  Side(const Side& other) {
+    for (std::size_t e = 0; e < kBlocks; ++e) {
+      if (!other.blocks[e]) continue;
+      blocks[e] = std::make_unique<std::uint64_t[]>(kBucketsPerBlock + 1);
+      std::copy_n(other.blocks[e].get(), kBucketsPerBlock + 1, blocks[e].get());
+    }
+  }
+  Side& operator=(const Side&) = delete;
 
   void add(std::uint64_t key, std::uint64_t count) {
-    const std::size_t e = static_cast<std::size_t>(key >> kMantissaBits);
-    std::int32_t b = block_of[e];
-    if (b < 0) {
-      b = static_cast<std::int32_t>(blocks.size());
-      block_of[e] = b;
-      blocks.emplace_back(kBucketsPerBlock, 0);
-      block_totals.push_back(0);
-    }
-    blocks[static_cast<std::size_t>(b)][key & (kBucketsPerBlock - 1)] += count;
-    block_totals[static_cast<std::size_t>(b)] += count;
+    std::unique_ptr<std::uint64_t[]>& block =
+        blocks[static_cast<std::size_t>(key >> kMantissaBits)];
+    if (!block) block = std::make_unique<std::uint64_t[]>(kBucketsPerBlock + 1);  // zeroed
+    block[key & (kBucketsPerBlock - 1)] += count;
+    block[kBucketsPerBlock] += count;
   }
   void merge(const Side& other) {
     for (std::size_t e = 0; e < kBlocks; ++e) {
-      const std::int32_t ob = other.block_of[e];
-      if (ob < 0 || other.block_totals[static_cast<std::size_t>(ob)] == 0) continue;
-      const std::vector<std::uint64_t>& src = other.blocks[static_cast<std::size_t>(ob)];
+      if (other.block_total(e) == 0) continue;
+      const std::uint64_t* src = other.blocks[e].get();
       for (std::size_t i = 0; i < kBucketsPerBlock; ++i) {
         if (src[i] != 0) add((static_cast<std::uint64_t>(e) << kMantissaBits) | i, src[i]);
       }
     }
   }
   std::uint64_t block_total(std::size_t e) const {
-    return block_of[e] < 0 ? 0 : block_totals[static_cast<std::size_t>(block_of[e])];
+    return blocks[e] ? blocks[e][kBucketsPerBlock] : 0;
   }
-  std::uint64_t count(std::size_t e, std::size_t i) const {
-    return block_of[e] < 0 ? 0 : blocks[static_cast<std::size_t>(block_of[e])][i];
-  }
+  std::uint64_t count(std::size_t e, std::size_t i) const { return blocks[e] ? blocks[e][i] : 0; }
 };
 
 RelativeHistogram::RelativeHistogram()
@@ -83,6 +84,22 @@ RelativeHistogram& RelativeHistogram::operator=(RelativeHistogram&&) noexcept = 
 RelativeHistogram::~RelativeHistogram() = default;
 
 void RelativeHistogram::add(double x) {
+  // The common case first: x finite and not zero, i.e. its magnitude's bits lie strictly
+  // between those of 0 and of +inf (NaN's are above); its bucket key is magnitude >> kShift.
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
+  const std::uint64_t magnitude = bits & ~(std::uint64_t{1} << 63);
+  constexpr std::uint64_t kInfBits = std::bit_cast<std::uint64_t>(kInf);
+  if (magnitude - 1 < kInfBits - 1) {
+    if (total_ == 0) {
+      min_ = max_ = x;
+    } else {
+      min_ = std::min(min_, x);
+      max_ = std::max(max_, x);
+    }
+    ++total_;
+    (bits == magnitude ? positive_ : negative_)->add(magnitude >> kShift, 1);
+    return;
+  }
   if (std::isnan(x)) {
     ++invalid_;
     return;
@@ -98,12 +115,8 @@ void RelativeHistogram::add(double x) {
     ++zero_;
   } else if (x == kInf) {
     ++plus_inf_;
-  } else if (x == -kInf) {
-    ++minus_inf_;
-  } else if (x > 0.0) {
-    positive_->add(key_of(x), 1);
   } else {
-    negative_->add(key_of(-x), 1);
+    ++minus_inf_;
   }
 }
 

@@ -1,6 +1,7 @@
 // The Monte-Carlo run: bit-identical statistics for any thread count, --only-gear reproduces a
 // gear of the full run, points.csv rows satisfy |C - O| = R and the reported delta, and the
-// output folder holds complete files only.
+// output folder holds complete files only; merging a chunk while the next is measured keeps the
+// gear order and the callbacks on the calling thread.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -13,7 +14,11 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "engine/io/provenance.h"
 #include "engine/mc/monte_carlo.h"
@@ -40,6 +45,72 @@ TEST(MonteCarlo, StatisticsAreBitIdenticalForAnyThreadCount) {
   testing_support::expect_identical_statistics(a, b);
   EXPECT_EQ(a.contacts, 12u * 24 * 2 * 50);
   EXPECT_EQ(a.failed_contacts, 0u);
+}
+
+// Three chunks (kGearsPerBlock = 256 gears each, the last one partial) of a small plan (tooth 1,
+// 3 x 2 points per flank), so chunk i is merged while chunk i + 1 is measured: the statistics
+// and the block moments are bit-identical with one and with two threads, every gear reaches
+// on_gear once and in gear order, and on_gear and progress run on the calling thread, progress
+// once per chunk in order. An exception thrown by on_gear in the middle of the run (while the
+// next chunk is being measured) comes out of run() as it was thrown.
+TEST(MonteCarlo, ChunkMergeOverlapsMeasuringAndKeepsGearOrder) {
+  Scenario scenario = reference_scenario();
+  scenario.probing.teeth = {1};
+  scenario.probing.grid.points_along_profile = 3;
+  scenario.probing.grid.sections_across_face = 2;
+  constexpr int kGears = 2 * kGearsPerBlock + 9;
+  scenario.gears = kGears;
+  const MonteCarloRun mc(scenario);
+  const std::thread::id caller = std::this_thread::get_id();
+  auto run = [&](int threads, std::vector<int>* order, std::vector<std::pair<int, int>>* progress) {
+    RunOptions options;
+    options.gears = kGears;
+    options.threads = threads;
+    options.keep_block_moments = true;
+    options.on_gear = [&, order](const GearOutcome& g) {
+      EXPECT_EQ(std::this_thread::get_id(), caller);
+      order->push_back(g.gear);
+    };
+    options.progress = [&, progress](int done, int total) {
+      EXPECT_EQ(std::this_thread::get_id(), caller);
+      progress->emplace_back(done, total);
+    };
+    return mc.run(options);
+  };
+  std::vector<int> order1, order2;
+  std::vector<std::pair<int, int>> progress1, progress2;
+  const RunResults a = run(1, &order1, &progress1), b = run(2, &order2, &progress2);
+  testing_support::expect_identical_statistics(a, b);
+  EXPECT_EQ(a.gears, kGears);
+  EXPECT_EQ(a.contacts, static_cast<std::uint64_t>(kGears) * 2 * 3 * 2);
+  ASSERT_EQ(a.block_moments.size(), 3u);
+  ASSERT_EQ(b.block_moments.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    for (int s = 0; s < 2; ++s) {
+      EXPECT_TRUE(a.block_moments[k].point[s] == b.block_moments[k].point[s]) << k;
+    }
+  }
+  std::vector<int> expected(kGears);
+  for (int k = 0; k < kGears; ++k) expected[k] = k;
+  EXPECT_EQ(order1, expected);
+  EXPECT_EQ(order2, expected);
+  const std::vector<std::pair<int, int>> chunks = {
+      {kGearsPerBlock, kGears}, {2 * kGearsPerBlock, kGears}, {kGears, kGears}};
+  EXPECT_EQ(progress1, chunks);
+  EXPECT_EQ(progress2, chunks);
+
+  RunOptions failing;
+  failing.gears = kGears;
+  failing.threads = 2;
+  failing.on_gear = [](const GearOutcome& g) {
+    if (g.gear == 100) throw std::runtime_error("stop at gear 100");
+  };
+  try {
+    mc.run(failing);
+    ADD_FAILURE() << "run() returned although on_gear threw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "stop at gear 100");
+  }
 }
 
 TEST(MonteCarlo, OnlyGearReproducesThatGearOfTheFullRun) {

@@ -31,10 +31,11 @@ TEST(CheckDeathTest, FiresWithNdebugAndNamesTheFileLineAndMessage) {
 
 TEST(CheckDeathTest, FiresInsideTheLibraryAsBuilt) {
   GTEST_FLAG_SET(death_test_style, "threadsafe");
-  // A cubic B-spline with three coefficients has no span: gears/deviations.cpp checks it. In the
+  // A cubic B-spline with three coefficients has no span: gears/cubic_bspline.cpp checks it. In the
   // Release build that file is compiled with -DNDEBUG, where an assert would be gone.
-  EXPECT_DEATH(CubicBSpline(0.0, 1.0, std::vector<double>{1.0, 2.0, 3.0}),
-               "deviations\\.cpp:[0-9]+: gearmc internal error: a cubic B-spline needs at least 4");
+  EXPECT_DEATH(
+      CubicBSpline(0.0, 1.0, std::vector<double>{1.0, 2.0, 3.0}),
+      "cubic_bspline\\.cpp:[0-9]+: gearmc internal error: a cubic B-spline needs at least 4");
 }
 
 }  // namespace
