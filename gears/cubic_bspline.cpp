@@ -1,8 +1,8 @@
-// Clamped uniform cubic B-splines (see cubic_bspline.h): the per-span Taylor maps of the basis
-// from Piegl & Tiller's algorithm A2.3, the spline's span cubics, its evaluation and its exact
-// value and derivative ranges.
-#include "gears/cubic_bspline.h"
-
+// Clamped uniform cubic B-splines of the deviation model (declared in deviations.h): the basis
+// of n coefficients as fixed per-span maps from coefficients to Taylor coefficients (Piegl &
+// Tiller's algorithm A2.3, once per n), a spline's span cubics built from them, and the exact
+// ranges of its values and derivatives from those cubics. Evaluation is in deviations.cpp, next
+// to the flank deviation field that calls it on the contact solver's hot path.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +11,8 @@
 #include <mutex>
 
 #include "gears/check.h"
+#include "gears/cubic_range.h"
+#include "gears/deviations.h"
 
 namespace gearmc {
 namespace {
@@ -147,29 +149,6 @@ double CubicBSpline::greville(int i) const {
   return (knot(i + 1, n, t0_, t1_) + knot(i + 2, n, t0_, t1_) + knot(i + 3, n, t0_, t1_)) / 3.0;
 }
 
-void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {
-  if (c_.empty()) {
-    *value = *first = *second = 0.0;
-    return;
-  }
-  const double tc = std::clamp(t, t0_, t1_);
-  const int spans = static_cast<int>(poly_.size());
-  const int k = std::clamp(static_cast<int>((tc - t0_) / h_), 0, spans - 1);
-  const std::array<double, 4>& q = poly_[k];
-  const double u = tc - (t0_ + k * h_);
-  const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));
-  const double d1 = q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]);
-  if (t != tc) {  // linear continuation outside [t0, t1]: C1
-    *value = v + d1 * (t - tc);
-    *first = d1;
-    *second = 0.0;
-    return;
-  }
-  *value = v;
-  *first = d1;
-  *second = 2.0 * q[2] + 6.0 * u * q[3];
-}
-
 // Widens [*lo, *hi] by the values of the cubic q0 + q1 u + q2 u^2 + q3 u^3 on [0, h]: its
 // extremes lie at the ends or where the derivative q1 + 2 q2 u + 3 q3 u^2 vanishes inside; the
 // roots of that quadratic in the cancellation-free form (Press et al., Numerical Recipes,
@@ -231,24 +210,6 @@ CubicBSpline::Ranges CubicBSpline::derivative_ranges() const {
     }
   }
   return r;
-}
-
-double CubicBSpline::value(double t) const {
-  double v, d1, d2;
-  evaluate(t, &v, &d1, &d2);
-  return v;
-}
-
-double CubicBSpline::derivative(double t) const {
-  double v, d1, d2;
-  evaluate(t, &v, &d1, &d2);
-  return d1;
-}
-
-double CubicBSpline::second_derivative(double t) const {
-  double v, d1, d2;
-  evaluate(t, &v, &d1, &d2);
-  return d2;
 }
 
 }  // namespace gearmc

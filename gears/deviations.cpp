@@ -1,5 +1,6 @@
-// Deviation model of perturbed gears: the flanks' deviation fields (their form parts are the
-// cubic B-splines of cubic_bspline.cpp), the ISO evaluation of deviation traces, the
+// Deviation model of perturbed gears: the evaluation of the cubic B-spline form fields (kept here
+// with the flank's deviation field so that the contact solver's calls inline it; their
+// construction and ranges are in cubic_bspline.cpp), the ISO evaluation of deviation traces, the
 // radial-runout measurement, and the sampler that draws gear k within its tolerances.
 //
 // How the sampler keeps every drawn gear within tolerance (README, "Deviation model"):
@@ -30,6 +31,7 @@
 #include <numbers>
 
 #include "gears/check.h"
+#include "gears/cubic_range.h"
 #include "gears/random_stream.h"
 
 namespace gearmc {
@@ -39,6 +41,47 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kSafety = 1e-3;  // relative margin kept below each tolerance
 
 }  // namespace
+
+void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {
+  if (c_.empty()) {
+    *value = *first = *second = 0.0;
+    return;
+  }
+  const double tc = std::clamp(t, t0_, t1_);
+  const int spans = static_cast<int>(poly_.size());
+  const int k = std::clamp(static_cast<int>((tc - t0_) / h_), 0, spans - 1);
+  const std::array<double, 4>& q = poly_[k];
+  const double u = tc - (t0_ + k * h_);
+  const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));
+  const double d1 = q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]);
+  if (t != tc) {  // linear continuation outside [t0, t1]: C1
+    *value = v + d1 * (t - tc);
+    *first = d1;
+    *second = 0.0;
+    return;
+  }
+  *value = v;
+  *first = d1;
+  *second = 2.0 * q[2] + 6.0 * u * q[3];
+}
+
+double CubicBSpline::value(double t) const {
+  double v, d1, d2;
+  evaluate(t, &v, &d1, &d2);
+  return v;
+}
+
+double CubicBSpline::derivative(double t) const {
+  double v, d1, d2;
+  evaluate(t, &v, &d1, &d2);
+  return d1;
+}
+
+double CubicBSpline::second_derivative(double t) const {
+  double v, d1, d2;
+  evaluate(t, &v, &d1, &d2);
+  return d2;
+}
 
 double FlankDeviation::normal_um(double L, double z) const {
   return offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + profile_form.value(L) +

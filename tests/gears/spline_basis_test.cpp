@@ -16,7 +16,6 @@
 #include <string>
 #include <vector>
 
-#include "gears/cubic_bspline.h"
 #include "gears/deviations.h"
 #include "tests/support/p1_fixtures.h"
 
