@@ -130,6 +130,7 @@ CubicBSpline::CubicBSpline(double t0, double t1, std::vector<double> coefficient
 void CubicBSpline::build(const CubicBSplineBasis& basis) {
   const int spans = static_cast<int>(c_.size()) - 3;
   h_ = (t1_ - t0_) / spans;
+  inverse_h_ = spans / (t1_ - t0_);
   // Taylor coefficients in u = t - t_k from those in s = u / h: q_m / h^m.
   const double g1 = 1.0 / h_, g2 = g1 * g1, g3 = g2 * g1;
   poly_.resize(spans);

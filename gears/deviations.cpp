@@ -42,29 +42,6 @@ constexpr double kSafety = 1e-3;  // relative margin kept below each tolerance
 
 }  // namespace
 
-void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {
-  if (c_.empty()) {
-    *value = *first = *second = 0.0;
-    return;
-  }
-  const double tc = std::clamp(t, t0_, t1_);
-  const int spans = static_cast<int>(poly_.size());
-  const int k = std::clamp(static_cast<int>((tc - t0_) / h_), 0, spans - 1);
-  const std::array<double, 4>& q = poly_[k];
-  const double u = tc - (t0_ + k * h_);
-  const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));
-  const double d1 = q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]);
-  if (t != tc) {  // linear continuation outside [t0, t1]: C1
-    *value = v + d1 * (t - tc);
-    *first = d1;
-    *second = 0.0;
-    return;
-  }
-  *value = v;
-  *first = d1;
-  *second = 2.0 * q[2] + 6.0 * u * q[3];
-}
-
 double CubicBSpline::value(double t) const {
   double v, d1, d2;
   evaluate(t, &v, &d1, &d2);
@@ -83,29 +60,12 @@ double CubicBSpline::second_derivative(double t) const {
   return d2;
 }
 
-double FlankDeviation::normal_um(double L, double z) const {
-  return offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + profile_form.value(L) +
-         helix_slope_um_per_mm * (z - helix_mid_mm) + helix_form.value(z);
-}
 double FlankDeviation::d_dL(double L) const {
   return profile_slope_um_per_mm + profile_form.derivative(L);
 }
 double FlankDeviation::d_dz(double z) const {
   return helix_slope_um_per_mm + helix_form.derivative(z);
 }
-void FlankDeviation::evaluate(double L, double z, double* d, double* dL, double* dz, double* dLL,
-                              double* dzz) const {
-  double pv, p1, p2, hv, h1, h2;
-  profile_form.evaluate(L, &pv, &p1, &p2);
-  helix_form.evaluate(z, &hv, &h1, &h2);
-  *d = offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + pv +
-       helix_slope_um_per_mm * (z - helix_mid_mm) + hv;
-  *dL = profile_slope_um_per_mm + p1;
-  *dz = helix_slope_um_per_mm + h1;
-  *dLL = p2;
-  *dzz = h2;
-}
-
 FlankDeviation::Ranges FlankDeviation::derivative_ranges() const {
   const CubicBSpline::Ranges p = profile_form.derivative_ranges();
   const CubicBSpline::Ranges h = helix_form.derivative_ranges();

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -103,6 +104,7 @@ class CubicBSpline {
  private:
   void build(const CubicBSplineBasis& basis);  // h_ and poly_ from c_
   double t0_ = 0.0, t1_ = 1.0, h_ = 1.0;
+  double inverse_h_ = 1.0;  // 1 / h_ (the span of t by a multiplication)
   std::vector<double> c_;
   // Each span's cubic in power form about its start: v = p0 + p1 u + p2 u^2 + p3 u^3, built
   // once from the coefficients (CubicBSplineBasis) so that an evaluation is one Horner step.
@@ -134,6 +136,55 @@ struct FlankDeviation {
   // The partials' ranges over all (L, z), exact (d itself unbounded: (-inf, inf)).
   Ranges derivative_ranges() const;
 };
+
+// The evaluations of the contact solver's hot path, inline so that the solver keeps their
+// results in registers (each is called a few times per contact, millions of times per run).
+inline void CubicBSpline::evaluate(double t, double* value, double* first, double* second) const {
+  if (c_.empty()) {
+    *value = *first = *second = 0.0;
+    return;
+  }
+  const double tc = std::clamp(t, t0_, t1_);
+  const int spans = static_cast<int>(poly_.size());
+  // The span by a multiplication with 1 / h: where it rounds differently from (tc - t0) / h, at
+  // a span's end, it picks the neighbouring span, whose cubic has the same value there to
+  // rounding (the spline is C2).
+  const int k = std::clamp(static_cast<int>((tc - t0_) * inverse_h_), 0, spans - 1);
+  const std::array<double, 4>& q = poly_[k];
+  const double u = tc - (t0_ + k * h_);
+  const double v = q[0] + u * (q[1] + u * (q[2] + u * q[3]));
+  const double d1 = q[1] + u * (2.0 * q[2] + 3.0 * u * q[3]);
+  if (t != tc) {  // linear continuation outside [t0, t1]: C1
+    *value = v + d1 * (t - tc);
+    *first = d1;
+    *second = 0.0;
+    return;
+  }
+  *value = v;
+  *first = d1;
+  *second = 2.0 * q[2] + 6.0 * u * q[3];
+}
+
+inline double FlankDeviation::normal_um(double L, double z) const {
+  double pv, p1, p2, hv, h1, h2;
+  profile_form.evaluate(L, &pv, &p1, &p2);
+  helix_form.evaluate(z, &hv, &h1, &h2);
+  return offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + pv +
+         helix_slope_um_per_mm * (z - helix_mid_mm) + hv;
+}
+
+inline void FlankDeviation::evaluate(double L, double z, double* d, double* dL, double* dz,
+                                     double* dLL, double* dzz) const {
+  double pv, p1, p2, hv, h1, h2;
+  profile_form.evaluate(L, &pv, &p1, &p2);
+  helix_form.evaluate(z, &hv, &h1, &h2);
+  *d = offset_um + profile_slope_um_per_mm * (L - profile_mid_mm) + pv +
+       helix_slope_um_per_mm * (z - helix_mid_mm) + hv;
+  *dL = profile_slope_um_per_mm + p1;
+  *dz = helix_slope_um_per_mm + h1;
+  *dLL = p2;
+  *dzz = h2;
+}
 
 // A drawn gear: every deviation of gear `index`.
 struct PerturbedGear {
