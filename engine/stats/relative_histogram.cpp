@@ -90,13 +90,7 @@ void RelativeHistogram::add(double x) {
   const std::uint64_t magnitude = bits & ~(std::uint64_t{1} << 63);
   constexpr std::uint64_t kInfBits = std::bit_cast<std::uint64_t>(kInf);
   if (magnitude - 1 < kInfBits - 1) {
-    if (total_ == 0) {
-      min_ = max_ = x;
-    } else {
-      min_ = std::min(min_, x);
-      max_ = std::max(max_, x);
-    }
-    ++total_;
+    count_value(x);
     (bits == magnitude ? positive_ : negative_)->add(magnitude >> kShift, 1);
     return;
   }
@@ -104,13 +98,7 @@ void RelativeHistogram::add(double x) {
     ++invalid_;
     return;
   }
-  if (total_ == 0) {
-    min_ = max_ = x;
-  } else {
-    min_ = std::min(min_, x);
-    max_ = std::max(max_, x);
-  }
-  ++total_;
+  count_value(x);
   if (x == 0.0) {
     ++zero_;
   } else if (x == kInf) {

@@ -17,6 +17,7 @@
 // Nothing here depends on the unit; the engine uses µm.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -94,6 +95,16 @@ class RelativeHistogram {
   bool operator==(const RelativeHistogram& other) const;
 
  private:
+  // x into the extremes and the total (every value that is not NaN).
+  void count_value(double x) {
+    if (total_ == 0) {
+      min_ = max_ = x;
+    } else {
+      min_ = std::min(min_, x);
+      max_ = std::max(max_, x);
+    }
+    ++total_;
+  }
   struct Side;  // the buckets of one sign: blocks of 4096 counters per biased exponent
   std::unique_ptr<Side> positive_, negative_;
   std::uint64_t zero_ = 0, plus_inf_ = 0, minus_inf_ = 0;
