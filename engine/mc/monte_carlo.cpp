@@ -84,6 +84,11 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points, bool chart_tr
   out.effects.alone.resize(model_.effects().size());
   std::optional<ParameterEvaluator::Gear> parameters;
   if (evaluator_) parameters.emplace(*evaluator_, measurement);
+  std::size_t points_per_side[2] = {0, 0};  // one allocation per side, not ~11 doublings
+  for (const PlanFlank& flank : model_.flanks()) {
+    points_per_side[flank.side == FlankSide::kRight ? 1 : 0] += flank.points.size();
+  }
+  for (int s : {0, 1}) out.point_delta[s].reserve(points_per_side[s]);
   int flank_index = 0;
   for (const PlanFlank& flank : model_.flanks()) {
     const int s = flank.side == FlankSide::kRight ? 1 : 0;

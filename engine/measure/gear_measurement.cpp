@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/probing/contact_certificate.h"
 #include "engine/probing/mesh_probe.h"
 #include "surfaces/analytic_flank.h"
 
@@ -42,13 +43,19 @@ void GearMeasurement::measure_flank(
   const AnalyticFlank surface(gear, flank.tooth, flank.side,
                               perturbed_.flank(flank.tooth, flank.side), perturbed_.eccentricity_mm,
                               model_.expression());
+  // Stage 1 of the contact certificate for the whole flank at once (contact_certificate.h).
+  const FlankCurvatureBound bound =
+      flank.mesh ? FlankCurvatureBound{}
+                 : flank_curvature_bound(surface, R, model_.extent().roll_length_min,
+                                         model_.extent().roll_length_max);
   PointMeasurement m;
   for (const PlanPoint& q : flank.points) {
     const FlankPoint& fp = q.nominal;
     m.plan = &q;
-    m.contact = flank.mesh ? flank.mesh->probe(fp.point, fp.normal, R)
-                           : solve_contact(surface, model_.extent(), fp.point, fp.normal, R,
-                                           q.roll_length_mm, q.z_mm, planned_base_angle(fp));
+    m.contact = flank.mesh
+                    ? flank.mesh->probe(fp.point, fp.normal, R)
+                    : solve_contact(surface, model_.extent(), fp.point, fp.normal, R,
+                                    q.roll_length_mm, q.z_mm, planned_base_angle(fp), &bound);
     ContactResult& r = m.contact;
     // The real stylus path is the nominal one moved along n by |t - R| (t = (O - p)·n); the
     // clearances are 1-Lipschitz in the path's position, so a path whose nominal clearance

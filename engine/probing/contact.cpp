@@ -208,7 +208,8 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
 
 ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
-                            double z0, const BaseAngle& angle_at_L0) {
+                            double z0, const BaseAngle& angle_at_L0,
+                            const FlankCurvatureBound* flank_bound) {
   ContactResult result;
   const AngleAnchor anchor{L0, angle_at_L0, base_angle_per_mm(flank.gear(), flank.side())};
   FlankFramePoint start_frame;  // S(L0, z0): the certificate checks p and n against it
@@ -219,7 +220,13 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
                            start_frame.deviation_um);
   result.iterations = s.iterations;
   // The certificate (contact_certificate.h): restart from a higher point until none is left.
+  // The flank's stage-1 bound first, inline (certify_contact would try it first as well).
   while (s.status == ContactResult::Status::kOk) {
+    if (flank_bound != nullptr &&
+        flank_bound->proves(flank, p, n, R, L0, start, s.gradient_bound, extent.roll_length_min,
+                            extent.roll_length_max)) {
+      break;
+    }
     const ContactCertificate c =
         certify_contact(flank, p, n, R, L0, start, s.x, s.height, s.gradient_bound,
                         extent.roll_length_min, extent.roll_length_max);

@@ -20,6 +20,8 @@
 
 namespace gearmc {
 
+struct FlankCurvatureBound;  // contact_certificate.h
+
 // The flank's parameter box: where the real flank exists (roll length from the form circle to
 // the tip circle, z from 0 to b). A maximum that wants to leave it is an edge contact.
 struct FlankExtent {
@@ -70,10 +72,14 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
 // The same with the base point's angle at L0 given (gears/base_angle.h): the planned point's
 // profile tangent is (cos, sin) of it (InvoluteGear::flank_point), so a caller holding the
 // nominal flank point saves the solve's one sincos. `angle_at_L0` must be base_angle(gear,
-// tooth, side, L0) of the flank; the other overload computes it.
+// tooth, side, L0) of the flank; the other overload computes it. `flank_bound` (optional):
+// flank_curvature_bound(flank, R, extent.roll_length_min, extent.roll_length_max)
+// (contact_certificate.h), computed once for all of the flank's points: the certificate tries it
+// before the point's own bound (same verdicts, fewer operations).
 ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
-                            double z0, const BaseAngle& angle_at_L0);
+                            double z0, const BaseAngle& angle_at_L0,
+                            const FlankCurvatureBound* flank_bound = nullptr);
 
 // Whether the stylus, on its way from `approach_mm` outside the planned point to the contact
 // centre O (both along n), stays clear of the rest of the tooth space of the flank `tooth`,

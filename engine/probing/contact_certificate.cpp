@@ -1,7 +1,9 @@
-// First-contact certificate (see contact_certificate.h): an exact interval bound of the
-// flank's curvature over the footprint for B-spline fields, and a sampled branch-and-bound
-// over the footprint otherwise.
+// First-contact certificate (see contact_certificate.h): the exact interval bound of the flank's
+// curvature over the footprint for B-spline fields (stage 1, curvature_bound.cpp) and a
+// sampled branch-and-bound over the footprint otherwise (stage 2, here).
 #include "engine/probing/contact_certificate.h"
+
+#include "engine/probing/curvature_bound.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -15,97 +17,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kSampledCellsAcross = 64;  // stage 2's grid: cells across the footprint's 2R
-
-// A closed interval [lo, hi].
-struct Interval {
-  double lo, hi;
-  double magnitude() const { return std::max(std::abs(lo), std::abs(hi)); }
-};
-
-struct ExactBound {
-  double kappa = kInf;             // >= largest eigenvalue of H_uu over the footprint, 1/mm
-  double inverse_jacobian = kInf;  // >= |J^-1| (Frobenius), J = d(u)/d(L, z)
-};
-
-// Stage 1. With phi the angle of the involute normal n(L) from n (phi = (L - L0) / r_b,
-// n(L) = cos phi n + sin phi t0, t0 the profile tangent at L0), a = (L + delta) / r_b and the
-// partials of S (analytic_flank.cpp):
-//   (u_L, h_L) = Rot(a, delta_L),  (u_LL, h_LL) = Rot((1 + 2 delta_L) / r_b, delta_LL - a / r_b),
-//   (u_Lz, h_Lz) = Rot(delta_z / r_b, delta_Lz),  (u_zz, h_zz) = Rot(0, delta_zz),
-//   u_z(tau) = delta_z sin phi, u_z(z) = 1,
-// so M_xy = h_xy - (h_L / u_L) u_xy = cross((u_L, h_L), (u_xy, h_xy)) / u_L loses the rotation:
-//   M_LL = (a (delta_LL - a / r_b) - delta_L (1 + 2 delta_L) / r_b) / u_L,
-//   M_Lz = (a delta_Lz - delta_L delta_z / r_b) / u_L,  M_zz = a delta_zz / u_L,
-// and H_uu = J^-T M J^-1 with J = [[u_L, u_z], [0, 1]]. sin phi and cos phi are bounded over the
-// box symmetric about L0, so the sign of t0 does not matter.
-ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                       const Eigen::Vector3d& n, double R, double L0, const ContactStart& start,
-                       double L_min, double L_max) {
-  ExactBound out;
-  if (flank.expression() != nullptr) return out;  // no exact derivative bounds
-  // The closed form needs p = P(L0, p_z) + 0 on the nominal flank and n = n(L0), transverse;
-  // `start` = S(L0, p_z) = P + delta n(L0) + eps.
-  const double delta0 = 1e-3 * start.deviation_um;
-  const Eigen::Vector3d& eps = flank.eccentricity();
-  if ((start.nominal_normal - n).squaredNorm() > 1e-24 || std::abs(n.z()) > 1e-12 ||
-      (start.point - delta0 * n - eps - p).squaredNorm() > 1e-18 || L0 <= 0.0) {
-    return out;
-  }
-  const double r_b = 0.5 * flank.gear().base_diameter_mm();
-  const double inv_rb = 1.0 / r_b;  // divisions by r_b and u_L below are multiplications
-  const double c_tau = (eps - eps.dot(n) * n).norm();  // >= |eps.t0|
-  const FlankDeviation::Ranges& rg = flank.deviation_derivative_ranges();
-  auto mm = [](CubicBSpline::Range r) { return Interval{1e-3 * r.lo, 1e-3 * r.hi}; };
-  const Interval dL = mm(rg.dL), dz = mm(rg.dz), dLL = mm(rg.dLL), dzz = mm(rg.dzz);
-  // The L half-width: |u_tau| >= |N(L)| - c_tau - |delta| sin(Phi) with the nominal
-  // N(L) = (P(L) - P(L0)).t0 = L0 sin phi + r_b (phi sin phi + cos phi - 1), whose modulus grows
-  // with |phi| (beyond the box it keeps growing: the footprint cannot come back). Trigonometry
-  // by rigorous Taylor bounds: sin x >= x - x^3/6, x sin x + cos x - 1 <= x^2/2 + x^4/24.
-  // |delta| over the box <= |delta(L0, p_z)| + max|delta_L| half + max|delta_z| R.
-  // The box is cut at the flank's extent [L_min, L_max]: an end that is cut is the flank's edge
-  // and needs no bound of the footprint there. On the upper side |N| >= L0 sin(Phi) (the r_b
-  // term is >= 0 there), on the lower side the full expression below.
-  double half = 1.2 * (R + c_tau) * r_b / L0, Phi = 0.0, D = 0.0, L_lo = 0.0, L_hi = 0.0;
-  const double dL_mag = dL.magnitude(), dz_mag = dz.magnitude();
-  bool bounded = false;
-  for (int attempt = 0; attempt < 4 && !bounded; ++attempt) {
-    if (attempt > 0) half *= 1.5;
-    L_lo = std::max(L0 - half, L_min);
-    L_hi = std::min(L0 + half, L_max);
-    if (L_lo <= 0.0) return out;
-    Phi = half * inv_rb;
-    D = std::abs(delta0) + dL_mag * half + dz_mag * R;
-    const double N_up = L0 * (Phi - Phi * Phi * Phi / 6.0);
-    const double N_down = N_up - r_b * (0.5 * Phi * Phi + Phi * Phi * Phi * Phi / 24.0);
-    const bool lower_cut = L0 - half<L_min, upper_cut = L0 + half> L_max;
-    bounded =
-        (lower_cut || N_down - c_tau - D * Phi >= R) && (upper_cut || N_up - c_tau - D * Phi >= R);
-  }
-  if (!bounded) return out;
-  // Bounds with the signs known (a > 0, u_L > 0, |sin phi| <= Phi, cos phi >= 1 - Phi^2/2):
-  // ub = upper bound, mag = bound of the modulus.
-  const double a_lo = (L_lo - D) * inv_rb, a_hi = (L_hi + D) * inv_rb;
-  const double uL_lo = a_lo * (1.0 - 0.5 * Phi * Phi) - dL_mag * Phi;
-  if (a_lo <= 0.0 || uL_lo <= 0.0) return out;
-  const double inv_uL = 1.0 / uL_lo;
-  const double slope_term = dL_mag * (1.0 + 2.0 * dL_mag) * inv_rb;
-  // M_LL = (a (delta_LL - a / r_b) - delta_L (1 + 2 delta_L) / r_b) / u_L
-  const double num_LL_ub = a_hi * std::max(dLL.hi, 0.0) - a_lo * a_lo * inv_rb + slope_term;
-  const double M_LL_ub = num_LL_ub >= 0.0 ? num_LL_ub * inv_uL : num_LL_ub / (a_hi + dL_mag * Phi);
-  const double M_LL_mag = (a_hi * dLL.magnitude() + a_hi * a_hi * inv_rb + slope_term) * inv_uL;
-  const double M_Lz_mag = dL_mag * dz_mag * inv_rb * inv_uL;     // delta_Lz = 0
-  const double M_zz_ub = a_hi * std::max(dzz.hi, 0.0) * inv_uL;  // a delta_zz / u_L
-  const double r_mag = dz_mag * Phi * inv_uL;                    // |u_z(tau) / u_L|
-  // H_tt = M_LL / u_L^2, H_tz = (M_Lz - r M_LL) / u_L, H_zz = r^2 M_LL - 2 r M_Lz + M_zz.
-  const double H_tt_ub = M_LL_ub >= 0.0 ? M_LL_ub * inv_uL * inv_uL : 0.0;
-  const double H_tz_mag = (M_Lz_mag + r_mag * M_LL_mag) * inv_uL;
-  const double H_zz_ub = r_mag * r_mag * std::max(M_LL_ub, 0.0) + 2.0 * r_mag * M_Lz_mag + M_zz_ub;
-  // Gershgorin: the largest eigenvalue is at most max(H_tt + |H_tz|, H_zz + |H_tz|). (H_tt's
-  // negative part, the involute's convexity, is dropped: a bound, not an estimate.)
-  out.kappa = std::max(H_tt_ub, H_zz_ub) + H_tz_mag;
-  out.inverse_jacobian = std::sqrt(inv_uL * inv_uL + r_mag * r_mag + 1.0);
-  return out;
-}
 
 // Stage 2: one sample of the flank in the footprint frame (value only).
 struct Node {
@@ -378,26 +289,22 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
 
 }  // namespace
 
-double exact_curvature_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                             const Eigen::Vector3d& n, double R, double L0, double z0, double L_min,
-                             double L_max) {
-  return exact_bound(flank, p, n, R, L0, flank.evaluate(L0, z0), L_min, L_max).kappa;
-}
-
 ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                    const Eigen::Vector3d& n, double R, double L0,
                                    const ContactStart& start, const Eigen::Vector2d& x_star,
-                                   double t_star, double gradient_bound, double L_min,
-                                   double L_max) {
+                                   double t_star, double gradient_bound, double L_min, double L_max,
+                                   const FlankCurvatureBound* flank_bound) {
+  ContactCertificate out;
+  if (flank_bound != nullptr &&
+      flank_bound->proves(flank, p, n, R, L0, start, gradient_bound, L_min, L_max)) {
+    out.verdict = ContactCertificate::Verdict::kCertified;
+    out.by_flank_bound = true;
+    return out;
+  }
   const ExactBound b = exact_bound(flank, p, n, R, L0, start, L_min, L_max);
-  const double mu = 1.0 / R - b.kappa;
-  if (mu > 0.0) {
-    const double g = gradient_bound * b.inverse_jacobian;
-    if (g * g / (2.0 * mu) <= kCertificateToleranceMm) {
-      ContactCertificate out;
-      out.verdict = ContactCertificate::Verdict::kCertified;
-      return out;
-    }
+  if (concavity_proves(R, b.kappa, b.inverse_jacobian, gradient_bound)) {
+    out.verdict = ContactCertificate::Verdict::kCertified;
+    return out;
   }
   return sampled_certificate(flank, p, n, R, L0, x_star, t_star, L_min, L_max);
 }

@@ -38,6 +38,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <limits>
 
 #include "surfaces/analytic_flank.h"
@@ -61,7 +62,8 @@ struct ContactCertificate {
   const char* reason = "";
   Eigen::Vector2d higher_point = Eigen::Vector2d::Zero();  // (L, z), mm
   double higher_height = 0.0;                              // f there, mm
-  bool sampled = false;  // stage 2 was needed (stage 1 did not prove it)
+  bool sampled = false;         // stage 2 was needed (stage 1 did not prove it)
+  bool by_flank_bound = false;  // proven by the flank's stage-1 bound (FlankCurvatureBound)
 };
 
 // What stage 1 needs of the flank at the planned point (L0, p_z): S there, the nominal normal
@@ -76,6 +78,64 @@ struct ContactStart {
       : ContactStart(s.point, s.nominal_normal, s.deviation_um) {}
 };
 
+// Whether stage 1's closed form applies at the planned point: no expression field, p = P(L0,
+// p_z) + 0 on the nominal flank and n = n(L0), transverse; `start` = S(L0, p_z) = P + delta
+// n(L0) + eps.
+inline bool nominal_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                          const Eigen::Vector3d& n, double L0, const ContactStart& start) {
+  const double delta0 = 1e-3 * start.deviation_um;
+  return flank.expression() == nullptr && (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
+         std::abs(n.z()) <= 1e-12 &&
+         (start.point - delta0 * n - flank.eccentricity() - p).squaredNorm() <= 1e-18 && L0 > 0.0;
+}
+
+// The concavity bound (above): with H_uu <= kappa I over the footprint and |grad f| <=
+// gradient_bound at the found point, F <= t* + g^2 / (2 (1/R - kappa)), g = gradient_bound
+// |J^-1|; whether that is within the tolerance (compared without a division).
+inline bool concavity_proves(double R, double kappa, double inverse_jacobian,
+                             double gradient_bound) {
+  const double mu = 1.0 / R - kappa;
+  const double g = gradient_bound * inverse_jacobian;
+  return mu > 0.0 && g * g <= 2.0 * mu * kCertificateToleranceMm;
+}
+
+// Stage 1 for all planned points of one flank at once: the run's contacts take one bound per
+// flank instead of one per point. The box of every planned point's footprint (exact_bound in the
+// .cpp: L within a half-width K / L0 of L0, cut at the flank's extent) lies in L in [L_min,
+// L_max] with a turn of the involute normal of at most K / (L_min r_b) and |delta| at most
+// deviation_max_mm + max|delta_L| K / L_min + max|delta_z| R; the bound over that box (c_tau
+// taken as |eps|) holds at every point `covers` accepts. Where it does not prove a point, the
+// point's own (tighter) bound is tried next, so the verdicts are those without it.
+struct FlankCurvatureBound {
+  const AnalyticFlank* flank = nullptr;      // the flank it was computed for
+  double R = 0.0, L_min = 0.0, L_max = 0.0;  // stylus radius and extent, mm
+  double deviation_max_mm = 0.0;  // for planned points with |delta(L0, p_z)| up to this, mm
+  double kappa = std::numeric_limits<double>::infinity();  // >= largest eigenvalue of H_uu, 1/mm
+  double inverse_jacobian = std::numeric_limits<double>::infinity();  // >= |J^-1|
+  // Whether it holds for a solve on `f` with these R, L0 (mm), delta(L0, p_z) (µm) and extent
+  // (and a finite bound was found).
+  bool covers(const AnalyticFlank& f, double R_mm, double L0, double deviation_um, double L_min_mm,
+              double L_max_mm) const {
+    return flank == &f && R == R_mm && L_min == L_min_mm && L_max == L_max_mm && L0 >= L_min &&
+           L0 <= L_max && std::abs(1e-3 * deviation_um) <= deviation_max_mm &&
+           kappa < std::numeric_limits<double>::infinity();
+  }
+  // Whether it proves the contact found with |grad f| <= gradient_bound (arguments as
+  // certify_contact's): the first thing certify_contact tries, inline for the solver.
+  bool proves(const AnalyticFlank& f, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+              double R_mm, double L0, const ContactStart& start, double gradient_bound,
+              double L_min_mm, double L_max_mm) const {
+    return covers(f, R_mm, L0, start.deviation_um, L_min_mm, L_max_mm) &&
+           nominal_start(f, p, n, L0, start) &&
+           concavity_proves(R_mm, kappa, inverse_jacobian, gradient_bound);
+  }
+};
+// The bound for `flank` (which must outlive it), stylus radius R and roll-length extent
+// [L_min, L_max] (mm); kappa = infinity where it does not apply (expression fields) or no
+// half-width of the four tries holds the footprints.
+FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, double L_min,
+                                          double L_max);
+
 // p, n: planned point and nominal outward unit normal; R: tip radius; L0: the planned roll
 // length and `start` = flank.evaluate(L0, p_z) (stage 1 needs p = P(L0, p_z) on the nominal
 // flank and n = n(L0); it checks that with `start` and otherwise leaves the point to stage 2);
@@ -84,12 +144,14 @@ struct ContactStart {
 // tip circle): the flank exists only there, so only that part of the footprint is searched (a
 // contact beyond it is the flank's edge or the root, which the solver and the tooth-space check
 // handle); without it, near the start of the involute the footprint reaches L <= 0 and no bound
-// exists.
+// exists. `flank_bound` (optional): flank_curvature_bound of this flank, R and extent, tried
+// first.
 ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                    const Eigen::Vector3d& n, double R, double L0,
                                    const ContactStart& start, const Eigen::Vector2d& x_star,
                                    double t_star, double gradient_bound, double L_min = 0.0,
-                                   double L_max = std::numeric_limits<double>::infinity());
+                                   double L_max = std::numeric_limits<double>::infinity(),
+                                   const FlankCurvatureBound* flank_bound = nullptr);
 
 // Stage 1 alone (exposed for tests): kappa, the proven upper bound of the largest eigenvalue of
 // H_uu over the footprint (1/mm), or +infinity where stage 1 does not apply.

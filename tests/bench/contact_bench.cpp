@@ -30,6 +30,7 @@
 
 #include "engine/mc/monte_carlo.h"
 #include "engine/probing/contact.h"
+#include "engine/probing/contact_certificate.h"
 #include "engine/probing/mesh_probe.h"
 #include "engine/scenario/scenario.h"
 #include "surfaces/flank_mesh.h"
@@ -67,18 +68,24 @@ void BM_AnalyticContact(benchmark::State& state) {
       }
     }
   }
-  std::int64_t solves = 0;
+  std::int64_t solves = 0, iterations = 0, restarts = 0;
   double sink = 0.0;
   for (auto _ : state) {
     const Planned* next = planned.data();
     for (int tooth = 1; tooth <= f.gear.teeth(); ++tooth) {
       for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
         const AnalyticFlank flank(f.gear, tooth, side, g.flank(tooth, side), g.eccentricity_mm);
+        // The certificate's stage 1 once per flank, as a run computes it (gear_measurement.cpp).
+        const FlankCurvatureBound bound =
+            flank_curvature_bound(flank, 0.5, extent.roll_length_min, extent.roll_length_max);
         const std::size_t per_flank = grid.heights.size() * grid.roll_lengths.size();
         for (std::size_t k = 0; k < per_flank; ++k, ++next) {
-          const ContactResult r = solve_contact(flank, extent, next->fp.point, next->fp.normal, 0.5,
-                                                next->L, next->z, planned_base_angle(next->fp));
+          const ContactResult r =
+              solve_contact(flank, extent, next->fp.point, next->fp.normal, 0.5, next->L, next->z,
+                            planned_base_angle(next->fp), &bound);
           sink += r.delta_um;
+          iterations += r.iterations;
+          restarts += r.restarts;
           ++solves;
         }
       }
@@ -87,6 +94,10 @@ void BM_AnalyticContact(benchmark::State& state) {
   benchmark::DoNotOptimize(sink);
   state.counters["solves_per_s"] =
       benchmark::Counter(static_cast<double>(solves), benchmark::Counter::kIsRate);
+  state.counters["iterations_per_solve"] =
+      static_cast<double>(iterations) / static_cast<double>(solves);
+  state.counters["restarts_per_solve"] =
+      static_cast<double>(restarts) / static_cast<double>(solves);
 }
 BENCHMARK(BM_AnalyticContact)->Unit(benchmark::kMillisecond);
 
