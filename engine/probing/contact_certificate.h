@@ -112,6 +112,10 @@ struct FlankCurvatureBound {
   double deviation_max_mm = 0.0;  // for planned points with |delta(L0, p_z)| up to this, mm
   double kappa = std::numeric_limits<double>::infinity();  // >= largest eigenvalue of H_uu, 1/mm
   double inverse_jacobian = std::numeric_limits<double>::infinity();  // >= |J^-1|
+  // The box (finite kappa only): a planned point's footprint lies within |L - L0| <=
+  // half_width_mm2 / L0 (mm), where the involute normal turns by at most max_turn_rad from n
+  // and |delta| <= max_deviation_mm.
+  double half_width_mm2 = 0.0, max_turn_rad = 0.0, max_deviation_mm = 0.0;
   // Whether it holds for a solve on `f` with these R, L0 (mm), delta(L0, p_z) (µm) and extent
   // (and a finite bound was found).
   bool covers(const AnalyticFlank& f, double R_mm, double L0, double deviation_um, double L_min_mm,

@@ -200,8 +200,11 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
     if (!holds) continue;
     // Every point's box lies in [L_min, L_max], turns by at most K / (L_min r_b) and has |delta|
     // at most D_at(L_min): the box below contains them all, and the bound is monotone in it.
+    out.half_width_mm2 = K;
+    out.max_turn_rad = K / (L_min * r_b);
+    out.max_deviation_mm = D_at(L_min);
     const ExactBound b =
-        curvature_over_box({L_min, L_max, K / (L_min * r_b), D_at(L_min)}, dv, r_b);
+        curvature_over_box({L_min, L_max, out.max_turn_rad, out.max_deviation_mm}, dv, r_b);
     out.kappa = b.kappa;
     out.inverse_jacobian = b.inverse_jacobian;
     return out;

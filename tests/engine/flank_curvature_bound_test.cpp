@@ -123,6 +123,57 @@ TEST(FlankCurvatureBound, BoundsAreUpperBoundsOfTheSampledCurvature) {
   EXPECT_GT(largest_true, 0.2);
 }
 
+// The flank's bound against the point's own at roll lengths from the flank's low end up, where
+// a point's box is widest (its half-width is K / L0) and so its |delta| bound D largest: a
+// profile wave over exactly the flank's extent, whose value at the low end is a coefficient
+// (|delta0| = 40 µm, the field's extreme), so the flank's D exceeds the point's only by its
+// 1 % of room and the comparison is tight (a flank box taken at L_max, not L_min, fails it).
+TEST(FlankCurvatureBound, HoldsFromTheFlanksLowEndUp) {
+  const InvoluteGear gear = p1_gear();
+  const FlankExtent extent = extent_of(gear);
+  FlankDeviation dev;
+  std::vector<double> cp;
+  for (int i = 0; i < 14; ++i) cp.push_back(i % 2 ? 40.0 : -40.0);
+  dev.profile_form = CubicBSpline(extent.roll_length_min, extent.roll_length_max, cp);
+  for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+    const AnalyticFlank flank(gear, 5, side, dev, Eigen::Vector2d(0.004, -0.003));
+    const FlankCurvatureBound fb =
+        flank_curvature_bound(flank, kR, extent.roll_length_min, extent.roll_length_max);
+    ASSERT_LT(fb.kappa, 1e300);
+    for (int i = 0; i <= 40; ++i) {
+      const double L0 = extent.roll_length_min +
+                        (extent.roll_length_max - extent.roll_length_min) * (i * i) / 1600.0;
+      const FlankPoint fp = gear.flank_point(5, side, L0, 40.0);
+      const double point_kappa = exact_curvature_bound(
+          flank, fp.point, fp.normal, kR, L0, 40.0, extent.roll_length_min, extent.roll_length_max);
+      EXPECT_GE(fb.kappa, point_kappa) << L0;
+      // The box's claims, checked on the flank itself: beyond the half-width K / L0 (up to 3
+      // times it, within the extent) every flank point of |z - 40| <= R lies outside the
+      // stylus's footprint (|w.tau| >= R); inside it the normal turns by at most the bound's
+      // turn and |delta| stays within its deviation bound.
+      const double half = fb.half_width_mm2 / L0;
+      const Eigen::Vector3d tau = Eigen::Vector3d::UnitZ().cross(fp.normal).normalized();
+      const double r_b = 0.5 * gear.base_diameter_mm();
+      for (int k = -8; k <= 8; ++k) {
+        const double z = 40.0 + kR * k / 8.0;
+        for (double f : {1.0, 1.5, 2.0, 3.0}) {
+          for (double L : {L0 - f * half, L0 + f * half}) {
+            if (L < extent.roll_length_min || L > extent.roll_length_max) continue;
+            EXPECT_GE(std::abs((flank.point(L, z) - fp.point).dot(tau)), kR) << L0 << " " << L;
+          }
+        }
+        for (int j = -8; j <= 8; ++j) {
+          const double L = L0 + half * j / 8.0;
+          if (L < extent.roll_length_min || L > extent.roll_length_max) continue;
+          // The turn is (L - L0) / r_b; equal at L0 = L_min up to rounding.
+          EXPECT_LE(std::abs(L - L0) / r_b, fb.max_turn_rad * (1.0 + 1e-12)) << L0;
+          EXPECT_LE(std::abs(1e-3 * dev.normal_um(L, z)), fb.max_deviation_mm) << L0;
+        }
+      }
+    }
+  }
+}
+
 // The certificate at every planned point of drawn P1 gears: the verdict with the flank's bound
 // equals the verdict without it, all are proven, and by the flank's bound; the solver's results
 // with it are bit-identical.
