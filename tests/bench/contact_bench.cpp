@@ -2,8 +2,9 @@
 //  * BM_AnalyticContact: the Newton solver on random-field flanks of P1's reference scenario
 //    (8/6 control values, P1's tolerances), P1's 10 x 5 grid on every flank of a gear; the
 //    planned points (nominal, the same for every gear) computed once outside the timing and
-//    each solve given its planned point's base angle, as a run does (until this version the
-//    loop also evaluated each planned point, ~9 % of its time);
+//    each solve given its planned point's base angle and its flank's stage-1 certificate bound
+//    (FlankCurvatureBound, once per flank), as a run does; counters: Newton iterations and
+//    certificate restarts per solve;
 //  * BM_AnalyticContactOneFlank / BM_MeshContact: the same flank (tooth 1 R of gear 3) probed
 //    at the same 40 x 20 grid of planned points (5 % margins) by the analytic solver and by
 //    the mesh path (mesh_flank of that flank, MeshFlankProbe with the smoothed contact point,
