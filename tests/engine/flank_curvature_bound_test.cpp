@@ -79,15 +79,19 @@ double sampled_footprint_curvature(const InvoluteGear& gear, const AnalyticFlank
   return worst;
 }
 
+// A form of `count` coefficients alternating -amplitude, +amplitude (µm) over [t0, t1] (mm).
+CubicBSpline alternating_form(double t0, double t1, int count, double amplitude) {
+  std::vector<double> c;
+  for (int i = 0; i < count; ++i) c.push_back(i % 2 ? amplitude : -amplitude);
+  return CubicBSpline(t0, t1, c);
+}
+
 // A wavier field than P1's: profile and helix forms of +-20 µm every ~1.5 mm (curvatures of
 // the order of 0.3 /mm, still below 1/R).
 FlankDeviation wavy_field() {
   FlankDeviation d;
-  std::vector<double> cp, ch;
-  for (int i = 0; i < 20; ++i) cp.push_back(i % 2 ? 20.0 : -20.0);
-  for (int i = 0; i < 60; ++i) ch.push_back(i % 2 ? 20.0 : -20.0);
-  d.profile_form = CubicBSpline(20.0, 46.0, cp);
-  d.helix_form = CubicBSpline(0.0, 80.0, ch);
+  d.profile_form = alternating_form(20.0, 46.0, 20, 20.0);
+  d.helix_form = alternating_form(0.0, 80.0, 60, 20.0);
   return d;
 }
 
@@ -132,9 +136,7 @@ TEST(FlankCurvatureBound, HoldsFromTheFlanksLowEndUp) {
   const InvoluteGear gear = p1_gear();
   const FlankExtent extent = extent_of(gear);
   FlankDeviation dev;
-  std::vector<double> cp;
-  for (int i = 0; i < 14; ++i) cp.push_back(i % 2 ? 40.0 : -40.0);
-  dev.profile_form = CubicBSpline(extent.roll_length_min, extent.roll_length_max, cp);
+  dev.profile_form = alternating_form(extent.roll_length_min, extent.roll_length_max, 14, 40.0);
   for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
     const AnalyticFlank flank(gear, 5, side, dev, Eigen::Vector2d(0.004, -0.003));
     const FlankCurvatureBound fb =
@@ -230,9 +232,7 @@ TEST(FlankCurvatureBound, WhereTheFlanksBoundFailsThePointsOwnProves) {
   const InvoluteGear gear = p1_gear();
   const FlankExtent extent = extent_of(gear);
   FlankDeviation dev;
-  std::vector<double> cp;
-  for (int i = 0; i < 14; ++i) cp.push_back(i % 2 ? 40.0 : -40.0);
-  dev.profile_form = CubicBSpline(20.0, 46.0, cp);
+  dev.profile_form = alternating_form(20.0, 46.0, 14, 40.0);
   const AnalyticFlank flank(gear, 2, FlankSide::kRight, dev, Eigen::Vector2d::Zero());
   const FlankCurvatureBound fb =
       flank_curvature_bound(flank, kR, extent.roll_length_min, extent.roll_length_max);
