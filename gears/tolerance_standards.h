@@ -16,10 +16,6 @@ namespace gearmc::tolerance_detail {
 // A name for messages: the symbol in `standard`, else in the other standard.
 std::string kind_label(ToleranceKind kind, ToleranceStandard standard);
 
-// A grade / class number written as 1-2 decimal digits without a leading zero, within
-// [lowest, highest]; nullopt otherwise.
-std::optional<int> parse_grade_number(std::string_view text, int lowest, int highest);
-
 // Adds to `set` the GOST 1643-81 table's norm of every tabulated kind that `spec` does not
 // override, for the gear's d, m and b and the grade of the kind's group (kinematic, smoothness,
 // contact). Throws ToleranceError naming every norm the table lacks.

@@ -68,6 +68,10 @@ std::string kind_label(ToleranceKind kind, ToleranceStandard standard) {
   return "tolerance kind #" + std::to_string(static_cast<int>(kind));
 }
 
+}  // namespace tolerance_detail
+
+using tolerance_detail::kind_label;
+
 // A grade / class number written as 1-2 decimal digits without a leading zero, within
 // [lowest, highest]; nullopt otherwise.
 std::optional<int> parse_grade_number(std::string_view text, int lowest, int highest) {
@@ -80,10 +84,6 @@ std::optional<int> parse_grade_number(std::string_view text, int lowest, int hig
   if (value < lowest || value > highest) return std::nullopt;
   return value;
 }
-
-}  // namespace tolerance_detail
-
-using tolerance_detail::kind_label;
 
 const std::vector<ToleranceKind>& all_tolerance_kinds() {
   static const std::vector<ToleranceKind> kinds = [] {

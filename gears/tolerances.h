@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gearmc {
@@ -44,6 +45,9 @@ std::optional<std::string> tolerance_symbol(ToleranceKind kind, ToleranceStandar
 std::optional<ToleranceKind> tolerance_kind_from_symbol(const std::string& symbol,
                                                         ToleranceStandard standard);
 std::string standard_name(ToleranceStandard standard);  // "gost_1643_81" / "iso_1328_1_2013"
+// A grade / class number written as 1-2 decimal digits without a leading zero, within
+// [lowest, highest]; nullopt otherwise (GOST 1643-81 grades 1..12, ISO 1328-1 classes 1..11).
+std::optional<int> parse_grade_number(std::string_view text, int lowest, int highest);
 
 struct Tolerance {
   double value_um = 0.0;

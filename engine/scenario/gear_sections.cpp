@@ -15,18 +15,6 @@
 namespace gearmc {
 namespace {
 
-// Strict decimal integer in [min, max] (no sign, no leading zeros beyond "0"); nullopt if not.
-std::optional<int> grade_number(const std::string& text, int min, int max) {
-  if (text.empty() || text.size() > 2 || (text.size() > 1 && text[0] == '0')) return std::nullopt;
-  int value = 0;
-  for (const char c : text) {
-    if (c < '0' || c > '9') return std::nullopt;
-    value = 10 * value + (c - '0');
-  }
-  if (value < min || value > max) return std::nullopt;
-  return value;
-}
-
 // The grade in the form the standard uses: GOST 1643-81 "K-S-C" (kinematic, smoothness and
 // contact grades, each 1..12) or one grade 1..12 for all three; ISO 1328-1:2013 the flank
 // tolerance class 1..11. Written as text or as an integer.
@@ -39,7 +27,7 @@ std::string read_grade(const YamlValue& value, ToleranceStandard standard) {
   if (!value.is_scalar()) throw value.error(expected);
   const std::string text = value.node().Scalar();
   if (!gost) {
-    if (!grade_number(text, 1, 11)) throw value.error(expected);
+    if (!parse_grade_number(text, 1, 11)) throw value.error(expected);
     return text;
   }
   std::vector<std::string> parts;
@@ -52,7 +40,7 @@ std::string read_grade(const YamlValue& value, ToleranceStandard standard) {
   }
   if (parts.size() != 1 && parts.size() != 3) throw value.error(expected);
   for (const std::string& part : parts) {
-    if (!grade_number(part, 1, 12)) throw value.error(expected);
+    if (!parse_grade_number(part, 1, 12)) throw value.error(expected);
   }
   return text;
 }

@@ -597,5 +597,17 @@ TEST(IsoResolveOutsideScope, ThrowsUnlessEveryFormulaValueIsOverridden) {
   EXPECT_EQ(set.get_um(ToleranceKind::kHelixForm), 3.0);
 }
 
+// The grade / class syntax both standards and the scenario reader share: 1-2 decimal digits, no
+// leading zero, within the range (GOST 1643-81 grades 1..12, ISO 1328-1 classes 1..11).
+TEST(GradeNumber, DigitsWithoutLeadingZeroWithinTheRange) {
+  EXPECT_EQ(parse_grade_number("1", 1, 12), 1);
+  EXPECT_EQ(parse_grade_number("12", 1, 12), 12);
+  EXPECT_EQ(parse_grade_number("11", 1, 11), 11);
+  for (const char* bad : {"", "0", "05", "13", "123", "1a", "-1", "+5", " 5", "5.0"}) {
+    EXPECT_FALSE(parse_grade_number(bad, 1, 12).has_value()) << bad;
+  }
+  EXPECT_FALSE(parse_grade_number("12", 1, 11).has_value());
+}
+
 }  // namespace
 }  // namespace gearmc
