@@ -28,30 +28,16 @@ export OMPI_MCA_btl_vader_single_copy_mechanism=none
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# "wall_s cpu_s" of the command (CPU of it and its children: mpirun's ranks too), run in folder
-# $1 (each run writes --out out there, so that the recorded command lines match).
-measure() {
-  local dir=$1
-  shift
-  rm -rf "$dir"
-  mkdir -p "$dir"
-  (cd "$dir" && /usr/bin/time -f "%e %U %S" -o times.txt "$@" --out out >/dev/null 2>run.err) || {
-    echo "failed: $*" >&2
-    cat "$dir/run.err" >&2
-    exit 1
-  }
-  awk '{printf "%s %.2f\n", $1, $2 + $3}' "$dir/times.txt"
-}
-median() { printf '%s\n' "$@" | sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : 0.5 * (v[NR / 2] + v[NR / 2 + 1])}'; }
-ratio() { awk -v a="$1" -v b="$2" -v f="${3:-1}" 'BEGIN {printf "%.3f", f * a / b}'; }
+# measure, median, ratio
+source tests/bench/bench_lib.sh
 
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "strong scaling: $gears gears, $repeats interleaved repeats"
 one=() two=() cpu1=() cpu2=()
 for ((k = 0; k < repeats; ++k)); do
-  read -r w c < <(measure "$work/one" "$gearmc" run --gears "$gears" --threads 1 --quiet)
+  read -r w c _ < <(measure "$work/one" "$gearmc" run --gears "$gears" --threads 1 --quiet)
   one+=("$w") cpu1+=("$c")
-  read -r w c < <(measure "$work/two" mpirun --bind-to none -n 2 "$gearmc" run --gears "$gears" \
+  read -r w c _ < <(measure "$work/two" mpirun --bind-to none -n 2 "$gearmc" run --gears "$gears" \
     --threads 1 --quiet)
   two+=("$w") cpu2+=("$c")
 done
