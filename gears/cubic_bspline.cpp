@@ -10,7 +10,7 @@
 #include <memory>
 #include <mutex>
 
-#include "gears/check.h"
+#include "core/check.h"
 #include "gears/cubic_range.h"
 #include "gears/deviations.h"
 

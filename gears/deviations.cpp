@@ -30,9 +30,9 @@
 #include <memory>
 #include <numbers>
 
-#include "gears/check.h"
+#include "core/check.h"
+#include "core/random_stream.h"
 #include "gears/cubic_range.h"
-#include "gears/random_stream.h"
 
 namespace gearmc {
 namespace {

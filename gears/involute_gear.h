@@ -4,6 +4,7 @@
 // gear axis +Z, z = 0 on the lower face, tooth 1 centred on +X, teeth numbered counter-clockwise
 // seen from +Z, flank R = outward normal with a positive counter-clockwise tangential component,
 // profile position = roll length L = sqrt(r^2 - r_b^2) in mm. All lengths in mm, angles in rad.
+// Public API (docs/api.md): a stable part of the C++ interface, installed with its includes.
 #pragma once
 
 #include <Eigen/Core>

@@ -19,7 +19,7 @@
 #include <numbers>
 #include <system_error>
 
-#include "gears/check.h"
+#include "core/check.h"
 
 namespace gearmc {
 

@@ -10,6 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "core/input_error.h"
+#include "core/provenance.h"
+#include "core/ranks.h"
+#include "core/version.h"
 #include "engine/cli/check_command.h"
 #include "engine/cli/diagnose_command.h"
 #include "engine/cli/export_mesh_command.h"
@@ -19,10 +23,6 @@
 #include "engine/cli/simulate_command.h"
 #include "engine/cli/sweep_command.h"
 #include "engine/cli/uncertainty_command.h"
-#include "engine/io/input_error.h"
-#include "engine/io/provenance.h"
-#include "engine/io/version.h"
-#include "engine/ranks/ranks.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {
@@ -112,9 +112,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   run->footer(
       "Example:\n  gearmc run scenarios/p1_iso_class8.yaml --gears 500 --seed 7 --out results/c8");
   run->add_option("--out", run_options.out_dir, "Output folder (default results/<scenario>)");
-  run->add_option("--gears", run_options.gears, "Number of gears (overrides run.gears)")
+  run->add_option("--gears", run_options.overrides.gears, "Number of gears (overrides run.gears)")
       ->check(CLI::Range(1, 100000000));
-  run->add_option("--seed", run_options.seed, "Random seed (overrides seed)");
+  run->add_option("--seed", run_options.overrides.seed, "Random seed (overrides seed)");
   run->add_option("--threads", run_options.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
   run->add_flag("--points", run_options.points, "Also write points.csv, one row per point");
@@ -162,7 +162,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   simulate->add_option("--out", simulate_options.out, "Readings file to write (.csv)")->required();
   simulate->add_option("--gears", simulate_options.gears, "Gears 0 .. N-1 (default 1)")
       ->check(CLI::Range(1, 100000));
-  simulate->add_option("--seed", simulate_options.seed, "Random seed (overrides seed)");
+  simulate->add_option("--seed", simulate_options.overrides.seed, "Random seed (overrides seed)");
   simulate->add_flag("--master", simulate_options.master,
                      "Measure a nominal master gear (no random deviations)");
   simulate->add_flag("--reference-deviations", simulate_options.reference_deviations,
@@ -188,7 +188,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->add_option("--out", diagnose_options.out_dir,
                    "Output folder for diagnosis.json, fitted.yaml, report.html")
       ->required();
-  diagnose->add_option("--seed", diagnose_options.seed, "Seed of the null simulations (default 1)");
+  diagnose->add_option("--seed", diagnose_options.null_seed,
+                       "Seed of the null simulations (default 1)");
   diagnose
       ->add_option("--null-replicates", diagnose_options.null_replicates,
                    "Null simulations K (default 200, at least 2/alpha - 1; 0: tables instead)")
@@ -233,9 +234,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                     "(default delta_rcomp.flank_max.p99_73)");
   sweep->add_option("--out", sweep_options.out_dir,
                     "Output folder (default results/<scenario>_sweep)");
-  sweep->add_option("--gears", sweep_options.gears, "Gears per variant (overrides run.gears)")
+  sweep
+      ->add_option("--gears", sweep_options.overrides.gears,
+                   "Gears per variant (overrides run.gears)")
       ->check(CLI::Range(1, 100000000));
-  sweep->add_option("--seed", sweep_options.seed, "Random seed (overrides seed)");
+  sweep->add_option("--seed", sweep_options.overrides.seed, "Random seed (overrides seed)");
   sweep->add_option("--threads", sweep_options.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
   sweep->add_flag("--quiet", sweep_options.quiet, "No progress line");
@@ -258,7 +261,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->add_option("--max-gears", check_options.max_gears,
                    "Gears at most (default 20000); looks after 256, 512, 1024, …")
       ->check(CLI::Range(1, 100000000));
-  check->add_option("--seed", check_options.seed, "Random seed (overrides seed)");
+  check->add_option("--seed", check_options.overrides.seed, "Random seed (overrides seed)");
   check->add_option("--threads", check_options.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
   check->add_option("--junit", check_options.junit_path,

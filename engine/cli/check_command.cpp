@@ -1,6 +1,6 @@
 // `gearmc check`: argument checks, the sequential run of the claims, output files and printing
-// (see check_command.h); the decision is engine/check (sequential_check.h), what is written is
-// composed in engine/check/check_outputs.h.
+// (see check_command.h); the decision is engine/apps/check (sequential_check.h), what is written is
+// composed in engine/apps/check/check_outputs.h.
 #include "engine/cli/check_command.h"
 
 #include <unistd.h>
@@ -10,14 +10,14 @@
 #include <iomanip>
 #include <iostream>
 
-#include "engine/check/check_outputs.h"
-#include "engine/check/sequential_check.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
+#include "core/ranks.h"
+#include "engine/apps/check/check_outputs.h"
+#include "engine/apps/check/sequential_check.h"
 #include "engine/cli/interrupt_guard.h"
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
-#include "engine/mc/monte_carlo.h"
-#include "engine/ranks/ranks.h"
+#include "engine/run/monte_carlo.h"
 
 namespace gearmc {
 
@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream& err) {
   Scenario scenario = load_scenario_file(o.scenario_path);
-  if (o.seed) scenario.seed = *o.seed;
+  apply_overrides(o.overrides, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   if (scenario.claims.empty()) {
     throw InputError({scenario.source_path, 0, 0},

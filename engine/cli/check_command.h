@@ -10,13 +10,15 @@
 #include <optional>
 #include <string>
 
+#include "engine/scenario/scenario.h"
+
 namespace gearmc {
 
 struct CheckCommandOptions {
   std::string scenario_path;
   std::string out_dir;  // empty: results/<scenario name>/check
   int max_gears = 20000;
-  std::optional<std::uint64_t> seed;
+  ScenarioOverrides overrides;  // --seed, --gears
   int threads = 0;
   std::string junit_path;  // empty: none
   bool quiet = false;

@@ -11,18 +11,18 @@
 #include <stdexcept>
 #include <vector>
 
-#include "engine/diagnose/diagnosis.h"
-#include "engine/diagnose/diagnosis_json.h"
-#include "engine/diagnose/diagnosis_report.h"
-#include "engine/diagnose/fitted_scenario.h"
-#include "engine/diagnose/readings_check.h"
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
+#include "engine/apps/diagnose/diagnosis.h"
+#include "engine/apps/diagnose/diagnosis_json.h"
+#include "engine/apps/diagnose/diagnosis_report.h"
+#include "engine/apps/diagnose/fitted_scenario.h"
+#include "engine/apps/diagnose/readings_check.h"
 #include "engine/readings/dmis_results.h"
 #include "engine/readings/point_table.h"
 #include "engine/readings/readings_csv.h"
-#include "engine/report/svg_plot.h"
+#include "engine/reports/svg_plot.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {
@@ -46,7 +46,7 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
   DiagnoseOptions options;
   options.prediction.artefact =
       o.model_gears ? ArtefactModel::kModelGears : ArtefactModel::kNominalMaster;
-  if (o.seed) options.selection.seed = *o.seed;
+  if (o.null_seed) options.selection.seed = *o.null_seed;
   if (o.null_replicates) options.selection.null_replicates = *o.null_replicates;
   if (!o.candidates.empty()) {
     std::string item;

@@ -1,6 +1,6 @@
 // `gearmc diagnose --model SCENARIO --measured READINGS.csv --out DIR [--seed S]
 // [--null-replicates K] [--model-gears]` (docs/diagnosis.md): compares the model scenario's
-// prediction with measured readings, names the missing effect (engine/diagnose), and writes
+// prediction with measured readings, names the missing effect (engine/apps/diagnose), and writes
 // diagnosis.json, fitted.yaml (the model plus the fitted effect) and report.html into DIR — all
 // three under temporary names, renamed when all are complete. Bad input (scenario, readings CSV,
 // output folder) throws InputError before anything is written (exit 2); whatever the diagnosis
@@ -15,12 +15,12 @@
 namespace gearmc {
 
 struct DiagnoseCommandOptions {
-  std::string model_path;              // --model SCENARIO (required)
-  std::string measured_path;           // --measured READINGS.csv (required)
-  std::string columns_path;            // --columns MAPPING.yaml: --measured is a CMM point table
-  std::string out_dir;                 // --out DIR (required; created if missing)
-  std::optional<std::uint64_t> seed;   // seed of the null simulations (default 1)
-  std::optional<int> null_replicates;  // K (default 200; 0: no null simulation)
+  std::string model_path;     // --model SCENARIO (required)
+  std::string measured_path;  // --measured READINGS.csv (required)
+  std::string columns_path;   // --columns MAPPING.yaml: --measured is a CMM point table
+  std::string out_dir;        // --out DIR (required; created if missing)
+  std::optional<std::uint64_t> null_seed;  // --seed: of the null simulations (default 1)
+  std::optional<int> null_replicates;      // K (default 200; 0: no null simulation)
   bool model_gears = false;  // predict on the model's perturbed gears, not its nominal master
   // --candidates a,b,…: the library effects the selection may name (default: all of them)
   std::string candidates;

@@ -3,9 +3,9 @@
 
 #include <ostream>
 
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/measure/measurement_model.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "engine/measurement/measurement_model.h"
 #include "engine/scenario/scenario.h"
 #include "gears/normal_expression.h"
 #include "surfaces/flank_mesh.h"
@@ -25,7 +25,7 @@ int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostr
   if (o.gear < 0) {
     throw InputError({}, "--gear", std::to_string(o.gear), "a gear index >= 0");
   }
-  // Gear K as every command draws it (the measurement model, engine/measure).
+  // Gear K as every command draws it (the measurement model, engine/measurement).
   const MeasurementModel model(scenario);
   const PerturbedGear perturbed = model.draw_gear(o.gear);
   GearMeshSpec spec;

@@ -4,11 +4,11 @@
 #include <ostream>
 #include <sstream>
 
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
-#include "engine/probing/contact.h"
-#include "engine/probing/dmis_plan.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
+#include "engine/contact/contact.h"
+#include "engine/plan/dmis_plan.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {

@@ -1,5 +1,5 @@
 // `gearmc export-plan SCENARIO --format dmis --out FILE` (docs/formats.md): the scenario's probing
-// plan as a DMIS program (engine/probing/dmis_plan.h), to run the plan gearmc simulates on a
+// plan as a DMIS program (engine/plan/dmis_plan.h), to run the plan gearmc simulates on a
 // real CMM.
 #pragma once
 

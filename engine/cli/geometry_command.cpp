@@ -7,7 +7,7 @@
 #include <numbers>
 #include <ostream>
 
-#include "engine/io/input_error.h"
+#include "core/input_error.h"
 
 namespace gearmc {
 namespace {

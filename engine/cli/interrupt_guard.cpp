@@ -3,7 +3,7 @@
 
 #include <csignal>
 
-#include "engine/io/output_files.h"
+#include "core/output_files.h"
 
 namespace gearmc {
 namespace {

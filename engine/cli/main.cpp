@@ -4,8 +4,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "core/ranks.h"
 #include "engine/cli/app.h"
-#include "engine/ranks/ranks.h"
 
 int main(int argc, char** argv) {
   const gearmc::MpiSession mpi(&argc, &argv);

@@ -1,5 +1,5 @@
 // `gearmc run`: argument checks, the Monte-Carlo batch, output files and printing (see
-// run_command.h); what is written and printed is composed in engine/report (run_report.h,
+// run_command.h); what is written and printed is composed in engine/reports (run_report.h,
 // run_terminal.h).
 #include "engine/cli/run_command.h"
 #include "engine/cli/interrupt_guard.h"
@@ -19,16 +19,16 @@
 
 #include <tbb/info.h>
 
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
-#include "engine/mc/monte_carlo.h"
-#include "engine/mc/run_partials.h"
-#include "engine/ranks/ranks.h"
-#include "engine/report/html_report.h"
-#include "engine/report/parameter_report.h"
-#include "engine/report/run_report.h"
-#include "engine/report/run_terminal.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
+#include "core/ranks.h"
+#include "engine/reports/html_report.h"
+#include "engine/reports/parameter_report.h"
+#include "engine/reports/run_report.h"
+#include "engine/reports/run_terminal.h"
+#include "engine/run/monte_carlo.h"
+#include "engine/run/run_partials.h"
 
 namespace gearmc {
 namespace {
@@ -63,8 +63,7 @@ void refuse_another_scenarios_folder(const fs::path& dir, const Scenario& scenar
 int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err) {
   Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
-  if (o.seed) scenario.seed = *o.seed;
-  if (o.gears) scenario.gears = *o.gears;
+  apply_overrides(o.overrides, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   const MonteCarloRun mc(scenario);
   if (o.only_gear && (*o.only_gear < 0 || *o.only_gear >= scenario.gears)) {
@@ -119,8 +118,6 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   out << std::flush;
 
   RunOptions run;
-  run.gears = scenario.gears;
-  run.seed = scenario.seed;
   run.threads = o.threads;
   run.only_gear = o.only_gear;
   run.record_points = o.points;

@@ -14,10 +14,9 @@
 namespace gearmc {
 
 struct RunCommandOptions {
-  std::string scenario_path;  // empty: the built-in reference scenario
-  std::string out_dir;        // empty: results/<scenario name>
-  std::optional<int> gears;
-  std::optional<std::uint64_t> seed;
+  std::string scenario_path;    // empty: the built-in reference scenario
+  std::string out_dir;          // empty: results/<scenario name>
+  ScenarioOverrides overrides;  // --seed, --gears
   int threads = 0;
   bool points = false;
   std::optional<int> only_gear;

@@ -3,22 +3,22 @@
 
 #include <filesystem>
 
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
 #include "engine/effects/measurement_effect.h"
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
-#include "engine/mc/simulate.h"
+#include "engine/run/simulate.h"
 
 namespace gearmc {
 
 int simulate_command(const SimulateCommandOptions& o, std::ostream& out, std::ostream& err) {
-  const Scenario scenario =
+  Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  apply_overrides(o.overrides, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   check_output_file(o.out, "--out");
   SimulateOptions options;
   options.gears = o.gears;
-  options.seed = o.seed;
   options.master = o.master;
   options.reference_deviations = o.reference_deviations;
   SimulatedReadings simulated = simulate_readings(scenario, options);

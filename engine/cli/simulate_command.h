@@ -7,13 +7,15 @@
 #include <ostream>
 #include <string>
 
+#include "engine/scenario/scenario.h"
+
 namespace gearmc {
 
 struct SimulateCommandOptions {
   std::string scenario_path;  // empty: the built-in reference
   std::string out;            // the readings CSV
   int gears = 1;
-  std::optional<std::uint64_t> seed;
+  ScenarioOverrides overrides;  // --seed, --gears
   bool master = false;
   bool reference_deviations = false;
   std::string command_line;  // as typed, for the outputs' provenance

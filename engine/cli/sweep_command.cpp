@@ -11,12 +11,12 @@
 #include <iomanip>
 #include <iostream>
 
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
-#include "engine/mc/sweep.h"
-#include "engine/ranks/ranks.h"
-#include "engine/report/sweep_report.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
+#include "core/ranks.h"
+#include "engine/apps/sweep/sweep.h"
+#include "engine/apps/sweep/sweep_report.h"
 
 namespace gearmc {
 
@@ -36,7 +36,7 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
       }
     }
   }
-  s.points = sweep_grid(base.source_text, o.scenario_path, s.axes, o.gears, o.seed);
+  s.points = sweep_grid(base.source_text, o.scenario_path, s.axes, o.overrides);
   s.scenario_name = base.name;
   s.source_path = o.scenario_path;
 

@@ -9,15 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "engine/scenario/scenario.h"
+
 namespace gearmc {
 
 struct SweepCommandOptions {
   std::string scenario_path;
   std::vector<std::string> vary;  // "KEY=V1,V2,…", at least one
   std::string statistic = "delta_rcomp.flank_max.p99_73";
-  std::string out_dir;  // empty: results/<scenario name>_sweep
-  std::optional<int> gears;
-  std::optional<std::uint64_t> seed;
+  std::string out_dir;          // empty: results/<scenario name>_sweep
+  ScenarioOverrides overrides;  // --seed, --gears
   int threads = 0;
   bool quiet = false;
   std::string command_line;

@@ -12,13 +12,13 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
-#include "engine/io/input_error.h"
-#include "engine/io/output_files.h"
-#include "engine/io/provenance.h"
-#include "engine/ranks/ranks.h"
-#include "engine/rtest/r_test_output.h"
-#include "engine/rtest/register.h"
-#include "engine/uncertainty/evaluation.h"
+#include "core/input_error.h"
+#include "core/output_files.h"
+#include "core/provenance.h"
+#include "core/ranks.h"
+#include "engine/apps/r_test/r_test_output.h"
+#include "engine/apps/r_test/register.h"
+#include "engine/apps/uncertainty/evaluation.h"
 
 namespace gearmc {
 namespace {
@@ -40,7 +40,7 @@ void refuse_another_models_folder(const fs::path& dir, const UncertaintyModel& m
                        "--out DIR, or remove " + dir.string());
 }
 
-// The r_test builtin model: its own compound evaluation (engine/rtest) with the same folder,
+// The r_test builtin model: its own compound evaluation (engine/apps/r_test) with the same folder,
 // atomic-output and interrupt rules. Monte-Carlo routes run a fixed M (default 10^6, P3's T).
 int r_test_command(const UncertaintyCommandOptions& o, const UncertaintyModel& model,
                    std::uint64_t trials, std::ostream& out, std::ostream& err) {

@@ -10,11 +10,11 @@
 #include "engine/effects/probe_dynamics.h"
 #include "engine/effects/probe_lobing.h"
 #include "engine/effects/rotary_table.h"
-#include "engine/effects/stylus_bending.h"
 #include "engine/effects/scale_resolution.h"
+#include "engine/effects/stylus_bending.h"
 #include "engine/effects/warmup_straightness.h"
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/scenario_keys.h"
+#include "engine/schema/parameter_ranges.h"
+#include "engine/schema/scenario_keys.h"
 
 namespace gearmc {
 namespace {

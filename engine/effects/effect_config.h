@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/yaml_reader.h"
 #include "engine/effects/measurement_effect.h"
-#include "engine/io/yaml_reader.h"
 
 namespace gearmc {
 

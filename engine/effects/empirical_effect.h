@@ -1,6 +1,6 @@
 // `empirical`: a generic low-order term along one axis of the measurement, for structure that no
 // physical effect of the library explains. `gearmc diagnose` fits it to what remains after the
-// library's best fit (engine/diagnose/empirical_term.h) and writes it into fitted.yaml, so the
+// library's best fit (engine/apps/diagnose/empirical_term.h) and writes it into fitted.yaml, so the
 // fitted scenario predicts that structure too; it is a description of the readings, not a
 // physical model, and says nothing about where the structure comes from.
 //

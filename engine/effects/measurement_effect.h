@@ -21,8 +21,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/random_stream.h"
 #include "gears/involute_gear.h"
-#include "gears/random_stream.h"
 
 namespace gearmc {
 
@@ -106,7 +106,7 @@ class MeasurementEffect {
                          std::span<double> out) const;
 
   // The recorded centre averaged over this effect's per-point random numbers (the per-gear
-  // parameters `values` given): what the model predicts for a point (engine/diagnose). The
+  // parameters `values` given): what the model predicts for a point (engine/apps/diagnose). The
   // default runs apply() once, which is exact for effects that draw no per-point random
   // numbers; effects that do (noise, probe repeatability, step quantisation) override it.
   virtual void apply_mean(const PointContext& point, std::span<const double> values,

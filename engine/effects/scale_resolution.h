@@ -13,7 +13,7 @@
 // probing noise by tenths of a µm) δ_i is uniform, so the change has mean 0 and variance
 // Σ n_i² s_i²/12 — s²/12 for equal steps, whatever n. It has no first-order signature (0: the
 // expected reading does not move); what identifies it is that the recorded coordinates
-// themselves lie on the grid (engine/diagnose/coordinate_grid.h).
+// themselves lie on the grid (engine/apps/diagnose/coordinate_grid.h).
 //
 // Stage: kReadout, the last — the scales are read after everything else (probing noise included)
 // has moved the ram. Parameters x_um, y_um, z_um (µm; 0 = that axis not latched).

@@ -9,8 +9,8 @@
 #include <regex>
 #include <vector>
 
-#include "engine/io/input_error.h"
-#include "engine/io/input_file.h"
+#include "core/input_error.h"
+#include "core/input_file.h"
 
 namespace gearmc {
 namespace {

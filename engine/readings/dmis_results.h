@@ -1,5 +1,5 @@
 // Readings from a CMM's DMIS output: the results of running the plan `gearmc export-plan` wrote
-// (engine/probing/dmis_plan.h). A DMIS output file holds, per measured point, the nominal
+// (engine/plan/dmis_plan.h). A DMIS output file holds, per measured point, the nominal
 // feature F(label)=FEAT/POINT,CART,x,y,z,i,j,k (point and outward normal) and the actual one
 // FA(label)=FEAT/POINT,CART,x,y,z,i,j,k: the point the CMM reports, already radius-compensated
 // along the nominal normal (E = O − R n, docs/formats.md). The label names tooth, flank and grid

@@ -9,10 +9,10 @@
 #include <set>
 #include <vector>
 
-#include "engine/io/input_file.h"
-#include "engine/io/number_text.h"
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/yaml_reader.h"
+#include "core/input_file.h"
+#include "core/number_text.h"
+#include "core/yaml_reader.h"
+#include "engine/schema/parameter_ranges.h"
 
 namespace gearmc {
 namespace {

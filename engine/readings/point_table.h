@@ -19,7 +19,7 @@
 #include <optional>
 #include <string>
 
-#include "engine/io/input_error.h"
+#include "core/input_error.h"
 #include "engine/readings/readings_csv.h"
 
 namespace gearmc {

@@ -7,11 +7,11 @@
 #include <set>
 #include <sstream>
 
-#include "engine/io/input_error.h"
-#include "engine/io/input_file.h"
-#include "engine/io/number_text.h"
-#include "engine/io/output_files.h"
-#include "engine/io/parameter_ranges.h"
+#include "core/input_error.h"
+#include "core/input_file.h"
+#include "core/number_text.h"
+#include "core/output_files.h"
+#include "engine/schema/parameter_ranges.h"
 
 namespace gearmc {
 namespace {

@@ -1,14 +1,14 @@
 // The reader of `claims:` (see claims.h). Its keys, choices and defaults come from the scenario
-// key table (engine/io/scenario_keys.cpp), its number ranges from the `claims` range table
-// (engine/io/parameter_ranges.cpp).
+// key table (engine/schema/scenario_keys.cpp), its number ranges from the `claims` range table
+// (engine/schema/parameter_ranges.cpp).
 #include "engine/scenario/claims.h"
 
 #include <cstdio>
 #include <map>
 
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/scenario_keys.h"
-#include "engine/io/yaml_reader.h"
+#include "core/yaml_reader.h"
+#include "engine/schema/parameter_ranges.h"
+#include "engine/schema/scenario_keys.h"
 
 namespace gearmc {
 namespace {

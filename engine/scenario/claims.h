@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/io/input_error.h"
+#include "core/input_error.h"
 
 namespace gearmc {
 

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 
-#include "engine/io/input_error.h"
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/scenario_keys.h"
-#include "engine/io/yaml_reader.h"
+#include "core/input_error.h"
+#include "core/yaml_reader.h"
+#include "engine/schema/parameter_ranges.h"
+#include "engine/schema/scenario_keys.h"
 
 namespace gearmc {
 

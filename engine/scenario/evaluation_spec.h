@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/probing/probing_grid.h"
+#include "engine/plan/probing_grid.h"
 
 namespace gearmc {
 

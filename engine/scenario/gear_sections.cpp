@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/scenario_keys.h"
+#include "engine/schema/parameter_ranges.h"
+#include "engine/schema/scenario_keys.h"
 #include "gears/normal_expression.h"
 
 namespace gearmc {

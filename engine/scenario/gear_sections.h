@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
-#include "engine/io/input_error.h"
-#include "engine/io/yaml_reader.h"
+#include "core/input_error.h"
+#include "core/yaml_reader.h"
 #include "engine/scenario/scenario.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"

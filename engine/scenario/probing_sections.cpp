@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/scenario_keys.h"
-#include "engine/probing/mesh_probe.h"
+#include "engine/contact/mesh_probe.h"
+#include "engine/schema/parameter_ranges.h"
+#include "engine/schema/scenario_keys.h"
 
 namespace gearmc {
 namespace {

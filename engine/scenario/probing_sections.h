@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/io/input_error.h"
-#include "engine/io/yaml_reader.h"
-#include "engine/probing/probing_grid.h"
+#include "core/input_error.h"
+#include "core/yaml_reader.h"
+#include "engine/plan/probing_grid.h"
 #include "engine/scenario/scenario.h"
 #include "gears/involute_gear.h"
 

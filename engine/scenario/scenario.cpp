@@ -15,16 +15,16 @@
 #include <string>
 #include <vector>
 
+#include "core/input_error.h"
+#include "core/input_file.h"
+#include "core/yaml_reader.h"
 #include "engine/effects/effect_config.h"
 #include "engine/effects/measurement_effect.h"
-#include "engine/io/input_error.h"
-#include "engine/io/input_file.h"
-#include "engine/io/parameter_ranges.h"
-#include "engine/io/scenario_keys.h"
-#include "engine/io/yaml_reader.h"
 #include "engine/scenario/claims.h"
 #include "engine/scenario/gear_sections.h"
 #include "engine/scenario/probing_sections.h"
+#include "engine/schema/parameter_ranges.h"
+#include "engine/schema/scenario_keys.h"
 
 namespace gearmc {
 namespace {
@@ -152,6 +152,11 @@ ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const Involut
     throw InputError({scenario.source_path, 0, 0},
                      scenario.source_path + ": tolerances: " + e.what());
   }
+}
+
+void apply_overrides(const ScenarioOverrides& overrides, Scenario& scenario) {
+  if (overrides.seed) scenario.seed = *overrides.seed;
+  if (overrides.gears) scenario.gears = *overrides.gears;
 }
 
 }  // namespace gearmc

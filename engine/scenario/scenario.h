@@ -1,6 +1,7 @@
 // A scenario: everything one gearmc study is made of, read from a YAML file into typed,
 // validated values (docs/architecture.md, principle 5). Unknown keys, wrong types and out-of-range
 // values are InputErrors with file:line:column. Units: mm, degrees, µm as the key names say.
+// Public API (docs/api.md): a stable part of the C++ interface, installed with its includes.
 #pragma once
 
 #include <cstdint>
@@ -9,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/probing/mesh_contact_point.h"
-#include "engine/probing/probing_grid.h"
+#include "engine/plan/probing_grid.h"
 #include "engine/scenario/claims.h"
 #include "engine/scenario/evaluation_spec.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"
+#include "surfaces/mesh_contact_point.h"
 #include "surfaces/triangle_mesh_fwd.h"
 
 namespace gearmc {
@@ -78,6 +79,16 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
 // naming the scenario file and the `tolerances` section. (A loaded scenario has already been
 // checked; this is for every command that needs the resolved set.)
 ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const InvoluteGear& gear);
+
+// What a command may override on a scenario (`--seed`, `--gears`). The scenario is the one
+// place the seed and the gear count live; apply_overrides is the one place they are overridden,
+// so every command means the same by them. (`diagnose --seed` is another seed: its null
+// simulations'.)
+struct ScenarioOverrides {
+  std::optional<std::uint64_t> seed;  // replaces `seed:`
+  std::optional<int> gears;           // replaces `run: gears`
+};
+void apply_overrides(const ScenarioOverrides& overrides, Scenario& scenario);
 
 // The built-in reference scenario: P1's gear (Table 1) with P1's tolerances. Its text is the
 // same as scenarios/p1_reference.yaml.

@@ -29,10 +29,10 @@
 #include <utility>
 #include <vector>
 
-#include "engine/mc/monte_carlo.h"
-#include "engine/probing/contact.h"
-#include "engine/probing/contact_certificate.h"
-#include "engine/probing/mesh_probe.h"
+#include "engine/contact/contact.h"
+#include "engine/contact/contact_certificate.h"
+#include "engine/contact/mesh_probe.h"
+#include "engine/run/monte_carlo.h"
 #include "engine/scenario/scenario.h"
 #include "surfaces/flank_mesh.h"
 
@@ -53,7 +53,7 @@ void BM_AnalyticContact(benchmark::State& state) {
   const FlankExtent extent{f.gear.form_roll_length_mm(), f.gear.tip_roll_length_mm(), 0.0,
                            f.gear.face_width_mm()};
   // The planned points are nominal, the same for every gear: computed once, outside the timing,
-  // as a run's probing plan computes them once (engine/measure/measurement_model.h). Each solve
+  // as a run's probing plan computes them once (engine/measurement/measurement_model.h). Each solve
   // takes the base point's angle from its planned point, as the run does.
   struct Planned {
     FlankPoint fp;
@@ -215,10 +215,11 @@ void BM_MeshContact(benchmark::State& state) {
   state.counters["dO_interior_nm"] = O_in;
   state.counters["ddelta_interior_nm"] = d_in;
 }
-// (roll-length step, z step) in µm: the test resolution of tests/engine/mesh_surface_test.cpp,
-// two finer isotropic ones, and the anisotropic one whose interior error reaches 1 nm (the
-// involute's curvature across the profile, up to 1/L, dominates the chord error; along z only
-// the helix form bends the flank, so z can be sampled 10 times more coarsely).
+// (roll-length step, z step) in µm: the test resolution of
+// tests/engine/contact/mesh_surface_test.cpp, two finer isotropic ones, and the anisotropic one
+// whose interior error reaches 1 nm (the involute's curvature across the profile, up to 1/L,
+// dominates the chord error; along z only the helix form bends the flank, so z can be sampled 10
+// times more coarsely).
 BENCHMARK(BM_MeshContact)
     ->Args({250, 250})
     ->Args({100, 100})
@@ -237,7 +238,6 @@ void BM_ReferenceRun(benchmark::State& state) {
   const Scenario scenario = reference_scenario();
   const MonteCarloRun mc(scenario);
   RunOptions options;
-  options.gears = scenario.gears;
   std::int64_t contacts = 0;
   for (auto _ : state) {
     const RunResults r = mc.run(options);

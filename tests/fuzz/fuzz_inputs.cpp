@@ -27,13 +27,13 @@
 #include <string>
 #include <vector>
 
-#include "engine/io/input_error.h"
-#include "engine/io/input_file.h"
+#include "core/input_error.h"
+#include "core/input_file.h"
+#include "engine/apps/uncertainty/gum.h"
+#include "engine/apps/uncertainty/mcm.h"
+#include "engine/apps/uncertainty/model.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/scenario/scenario.h"
-#include "engine/uncertainty/gum.h"
-#include "engine/uncertainty/mcm.h"
-#include "engine/uncertainty/model.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
 #include "gears/tolerances.h"

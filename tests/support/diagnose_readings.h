@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/diagnose/diagnosis.h"
+#include "core/yaml_reader.h"
+#include "engine/apps/diagnose/diagnosis.h"
 #include "engine/effects/effect_config.h"
 #include "engine/effects/measurement_effect.h"
-#include "engine/io/yaml_reader.h"
-#include "engine/mc/simulate.h"
+#include "engine/run/simulate.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc::testing_support {
@@ -31,10 +31,10 @@ inline Scenario with_effects(const std::string& effects_yaml) {
 }
 
 // Readings of the nominal master (P1's gear, 2 400 points) with the truth's effects.
-inline Readings master_readings(const Scenario& truth, std::uint64_t seed = 1) {
+inline Readings master_readings(Scenario truth, std::uint64_t seed = 1) {
   SimulateOptions o;
   o.master = true;
-  o.seed = seed;
+  truth.seed = seed;
   return simulate_readings(truth, o).readings;
 }
 

@@ -6,10 +6,10 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "core/random_stream.h"
+#include "core/yaml_reader.h"
 #include "engine/effects/effect_config.h"
 #include "engine/effects/measurement_effect.h"
-#include "engine/io/yaml_reader.h"
-#include "gears/random_stream.h"
 
 namespace gearmc::testing_support {
 

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/mc/monte_carlo.h"
+#include "engine/run/monte_carlo.h"
 
 namespace gearmc::testing_support {
 

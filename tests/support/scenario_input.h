@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "engine/io/input_error.h"
+#include "core/input_error.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc::testing_support {

@@ -1,9 +1,9 @@
-// Uses the installed gearmc package: the gear model (gears/) and the build's version (engine/io).
+// Uses the installed gearmc package: the gear model (gears/) and the build's version (core).
 // Prints the version line and the base diameter d_b = m z cos(alpha) (ISO 21771) of a gear with
 // m 4 mm, z 24, alpha 20 deg: 96 cos(20 deg) = 90.21 mm; tests/package checks both.
 #include <cstdio>
 
-#include "engine/io/version.h"
+#include "core/version.h"
 #include "gears/involute_gear.h"
 
 int main() {

@@ -1,0 +1,14 @@
+// Shortest round-trip number text (see number_text.h).
+#include "core/number_text.h"
+
+#include <charconv>
+
+namespace gearmc {
+
+std::string shortest_text(double value) {
+  char buffer[64];  // the longest shortest form of a double is 24 characters
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+}  // namespace gearmc

@@ -1,0 +1,237 @@
+// check.json, the JUnit XML, report.html and the terminal lines of `gearmc check` (see
+// check_outputs.h).
+#include "engine/apps/check/check_outputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "engine/reports/html_report.h"
+#include "engine/reports/svg_plot.h"
+
+namespace gearmc {
+namespace {
+
+std::string fixed(double v, int decimals = 3) {
+  if (!std::isfinite(v)) return "—";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, v);
+  return text;
+}
+
+std::string general(double v, int digits = 4) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*g", digits, v);
+  return text;
+}
+
+nlohmann::ordered_json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+std::string quantity_words(const ClaimSpec& c) {
+  const std::string q = c.quantity == ClaimQuantity::kDeltaRcompPoint ? "δRcomp per point"
+                        : c.quantity == ClaimQuantity::kDeltaRcompFlankMax
+                            ? "max δRcomp per flank"
+                            : "|total error| per point";
+  return q + " (" +
+         (c.side == ClaimSide::kBoth ? std::string("both sides") : side_text(c.side) + " flanks") +
+         ")";
+}
+
+std::string bound_text(const ClaimResult& r) {
+  return "[" + fixed(r.lower_um) + ", " + fixed(r.upper_um) + "] µm";
+}
+
+// What the verdict says in one sentence, for the report and the JUnit failure message.
+std::string verdict_sentence(const ClaimSpec& c, const ClaimResult& r) {
+  std::string s = std::string(verdict_text(r.verdict)) + " after " + std::to_string(r.gears) +
+                  " gears: estimate " + fixed(r.estimate_um) + " µm, " +
+                  general(100.0 * c.confidence) + " % confidence bounds " + bound_text(r) +
+                  ", limit " + (c.at_most ? "≤ " : "≥ ") + general(c.limit_um) + " µm";
+  if (r.exceedance && r.exceedance_allowed && c.statistic == ClaimStatistic::kQuantile) {
+    s += "; probability of a value beyond the limit " + general(*r.exceedance, 3) + " (bounds " +
+         general(r.exceedance_lower.value_or(NAN), 3) + " … " +
+         general(r.exceedance_upper.value_or(NAN), 3) + "), allowed " +
+         general(*r.exceedance_allowed, 4);
+  }
+  if (!r.note.empty()) s += "; " + r.note;
+  return s;
+}
+
+}  // namespace
+
+bool all_claims_hold(const CheckRun& run) {
+  for (const ClaimResult& r : run.results) {
+    if (r.verdict != Verdict::kHolds) return false;
+  }
+  return !run.results.empty();
+}
+
+std::string claim_statement(const ClaimSpec& c) {
+  return quantity_words(c) + " " + statistic_text(c) + (c.at_most ? " ≤ " : " ≥ ") +
+         general(c.limit_um) + " µm at " + general(100.0 * c.confidence) + " % confidence";
+}
+
+nlohmann::ordered_json check_json(const CheckContext& context, const CheckRun& run) {
+  const Scenario& scenario = *context.scenario;
+  nlohmann::ordered_json j;
+  j["command"] = "check";
+  j["scenario"] = scenario.name;
+  j["source"] = scenario.source_path;
+  j["seed"] = scenario.seed;
+  j["ranks"] = context.ranks;
+  j["threads"] = context.threads;
+  j["max_gears"] = context.max_gears;
+  j["gears"] = run.gears;
+  j["looks"] = look_points(context.max_gears);
+  j["contacts"] = run.contacts;
+  j["failed_contacts"] = run.failed_contacts;
+  j["edge_contacts"] = run.edge_contacts;
+  j["collisions"] = run.collisions;
+  j["wall_s"] = run.wall_s;
+  nlohmann::ordered_json claims = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < run.results.size(); ++i) {
+    const ClaimSpec& c = run.trackers[i].claim();
+    const ClaimResult& r = run.results[i];
+    nlohmann::ordered_json k;
+    k["name"] = c.name;
+    k["verdict"] = verdict_text(r.verdict);
+    k["estimate_um"] = number_or_null(r.estimate_um);
+    k["bound_um"] = {number_or_null(r.lower_um), number_or_null(r.upper_um)};
+    k["confidence"] = c.confidence;
+    k["gears"] = r.gears;
+    k["time_s"] = r.time_s;
+    k["quantity"] = c.quantity_text;
+    k["side"] = side_text(c.side);
+    k["statistic"] = statistic_text(c);
+    k[c.at_most ? "at_most_um" : "at_least_um"] = c.limit_um;
+    k["method"] = r.method;
+    if (r.resolution_um > 0.0) k["resolution_um"] = r.resolution_um;
+    if (r.exceedance) {
+      k["exceedance"] = {{"estimate", *r.exceedance},
+                         {"bound",
+                          {number_or_null(r.exceedance_lower.value_or(NAN)),
+                           number_or_null(r.exceedance_upper.value_or(NAN))}},
+                         {"allowed", number_or_null(r.exceedance_allowed.value_or(NAN))},
+                         {"per", c.statistic == ClaimStatistic::kMax ? "gear" : "value"}};
+    }
+    if (run.trackers[i].gears_without_values() > 0) {
+      k["gears_without_values"] = run.trackers[i].gears_without_values();
+    }
+    if (!r.note.empty()) k["note"] = r.note;
+    claims.push_back(k);
+  }
+  j["claims"] = claims;
+  j["all_hold"] = all_claims_hold(run);
+  j["provenance"] = provenance_json(context.provenance);
+  return j;
+}
+
+std::string check_junit_xml(const CheckContext& context, const CheckRun& run) {
+  int failures = 0;
+  for (const ClaimResult& r : run.results) failures += r.verdict != Verdict::kHolds;
+  const std::string suite = escape_xml(context.scenario->name);
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<testsuites name=\"gearmc check\" tests=\"" << run.results.size() << "\" failures=\""
+    << failures << "\" errors=\"0\" time=\"" << fixed(run.wall_s) << "\">\n"
+    << "  <testsuite name=\"" << suite << "\" tests=\"" << run.results.size() << "\" failures=\""
+    << failures << "\" errors=\"0\" skipped=\"0\" time=\"" << fixed(run.wall_s) << "\">\n";
+  for (std::size_t i = 0; i < run.results.size(); ++i) {
+    const ClaimSpec& c = run.trackers[i].claim();
+    const ClaimResult& r = run.results[i];
+    x << "    <testcase classname=\"gearmc.check." << suite << "\" name=\"" << escape_xml(c.name)
+      << "\" time=\"" << fixed(r.time_s) << "\">\n";
+    if (r.verdict != Verdict::kHolds) {
+      x << "      <failure type=\"" << verdict_text(r.verdict) << "\" message=\""
+        << escape_xml(std::string(verdict_text(r.verdict)) + ": " + claim_statement(c)) << "\">"
+        << escape_xml(verdict_sentence(c, r)) << "</failure>\n";
+    }
+    x << "      <system-out>" << escape_xml(claim_statement(c) + ": " + verdict_sentence(c, r))
+      << "</system-out>\n"
+      << "    </testcase>\n";
+  }
+  x << "  </testsuite>\n</testsuites>\n";
+  return x.str();
+}
+
+std::string check_report_html(const CheckContext& context, const CheckRun& run) {
+  const Scenario& scenario = *context.scenario;
+  HtmlReport report("gearmc check: " + scenario.name);
+  report.paragraph(
+      std::string(all_claims_hold(run) ? "Every claim holds" : "Not every claim holds") + " (" +
+      std::to_string(run.gears) + " gears of at most " + std::to_string(context.max_gears) +
+      ", seed " + std::to_string(scenario.seed) + ", " + fixed(run.wall_s, 1) + " s).");
+  report.contents();
+  HtmlTable summary;
+  summary.header = {"claim", "statement", "verdict", "estimate, µm", "bounds, µm", "gears"};
+  for (std::size_t i = 0; i < run.results.size(); ++i) {
+    const ClaimSpec& c = run.trackers[i].claim();
+    const ClaimResult& r = run.results[i];
+    summary.rows.push_back({{c.name, claim_statement(c), verdict_text(r.verdict),
+                             fixed(r.estimate_um), bound_text(r), std::to_string(r.gears)},
+                            r.verdict != Verdict::kHolds});
+  }
+  report.heading("Verdicts");
+  report.table(summary);
+  report.paragraph(
+      "A claim holds when its confidence bound is on the right side of the limit, fails when "
+      "the bound on the other side is past it, and is undecided otherwise. The gear is the unit "
+      "of independence: every bound is computed from one number per gear (for a quantile, the "
+      "gear's fraction of values beyond the limit), so values of one gear, which share its "
+      "eccentricity and effects, are never counted as independent. The bounds are confidence "
+      "sequences, valid at every look (after 256, 512, 1024, … gears), so stopping at the first "
+      "decisive look does not raise the error rate.");
+  for (std::size_t i = 0; i < run.results.size(); ++i) {
+    const ClaimSpec& c = run.trackers[i].claim();
+    const ClaimResult& r = run.results[i];
+    report.heading(c.name);
+    report.paragraph(claim_statement(c) + ": " + verdict_sentence(c, r) + ". Method: " + r.method +
+                     (r.resolution_um > 0.0 ? "; the bounds in µm are resolved to one bin of " +
+                                                  general(r.resolution_um, 3) + " µm"
+                                            : "") +
+                     ".");
+    const std::optional<Histogram>& pooled = run.trackers[i].pooled();
+    if (!pooled || pooled->total() == 0) continue;
+    HistogramPlotOptions plot;
+    plot.title = c.name + ": " + quantity_words(c);
+    plot.x_label = quantity_words(c) + ", µm";
+    plot.bars_label = "values of " + std::to_string(r.gears) + " gears";
+    plot.log_count = true;
+    // From the smallest value (the grid extends a quarter of the data's span below it).
+    plot.x_min = std::min(pooled->min(), c.limit_um);
+    plot.markers.push_back(
+        {c.limit_um, std::string("limit ") + general(c.limit_um) + " µm", "#D55E00", false});
+    if (std::isfinite(r.lower_um)) {
+      plot.markers.push_back({r.lower_um, "lower bound " + fixed(r.lower_um), "#0072B2", true});
+    }
+    if (std::isfinite(r.upper_um)) {
+      plot.markers.push_back({r.upper_um, "upper bound " + fixed(r.upper_um), "#0072B2", true});
+    }
+    if (std::isfinite(r.estimate_um)) {
+      plot.markers.push_back({r.estimate_um, "estimate " + fixed(r.estimate_um), "#009E73", true});
+    }
+    report.figure(histogram_svg(pooled->rebin(4), plot),
+                  "Histogram of " + quantity_words(c) + " (log count), with the limit, the " +
+                      "estimate and the confidence bounds of the claim's statistic.");
+  }
+  report.heading("Scenario");
+  report.preformatted(scenario.source_text, scenario.source_path);
+  report.paragraph("Made by " + provenance_line(context.provenance) + ".");
+  return report.html();
+}
+
+std::string claim_terminal_line(const ClaimSpec& c, const ClaimResult& r, std::size_t name_width) {
+  std::string name = c.name;
+  if (name.size() < name_width) name += std::string(name_width - name.size(), ' ');
+  char verdict[16];
+  std::snprintf(verdict, sizeof verdict, "%-9s", verdict_text(r.verdict));
+  return name + "  " + verdict + "  " + statistic_text(c) + " estimate " + fixed(r.estimate_um) +
+         " µm  bound " + bound_text(r) + "  (limit " + (c.at_most ? "≤ " : "≥ ") +
+         general(c.limit_um) + " µm)  " + std::to_string(r.gears) + " gears  " +
+         fixed(r.time_s, 1) + " s";
+}
+
+}  // namespace gearmc

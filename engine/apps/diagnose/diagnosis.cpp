@@ -1,0 +1,482 @@
+// The diagnosis: selection, fit, gap before/after with null calibration, held-out check,
+// spectrum, ambiguity and the verdict (see diagnosis.h).
+#include "engine/apps/diagnose/diagnosis.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <tuple>
+
+#include "engine/apps/diagnose/cluster_tests.h"
+#include "engine/apps/diagnose/diagnosis_stages.h"
+#include "engine/apps/diagnose/linear_model.h"
+#include "engine/apps/diagnose/readings_check.h"
+#include "engine/statistics/distribution_fit.h"
+
+namespace gearmc {
+
+std::string_view spelling(DiagnosisStatus status) {
+  return status == DiagnosisStatus::kTested ? "tested" : "not_enough_readings";
+}
+
+std::string_view spelling(DiagnosisFinding finding) {
+  switch (finding) {
+    case DiagnosisFinding::kNone:
+      return "none";
+    case DiagnosisFinding::kEffect:
+      return "effect";
+    case DiagnosisFinding::kUnexplained:
+      return "unexplained";
+    case DiagnosisFinding::kNotTested:
+      return "not_tested";
+  }
+  return "?";
+}
+namespace {
+
+using diagnosis_stages::floor_law;
+using diagnosis_stages::State;
+
+constexpr double kPi = std::numbers::pi;
+
+// Fitted coefficients of candidate `c` from a joint fit whose columns start at `offset`.
+std::vector<FittedValue> coefficients_of(const CandidateDesign& c, const LeastSquaresFit& fit,
+                                         int offset, double sigma2) {
+  std::vector<FittedValue> out;
+  int at = offset;
+  for (std::size_t k = 0; k < c.coefficients.size(); ++k) {
+    FittedValue v;
+    v.name = c.coefficients[k];
+    v.unit = c.units[k];
+    if (c.observable[k]) {
+      if (fit.estimable[at]) {
+        v.estimable = true;
+        v.value = fit.beta[at];
+        v.std_error = std::sqrt(sigma2 * fit.cov_unscaled(at, at));
+      }
+      ++at;
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+// probe_lobing: pretravel and per order amplitude / phase from the cos/sin pairs (delta method).
+std::vector<FittedValue> lobing_parameters(const CandidateDesign& c,
+                                           const std::vector<FittedValue>& coefficients,
+                                           const LeastSquaresFit& fit, int offset, double sigma2) {
+  std::vector<FittedValue> out;
+  // Column of each coefficient in the joint fit (−1: not observable).
+  std::vector<int> column(c.coefficients.size(), -1);
+  for (std::size_t k = 0, at = static_cast<std::size_t>(offset); k < c.coefficients.size(); ++k) {
+    if (c.observable[k]) column[k] = static_cast<int>(at++);
+  }
+  for (std::size_t k = 0; k < coefficients.size(); ++k) {
+    if (coefficients[k].name == "pretravel_um") out.push_back(coefficients[k]);
+  }
+  for (std::size_t k = 0; k < coefficients.size(); ++k) {
+    const std::string& name = coefficients[k].name;
+    if (name.rfind("cos_", 0) != 0) continue;
+    const std::string order_text = name.substr(4, name.size() - 4 - 3);  // cos_<k>_um
+    const int order = std::stoi(order_text);
+    std::size_t s = k;
+    for (std::size_t m = 0; m < coefficients.size(); ++m) {
+      if (coefficients[m].name == "sin_" + order_text + "_um") s = m;
+    }
+    FittedValue amplitude{"amplitude_" + order_text + "_um", "µm"};
+    FittedValue phase{"phase_" + order_text + "_deg", "deg"};
+    if (coefficients[k].estimable && coefficients[s].estimable && s != k) {
+      const double a = coefficients[k].value, b = coefficients[s].value;
+      const int ia = column[k], ib = column[s];
+      const double vaa = sigma2 * fit.cov_unscaled(ia, ia), vbb = sigma2 * fit.cov_unscaled(ib, ib);
+      const double vab = sigma2 * fit.cov_unscaled(ia, ib);
+      const double amp = std::hypot(a, b);
+      amplitude.value = amp;
+      amplitude.estimable = true;
+      phase.estimable = true;
+      if (amp > 0.0) {
+        amplitude.std_error =
+            std::sqrt(std::max(0.0, a * a * vaa + b * b * vbb + 2 * a * b * vab)) / amp;
+        double deg = std::atan2(b, a) * 180.0 / kPi / order;
+        const double period = 360.0 / order;
+        deg = std::fmod(deg, period);
+        if (deg < 0.0) deg += period;
+        phase.value = deg;
+        const double var_angle =
+            (b * b * vaa + a * a * vbb - 2 * a * b * vab) / (amp * amp * amp * amp);
+        phase.std_error = std::sqrt(std::max(0.0, var_angle)) * 180.0 / kPi / order;
+      } else {
+        amplitude.std_error = std::sqrt(0.5 * (vaa + vbb));
+      }
+    }
+    out.push_back(amplitude);
+    out.push_back(phase);
+  }
+  return out;
+}
+
+// The point-law stage's options from the diagnosis's.
+PointLawOptions point_law_options(const DiagnoseOptions& options, int replicates) {
+  PointLawOptions po;
+  po.alpha = options.selection.alpha;
+  po.null_replicates = replicates;
+  po.seed = options.selection.seed;
+  po.min_delta_bic = options.selection.min_delta_bic;
+  po.ambiguity_delta_bic = options.ambiguity_delta_bic;
+  po.min_effect_rms_fraction = options.selection.min_effect_rms_fraction;
+  po.white_fraction = options.point_law_white_fraction;
+  return po;
+}
+
+// The fitted effect of an accepted point law (noise σ or step q, their own values).
+FittedEffect point_law_effect(const PointLawStage& stage, const std::vector<std::string>& names,
+                              double model_variance) {
+  const PointLawHypothesis& h = stage.best();
+  FittedEffect e;
+  e.name = h.name;
+  e.absolute = true;
+  FittedValue v{h.name == "noise" ? "sigma_um" : "step_um", "µm"};
+  v.value = h.estimate;
+  v.std_error = h.std_error;
+  v.estimable = true;
+  e.coefficients = {v};
+  e.parameters = {v};
+  CandidateTest& t = e.evidence;
+  t.name = h.name;
+  const auto found = std::find(names.begin(), names.end(), h.name);
+  t.candidate = found == names.end() ? -1 : static_cast<int>(found - names.begin());
+  t.added_rank = 1;
+  t.dof_residual = static_cast<int>(h.residual.size()) - h.parameters;
+  t.p_null = stage.white_p;
+  t.delta_bic = h.delta_bic;
+  t.effect_rms_um = std::sqrt(std::max(0.0, h.law.variance_um2() - model_variance));
+  t.significant = t.bic_support = t.practical = t.accepted = true;
+  t.note = std::string("point-law stage: the spread of single readings") +
+           (h.tied ? " and the constant shift tied to it" : "") +
+           "; p_null is the white-variance test's";
+  e.fitted_rms_um = std::abs(h.law.mean_um());
+  for (int k : stage.ambiguous) {
+    const PointLawHypothesis& other = stage.hypotheses[static_cast<std::size_t>(k)];
+    Ambiguity a;
+    a.with = other.name;
+    a.reason = "delta_bic";
+    a.delta_bic_gap = other.bic - h.bic;
+    a.separate_by = separating_measurement(h.name, other.name);
+    e.ambiguous.push_back(std::move(a));
+  }
+  return e;
+}
+
+// Steps 2–4: the candidates' columns, forward selection, and the joint fit of the selected
+// effects with each effect's coefficients, physical parameters and evidence.
+void select_and_fit(State& state, Diagnosis& out) {
+  const Residuals& residuals = state.residuals;
+  const DiagnoseOptions& options = state.options;
+  const SelectionOptions& so = options.selection;
+  const int rows = state.rows;
+  state.r.resize(rows);
+  for (int k = 0; k < rows; ++k) {
+    state.azimuths.push_back(residuals.points[k].context.azimuth_rad);
+    state.r[k] = residuals.points[k].residual_um;
+  }
+  state.candidates = [&] {
+    std::vector<PointContext> contexts;  // a copy only while the columns are made
+    contexts.reserve(residuals.points.size());
+    for (const ResidualPoint& p : residuals.points) contexts.push_back(p.context);
+    return candidate_designs(contexts, options.candidates);
+  }();
+  const std::vector<CandidateDesign>& candidates = state.candidates;
+  for (const CandidateDesign& c : candidates) out.candidate_names.push_back(c.name);
+
+  // 3. Selection.
+  out.selection = forward_select(candidates, state.r, state.noise.sigma_um, so);
+  const std::vector<int>& selected = out.selection.selected;
+
+  // 4. Joint fit of the selected effects.
+  state.x_selected = joint_columns(candidates, selected);
+  state.fit = least_squares(state.x_selected, state.r);
+  const Eigen::MatrixXd& x_selected = state.x_selected;
+  const LeastSquaresFit& fit = state.fit;
+  const int p = fit.rank;
+  const double sigma2_hat = rows - p > 0 ? fit.rss / (rows - p) : kNotAvailable;
+  std::vector<int>& offsets = state.offsets;
+  for (std::size_t s = 0, at = 0; s < selected.size(); ++s) {
+    offsets.push_back(static_cast<int>(at));
+    at += candidates[selected[s]].observable_indices().size();
+  }
+  for (std::size_t s = 0; s < selected.size(); ++s) {
+    const CandidateDesign& c = candidates[selected[s]];
+    FittedEffect e;
+    e.name = c.name;
+    e.step = static_cast<int>(s);
+    e.settings = c.settings;
+    e.coefficients = coefficients_of(c, fit, offsets[s], sigma2_hat);
+    e.parameters = c.name == "probe_lobing"
+                       ? lobing_parameters(c, e.coefficients, fit, offsets[s], sigma2_hat)
+                       : e.coefficients;
+    const SelectionStep& step = out.selection.steps[s];
+    e.evidence = step.tests[step.accepted];
+    const int q = static_cast<int>(c.observable_indices().size());
+    const Eigen::VectorXd contribution =
+        x_selected.middleCols(offsets[s], q) * fit.beta.segment(offsets[s], q);
+    e.fitted_rms_um = std::sqrt(contribution.squaredNorm() / rows);
+    out.effects.push_back(std::move(e));
+  }
+  // Until the point-law stage says otherwise: the linear fit's residuals under the floor's law.
+  state.law_before = floor_law(state.noise);
+  state.law_after = state.law_before;
+  state.x_after = x_selected;
+  state.p_after = p;
+  state.r_after = state.r - fit.fitted;
+}
+
+// Step 7: which library effects could also explain each selected effect.
+void assess_ambiguity(const State& state, Diagnosis& out) {
+  const DiagnoseOptions& options = state.options;
+  const std::vector<CandidateDesign>& candidates = state.candidates;
+  const std::vector<int>& selected = out.selection.selected;
+  const Eigen::MatrixXd& x_selected = state.x_selected;
+  const LeastSquaresFit& fit = state.fit;
+  const std::vector<int>& offsets = state.offsets;
+  for (std::size_t s = 0; s < selected.size(); ++s) {
+    FittedEffect& e = out.effects[s];
+    const CandidateDesign& a = candidates[selected[s]];
+    std::vector<int> others;
+    for (std::size_t o = 0; o < selected.size(); ++o) {
+      if (o != s) others.push_back(selected[o]);
+    }
+    const Eigen::MatrixXd q_others = orthonormal_basis(joint_columns(candidates, others)).q;
+    const int q = static_cast<int>(a.observable_indices().size());
+    Eigen::VectorXd signal = x_selected.middleCols(offsets[s], q) * fit.beta.segment(offsets[s], q);
+    signal -= q_others * (q_others.transpose() * signal);
+    const Eigen::MatrixXd q_a = orthonormal_basis(a.observable_columns(), q_others).q;
+    const SelectionStep& step = out.selection.steps[s];
+    const double a_bic = step.tests[step.accepted].delta_bic;
+    for (int b = 0; b < static_cast<int>(candidates.size()); ++b) {
+      if (b == selected[s]) continue;
+      Ambiguity amb;
+      amb.with = candidates[b].name;
+      if (std::find(selected.begin(), selected.end(), b) != selected.end()) {
+        // Two selected effects: separable only if their joint design is well conditioned.
+        amb.condition_number = scaled_condition_number(joint_columns(candidates, {selected[s], b}));
+        if (amb.condition_number > options.ambiguity_condition_number) {
+          amb.reason = "condition_number";
+        }
+      } else {
+        std::vector<int> joint = others;
+        joint.push_back(selected[s]);
+        joint.push_back(b);
+        amb.condition_number = scaled_condition_number(joint_columns(candidates, joint));
+        const Eigen::MatrixXd q_b =
+            orthonormal_basis(candidates[b].observable_columns(), q_others).q;
+        const std::vector<double> cc = canonical_correlations(q_a, q_b);
+        amb.canonical_correlation = cc.empty() ? 0.0 : cc.front();
+        const double norm = signal.norm();
+        amb.signal_correlation =
+            norm > 0.0 && q_b.cols() > 0 ? (q_b.transpose() * signal).norm() / norm : 0.0;
+        const CandidateTest* test = nullptr;  // b's test at the step that selected a
+        for (const CandidateTest& t : step.tests) {
+          if (t.candidate == b) test = &t;
+        }
+        if (test) amb.delta_bic_gap = test->delta_bic - a_bic;
+        if (amb.signal_correlation > options.ambiguity_correlation) {
+          amb.reason = "signal_correlation";
+        } else if (test && test->eligible() && amb.delta_bic_gap < options.ambiguity_delta_bic) {
+          amb.reason = "delta_bic";
+        }
+      }
+      if (amb.reason.empty()) continue;
+      amb.separate_by = separating_measurement(a.name, amb.with);
+      e.ambiguous.push_back(std::move(amb));
+    }
+  }
+}
+
+// Step 4b: the point-law stage (point_law_stage.h): a fitted noise or step quantisation replaces
+// the law of the residuals after, and a tied step the effects whose constant shift it explains.
+void apply_point_law(State& state, Diagnosis& out) {
+  const DiagnoseOptions& options = state.options;
+  const int rows = state.rows;
+  const std::vector<CandidateDesign>& candidates = state.candidates;
+  const std::vector<int>& selected = out.selection.selected;
+  const std::vector<int>& offsets = state.offsets;
+  out.point_law = point_law_stage(state.r, state.x_selected, state.residuals.points, state.noise,
+                                  point_law_options(options, out.null_replicates));
+  const PointLawStage& stage = out.point_law;
+  const Eigen::MatrixXd& x_selected = state.x_selected;
+  Eigen::MatrixXd& x_after = state.x_after;
+  int& p_after = state.p_after;
+  double& mean_after = state.mean_after;
+  Eigen::VectorXd& r_after_c = state.r_after;
+  ResidualLaw& law_after = state.law_after;
+  const ResidualLaw& law_before = state.law_before;
+  if (stage.chosen > 0) {
+    const PointLawHypothesis& h = stage.best();
+    x_after.resize(rows, static_cast<int>(h.columns.size()) + (h.constant_added ? 1 : 0));
+    for (std::size_t k = 0; k < h.columns.size(); ++k) {
+      x_after.col(static_cast<int>(k)) = x_selected.col(h.columns[k]);
+    }
+    if (h.constant_added) x_after.col(x_after.cols() - 1).setOnes();
+    p_after = h.parameters;
+    mean_after = h.law.mean_um();
+    r_after_c = h.residual - Eigen::VectorXd::Constant(rows, mean_after);
+    law_after = h.law;
+    law_after.offset_um -= mean_after;
+    // A tied step replaces the selected effects whose columns it dropped (their constant shift
+    // is its mean); the other effects keep the linear fit's values.
+    std::vector<FittedEffect> kept;
+    int insert_at = -1;
+    for (std::size_t s = 0; s < selected.size(); ++s) {
+      const int q = static_cast<int>(candidates[selected[s]].observable_indices().size());
+      bool any = false;
+      for (int c = offsets[s]; c < offsets[s] + q; ++c) {
+        any = any || std::find(h.columns.begin(), h.columns.end(), c) != h.columns.end();
+      }
+      if (any) {
+        kept.push_back(std::move(out.effects[s]));
+      } else if (insert_at < 0) {
+        insert_at = static_cast<int>(kept.size());
+      }
+    }
+    FittedEffect e = point_law_effect(stage, out.candidate_names, law_before.variance_um2());
+    kept.insert(insert_at < 0 ? kept.end() : kept.begin() + insert_at, std::move(e));
+    out.effects = std::move(kept);
+    for (std::size_t k = 0; k < out.effects.size(); ++k) out.effects[k].step = static_cast<int>(k);
+  } else if (stage.ran) {
+    // The data reject a step quantisation whose mean would be the fitted constant shift: then a
+    // constant-shift effect is not ambiguous with it.
+    const PointLawHypothesis* tied = nullptr;
+    for (const PointLawHypothesis& h : stage.hypotheses) {
+      if (h.name == "step_quantization" && h.tied) tied = &h;
+    }
+    if (tied && tied->delta_bic >= options.ambiguity_delta_bic) {
+      for (FittedEffect& e : out.effects) {
+        const auto before = e.ambiguous.size();
+        std::erase_if(e.ambiguous,
+                      [](const Ambiguity& a) { return a.with == "step_quantization"; });
+        if (e.ambiguous.size() != before) {
+          std::ostringstream text;
+          text << e.name << " is not ambiguous with step_quantization: a step whose mean latch "
+               << "delay made the fitted shift would have widened the spread of single readings, "
+               << "which the residuals do not show (ΔBIC +" << std::lround(tied->delta_bic)
+               << " against the model's law)";
+          out.notes.push_back(text.str());
+        }
+      }
+    }
+  }
+  out.noise_floor_after_um = std::sqrt(law_after.variance_um2());
+}
+
+}  // namespace
+
+PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readings,
+                                    const std::string& readings_path,
+                                    const DiagnoseOptions& options) {
+  check_readings_against_model(model, readings, readings_path);
+  const Residuals all = compute_residuals(model, readings, options.prediction);
+  check_residuals(all, readings, readings_path);
+  PreparedResiduals out;
+  out.outliers = screen_outliers(all);
+  out.residuals = without_excluded(all, out.outliers);
+  out.noise = estimate_noise_floor(model, out.residuals);
+  if (options.noise_floor_um) {
+    out.noise.sigma_um = *options.noise_floor_um;
+    out.noise.source = NoiseFloorSource::kGiven;
+    out.noise.law = PointLaw{out.noise.sigma_um * out.noise.sigma_um, {}};
+  }
+  // The coordinate grid (scale resolution): a latched grid the model lacks widens the model's
+  // per-point law by its spread (a Gaussian part of its variance, as ScaleResolutionEffect's).
+  std::vector<bool> excluded(readings.rows.size(), false);
+  for (const ExcludedReading& e : out.outliers.excluded) {
+    if (e.row >= 0 && e.row < static_cast<int>(excluded.size())) excluded[e.row] = true;
+  }
+  std::array<double, 3> model_steps = {0.0, 0.0, 0.0};
+  if (const int index = model.effects->find("scale_resolution"); index >= 0) {
+    const std::vector<double> values = model.effects->nominal()[static_cast<std::size_t>(index)];
+    for (int a = 0; a < 3; ++a) model_steps[a] = values[static_cast<std::size_t>(a)];
+  }
+  out.grid = detect_coordinate_grid(readings, excluded, model_steps, out.noise.sigma_um,
+                                    options.selection.min_effect_rms_fraction);
+  if (out.grid.named && out.noise.source == NoiseFloorSource::kModel) {
+    out.noise.law.gaussian_variance_um2 += out.grid.rms_um * out.grid.rms_um;
+    out.noise.sigma_um = std::sqrt(out.noise.law.variance_um2());
+  }
+  return out;
+}
+
+Diagnosis diagnose_prepared(const PreparedResiduals& prepared, const DiagnoseOptions& options) {
+  Diagnosis d = diagnose_residuals(prepared.residuals, prepared.noise, options);
+  d.outliers = prepared.outliers;
+  d.coordinate_grid = prepared.grid;
+  diagnosis_stages::coordinate_grid_verdict(prepared, d);
+  const OutlierScreen& screen = d.outliers;
+  if (!screen.excluded.empty()) {
+    std::ostringstream text;
+    text << screen.excluded.size() << " reading"
+         << (screen.excluded.size() == 1 ? " was" : "s were")
+         << " excluded as gross outliers (|z| > " << screen.threshold_z
+         << " against their profile scan's neighbours, a 1 % false-alarm rate for the whole "
+            "file); the diagnosis is made without them";
+    d.notes.insert(d.notes.begin(), text.str());
+  }
+  if (!screen.not_applied.empty()) d.notes.push_back("outlier screen: " + screen.not_applied);
+  return d;
+}
+
+Diagnosis diagnose(const Scenario& model, const Readings& readings,
+                   const DiagnoseOptions& options) {
+  return diagnose_prepared(prepare_residuals(model, readings, "", options), options);
+}
+
+Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise,
+                             const DiagnoseOptions& options) {
+  Diagnosis out;
+  const SelectionOptions& so = options.selection;
+  out.noise = noise;
+  out.points = static_cast<int>(residuals.points.size());
+  out.nominal_fallback = residuals.nominal_fallback;
+  out.null_replicates = effective_null_replicates(so);
+  out.seed = so.seed;
+  out.alpha = so.alpha;
+  const int rows = out.points;
+  if (!noise.not_enough.empty()) {  // nothing to judge the residuals against: no verdict
+    out.status = DiagnosisStatus::kNotEnoughReadings;
+    out.status_reason = noise.not_enough;
+    out.finding = DiagnosisFinding::kNotTested;
+    for (const ResidualPoint& p : residuals.points) out.residual_before_um.push_back(p.residual_um);
+    out.residual_after_um = out.residual_before_um;
+    double ss = 0.0;
+    for (double v : out.residual_before_um) ss += v * v;
+    out.gap_before.rms_um = out.gap_after.rms_um = std::sqrt(ss / std::max(1, rows));
+    out.point_law.skipped_because = "no verdict: " + noise.not_enough;
+    out.notes.push_back(noise.not_enough);
+    return out;
+  }
+
+  State state(residuals, noise, options);
+  state.rows = rows;
+  select_and_fit(state, out);                        // 2–4
+  diagnosis_stages::per_gear_variation(state, out);  // 4c (per_gear.cpp)
+  assess_ambiguity(state, out);                      // 7
+  apply_point_law(state, out);                       // 4b
+  diagnosis_stages::measure_gap(state, out);         // 5 (diagnosis_gap.cpp)
+  diagnosis_stages::simulate_null(state, out);       // 5–6
+  diagnosis_stages::make_verdict(state, out);        // 8
+  // rotary_table's angular positioning error turns each tooth exactly as the gear's own pitch
+  // deviation of that tooth would: no candidate can hold the gear's pitch, so the verdict says it.
+  for (const FittedEffect& e : out.effects) {
+    if (e.name != "rotary_table") continue;
+    out.notes.push_back(
+        "rotary_table: its angular positioning error turns each tooth as the gear's own pitch "
+        "deviations do, so from one set-up it is ambiguous with the pitch deviations of the "
+        "gear (a master's calibrated pitch, if the model has it wrong); remeasure with the gear "
+        "turned on the table by a few teeth to tell them apart");
+  }
+  return out;
+}
+
+}  // namespace gearmc

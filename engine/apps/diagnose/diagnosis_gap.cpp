@@ -1,0 +1,495 @@
+// The gap before and after, its null simulation, the spectrum, the cluster-aware evidence and
+// the verdict of a diagnosis (steps 5, 6 and 8 of diagnosis.h; see diagnosis_stages.h).
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <tuple>
+
+#include "core/special_functions.h"
+#include "engine/apps/diagnose/cluster_tests.h"
+#include "engine/apps/diagnose/diagnosis_stages.h"
+#include "engine/apps/diagnose/readings_check.h"
+#include "engine/statistics/distribution_fit.h"
+
+namespace gearmc::diagnosis_stages {
+namespace {
+
+// Stream sub-index of the gap's null simulation (the selection steps use 0, 1, 2, …).
+constexpr std::uint32_t kGapNullSubIndex = 1000;
+// Stream sub-indices of the cluster-aware evidence (the point-law stage uses 2000).
+constexpr std::uint32_t kClusterSubIndex = 3000;
+constexpr int kBootstrapReplicates = 999;  // (R + 1) · 0.025 an integer (cluster_tests.h)
+
+}  // namespace
+
+HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns) {
+  // Candidate splits, coarsest first: each gives a group key per point; the groups, in sorted
+  // order, alternate between the two folds.
+  struct Candidate {
+    const char* name;
+    std::function<std::tuple<int, int, int>(const ResidualPoint&)> key;
+  };
+  const std::vector<Candidate> candidates = {
+      {"alternating_teeth",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.gear, p.tooth, 0};
+       }},
+      {"flanks",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.side == FlankSide::kRight ? 1 : 0, 0, 0};
+       }},
+      {"alternating_sections",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.j, 0, 0};
+       }},
+      {"alternating_profile_points",
+       [](const ResidualPoint& p) {
+         return std::tuple{p.i, 0, 0};
+       }},
+  };
+  HeldOutSplit out;
+  for (const Candidate& c : candidates) {
+    std::map<std::tuple<int, int, int>, int> groups;
+    for (const ResidualPoint& p : points) groups.emplace(c.key(p), 0);
+    if (groups.size() < 2) continue;
+    int index = 0;
+    for (auto& [key, fold] : groups) fold = index++ % 2;
+    std::vector<int> fold(points.size());
+    int counts[2] = {0, 0};
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      fold[k] = groups.at(c.key(points[k]));
+      ++counts[fold[k]];
+    }
+    // Each fold must be able to fit the effects on its own (more points than columns).
+    if (counts[0] <= columns || counts[1] <= columns) continue;
+    out.name = c.name;
+    out.fold = std::move(fold);
+    return out;
+  }
+  out.name = "none";
+  out.why_none =
+      "the readings cannot be split into two halves (by teeth, flanks, face sections "
+      "or profile points) each with more points than the " +
+      std::to_string(columns) + " fitted parameters";
+  return out;
+}
+
+Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points,
+                                        const std::vector<double>& residual_um) {
+  struct Axis {
+    const char* name;
+    std::function<long(const ResidualPoint&, std::size_t)> group;
+  };
+  const std::size_t n = points.size();
+  int first_order = 0, last_order = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    first_order = k == 0 ? points[k].order : std::min(first_order, points[k].order);
+    last_order = k == 0 ? points[k].order : std::max(last_order, points[k].order);
+  }
+  const double order_span = std::max(1, last_order - first_order + 1);
+  const std::vector<Axis> axes = {
+      {"roll_length", [](const ResidualPoint& p, std::size_t) { return long{p.i}; }},
+      {"face_position", [](const ResidualPoint& p, std::size_t) { return long{p.j}; }},
+      {"tooth",
+       [](const ResidualPoint& p, std::size_t) { return long{p.gear} * 100000L + p.tooth; }},
+      {"flank",
+       [](const ResidualPoint& p, std::size_t) { return p.side == FlankSide::kRight ? 1L : 0L; }},
+      {"approach_azimuth",
+       [](const ResidualPoint& p, std::size_t) {
+         double a = std::fmod(p.context.azimuth_rad, 2.0 * std::numbers::pi);
+         if (a < 0.0) a += 2.0 * std::numbers::pi;
+         return static_cast<long>(std::floor(a / (2.0 * std::numbers::pi) * 24.0));
+       }},
+      {"probing_order",
+       [&](const ResidualPoint& p, std::size_t) {
+         return static_cast<long>(std::floor(20.0 * (p.order - first_order) / order_span));
+       }},
+  };
+  Diagnosis::StructureAxis best;
+  double total_mean = 0.0;
+  for (double r : residual_um) total_mean += r;
+  total_mean /= static_cast<double>(std::max<std::size_t>(1, n));
+  double total_ss = 0.0;
+  for (double r : residual_um) total_ss += (r - total_mean) * (r - total_mean);
+  for (const Axis& axis : axes) {
+    std::map<long, std::pair<double, int>> groups;  // sum, count
+    for (std::size_t k = 0; k < n; ++k) {
+      auto& g = groups[axis.group(points[k], k)];
+      g.first += residual_um[k];
+      ++g.second;
+    }
+    const double g = static_cast<double>(groups.size());
+    if (groups.size() < 2 || n <= groups.size() || !(total_ss > 0.0)) continue;
+    double between = 0.0;
+    for (const auto& [key, sc] : groups) {
+      const double mean = sc.first / sc.second;
+      between += sc.second * (mean - total_mean) * (mean - total_mean);
+    }
+    const double within = std::max(total_ss - between, 1e-300);
+    const double f = (between / (g - 1.0)) / (within / (static_cast<double>(n) - g));
+    const double p = f_distribution_upper_tail(f, g - 1.0, static_cast<double>(n) - g);
+    if (best.axis.empty() || p < best.p_value) {
+      best.axis = axis.name;
+      best.p_value = p;
+      best.variance_share = between / total_ss;
+    }
+  }
+  return best;
+}
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+// Gap statistics of residual vector r (dof = points − fitted parameters) against the centred
+// residual law `law` (χ² with its variance, KS against its distribution function).
+GapStatistics gap_statistics(const Eigen::VectorXd& r, int dof, const ResidualLaw& law) {
+  GapStatistics g;
+  const double n = static_cast<double>(r.size());
+  const double ss = r.squaredNorm();
+  const double variance = law.variance_um2();
+  g.rms_um = std::sqrt(ss / n);
+  g.dof = dof;
+  if (dof > 0 && variance > 0.0) {
+    g.chi2_dof = ss / (dof * variance);
+    g.excess_rms_um = std::sqrt(std::max(0.0, ss / dof - variance));
+    g.ks = ks_distance(to_vector(r), law);
+  }
+  return g;
+}
+
+// The verdict's gap test (GapStatistics::combined_p): the χ² test counts only when the excess
+// RMS √max(0, Σr²/dof − v) reaches the practical size — as a gate on χ²/dof = Σr²/(dof v):
+// χ²/dof ≥ 1 + practical²/v — and the KS test only off the numerical floor.
+struct GapFamily {
+  double chi2_gate = -std::numeric_limits<double>::infinity();
+  bool shape_test = true;
+};
+GapFamily gap_family(const State& state, const ResidualLaw& law) {
+  GapFamily f;
+  const double practical = state.options.selection.min_effect_rms_fraction * state.noise.sigma_um;
+  const double v = law.variance_um2();
+  if (practical > 0.0 && v > 0.0) f.chi2_gate = 1.0 + practical * practical / v;
+  f.shape_test = !state.noise.at_numerical_floor;
+  return f;
+}
+
+// The combined p-value of the gap test on g, from the replicates' χ²/dof and KS values (K ≥ 1,
+// min-P) or, with none, from g's table p-values (Bonferroni over the family's tests).
+double combined_gap_p(const GapStatistics& g, const GapFamily& f, const std::vector<double>& chi2,
+                      const std::vector<double>& ks) {
+  if (!chi2.empty()) {
+    std::vector<ResampledTest> family = {{g.chi2_dof, chi2, f.chi2_gate}};
+    if (f.shape_test) family.push_back({g.ks, ks});
+    return min_p_combined_p_value(family);
+  }
+  const double p_chi2 = g.chi2_dof >= f.chi2_gate ? g.chi2_p : 1.0;
+  const double p_ks = f.shape_test ? g.ks_p : 1.0;
+  if (std::isnan(g.chi2_p) && std::isnan(p_ks)) return kNotAvailable;
+  const double smallest =
+      std::min(std::isnan(p_chi2) ? 1.0 : p_chi2, std::isnan(p_ks) ? 1.0 : p_ks);
+  return std::min(1.0, (f.shape_test ? 2.0 : 1.0) * smallest);
+}
+
+// The centred law of a residual under the noise floor: the model's per-point law, or a Gaussian
+// of the floor's σ when the floor carries none (given, or estimated from the residuals).
+ResidualLaw floor_law(const NoiseFloor& noise) {
+  if (noise.law.variance_um2() > 0.0) return residual_law(noise.law);
+  ResidualLaw law;
+  law.sigma_um = noise.sigma_um;
+  return law;
+}
+
+void measure_gap(const State& state, Diagnosis& out) {
+  const int rows = state.rows;
+  const Eigen::VectorXd& r = state.r;
+  const Eigen::MatrixXd& x_after = state.x_after;
+  const double mean_after = state.mean_after;
+  // 5. Gap before / after and held-out check.
+  out.residual_before_um = to_vector(r);
+  out.residual_after_um = to_vector(state.r_after);
+  out.gap_before = gap_statistics(r, rows, state.law_before);
+  out.gap_after = gap_statistics(state.r_after, rows - state.p_after, state.law_after);
+  if (out.effects.empty()) {
+    out.held_out_rms_um = out.gap_before.rms_um;  // nothing fitted: nothing to hold out
+    out.held_out_split = "nothing_fitted";
+    return;
+  }
+  const HeldOutSplit split =
+      held_out_split(state.residuals.points, static_cast<int>(x_after.cols()));
+  out.held_out_split = split.name;
+  if (split.fold.empty()) {
+    out.held_out_rms_um = kNotAvailable;
+    out.notes.push_back("no held-out check: " + split.why_none);
+    return;
+  }
+  double ss = 0.0;
+  // Fit on one fold, evaluate on the other, and the other way round.
+  for (int half = 0; half < 2; ++half) {
+    std::vector<int> train, test;
+    for (int k = 0; k < rows; ++k) (split.fold[k] == half ? train : test).push_back(k);
+    Eigen::MatrixXd xt(static_cast<int>(train.size()), x_after.cols());
+    Eigen::VectorXd yt(static_cast<int>(train.size()));
+    for (std::size_t k = 0; k < train.size(); ++k) {
+      xt.row(static_cast<int>(k)) = x_after.row(train[k]);
+      yt[static_cast<int>(k)] = r[train[k]] - mean_after;
+    }
+    const LeastSquaresFit half_fit = least_squares(xt, yt);
+    for (int k : test) {
+      const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
+      ss += e * e;
+    }
+  }
+  out.held_out_rms_um = std::sqrt(ss / rows);
+}
+
+void simulate_null(const State& state, Diagnosis& out) {
+  const Residuals& residuals = state.residuals;
+  const int rows = state.rows;
+  const Eigen::VectorXd& r = state.r;
+  const Eigen::VectorXd& r_after_c = state.r_after;
+  const ResidualLaw& law_before = state.law_before;
+  const ResidualLaw& law_after = state.law_after;
+  const Eigen::MatrixXd& x_after = state.x_after;
+  const int p_after = state.p_after;
+  const NoiseFloor& noise = state.noise;
+  const DiagnoseOptions& options = state.options;
+  const SelectionOptions& so = options.selection;
+  const PointLawStage& stage = out.point_law;
+  const std::vector<double>& azimuths = state.azimuths;
+  // 5–6. Null simulation of the gap statistics and the spectrum.
+  const HarmonicSpectrum spectrum(azimuths, options.spectrum_max_order);
+  out.spectrum_before_um = spectrum.amplitudes(r);
+  out.spectrum_after_um = spectrum.amplitudes(r_after_c);
+  const Eigen::MatrixXd q_after = orthonormal_basis(x_after).q;
+  const bool reestimate = noise.source == NoiseFloorSource::kResidualSecondDifferences ||
+                          noise.source == NoiseFloorSource::kResidualMad;
+  const std::vector<std::array<int, 3>> triplets =
+      reestimate ? scan_triplets(residuals.points) : std::vector<std::array<int, 3>>{};
+  std::vector<double> chi2_before, chi2_after, ks_before, ks_after;
+  const int orders = options.spectrum_max_order + 1;
+  std::vector<std::vector<double>> amp_before(orders), amp_after(orders);
+  Eigen::VectorXd eps(rows), eps_law_after(rows);
+  // With no spread at all (σ = 0) the null is simulated at unit σ and the bands scaled to 0.
+  const bool unit = !(law_before.variance_um2() > 0.0);
+  ResidualLaw sim_before = law_before, sim_after = law_after;
+  if (unit) sim_before = sim_after = ResidualLaw{1.0, 0.0, 0.0};
+  const double band_scale = unit ? 0.0 : 1.0;
+  for (int k = 0; k < out.null_replicates; ++k) {
+    RandomStream rng(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream, kGapNullSubIndex);
+    for (int i = 0; i < rows; ++i) eps[i] = sim_before.draw(rng);
+    ResidualLaw l_before = sim_before, l_after = sim_after;
+    if (reestimate) {
+      const std::vector<double> e = to_vector(eps);
+      const double estimate = noise.source == NoiseFloorSource::kResidualMad
+                                  ? mad_sigma(e)
+                                  : robust_noise_sigma(triplets, e);
+      // As the data's floor: never below the numerical floor.
+      l_before.sigma_um = l_after.sigma_um = std::max(estimate, noise.numerical_um);
+    }
+    if (stage.chosen > 0) {  // the fitted law: its own draws
+      RandomStream rng_after(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
+                             kGapNullSubIndex + 1);
+      for (int i = 0; i < rows; ++i) eps_law_after[i] = sim_after.draw(rng_after);
+    } else {
+      eps_law_after = eps;
+    }
+    const Eigen::VectorXd eps_after =
+        eps_law_after - q_after * (q_after.transpose() * eps_law_after);
+    const GapStatistics gb = gap_statistics(eps, rows, l_before);
+    const GapStatistics ga = gap_statistics(eps_after, rows - p_after, l_after);
+    chi2_before.push_back(gb.chi2_dof);
+    chi2_after.push_back(ga.chi2_dof);
+    ks_before.push_back(gb.ks);
+    ks_after.push_back(ga.ks);
+    const std::vector<double> sb = spectrum.amplitudes(eps), sa = spectrum.amplitudes(eps_after);
+    for (int o = 0; o < orders; ++o) {
+      amp_before[o].push_back(sb[o] * band_scale);
+      amp_after[o].push_back(sa[o] * band_scale);
+    }
+  }
+  if (out.null_replicates > 0) {
+    out.gap_before.chi2_p = empirical_p_value(out.gap_before.chi2_dof, chi2_before);
+    out.gap_before.ks_p = empirical_p_value(out.gap_before.ks, ks_before);
+    out.gap_after.chi2_p = empirical_p_value(out.gap_after.chi2_dof, chi2_after);
+    out.gap_after.ks_p = empirical_p_value(out.gap_after.ks, ks_after);
+    for (int o = 0; o < orders; ++o) {
+      out.spectrum_null95_before_um.push_back(sample_quantile(amp_before[o], 0.95));
+      out.spectrum_null95_after_um.push_back(sample_quantile(amp_after[o], 0.95));
+    }
+  } else {  // no null simulation: the χ² law of Σr²/σ² and Kolmogorov's asymptotic law
+    for (GapStatistics* g : {&out.gap_before, &out.gap_after}) {
+      g->chi2_p = regularized_gamma_q(0.5 * g->dof, 0.5 * g->dof * g->chi2_dof);
+      g->ks_p = ks_p_value(g->ks, rows);
+    }
+  }
+  out.gap_before.combined_p =
+      combined_gap_p(out.gap_before, gap_family(state, law_before), chi2_before, ks_before);
+  out.gap_after.combined_p =
+      combined_gap_p(out.gap_after, gap_family(state, law_after), chi2_after, ks_after);
+
+  // 5b. Cluster-aware evidence: flanks for the paired energy test, teeth for the bootstrap.
+  if (out.null_replicates > 0 && !unit) {
+    std::map<std::tuple<int, int, int>, int> flank_ids;
+    std::map<std::pair<int, int>, int> tooth_ids;
+    std::vector<int> flank(rows), tooth(rows);
+    for (int k = 0; k < rows; ++k) {
+      const ResidualPoint& pt = residuals.points[k];
+      const int side = pt.side == FlankSide::kRight ? 1 : 0;
+      flank[k] =
+          flank_ids.try_emplace({pt.gear, pt.tooth, side}, static_cast<int>(flank_ids.size()))
+              .first->second;
+      tooth[k] = tooth_ids.try_emplace({pt.gear, pt.tooth}, static_cast<int>(tooth_ids.size()))
+                     .first->second;
+    }
+    RandomStream rng(so.seed, 0, kDiagnoseNullStream, kClusterSubIndex);
+    Eigen::VectorXd y_before(rows), y_after(rows);
+    for (int i = 0; i < rows; ++i) y_before[i] = sim_before.draw(rng);
+    for (int i = 0; i < rows; ++i) y_after[i] = sim_after.draw(rng);
+    y_after -= q_after * (q_after.transpose() * y_after);
+    const std::vector<double> before = to_vector(r), after = to_vector(r_after_c);
+    const std::vector<double> yb = to_vector(y_before), ya = to_vector(y_after);
+    int sub = kClusterSubIndex + 1;
+    for (auto [g, x, y] :
+         {std::tuple{&out.gap_before, &before, &yb}, std::tuple{&out.gap_after, &after, &ya}}) {
+      const PermutationTest test =
+          cluster_swap_energy_test(*x, *y, flank, out.null_replicates, so.seed, sub++);
+      g->energy_um = test.statistic;
+      g->energy_p = test.p_value;
+      const BootstrapInterval ci =
+          cluster_bootstrap_rms(*x, tooth, kBootstrapReplicates, so.seed, sub++);
+      g->rms_lo_um = ci.lo;
+      g->rms_hi_um = ci.hi;
+    }
+  }
+}
+
+// With an empirical term chosen on the residuals after the library: its coefficients fitted jointly
+// with the library's columns, and the library selected and fitted again on the readings less the
+// term (empirical_term.h). Updates the term's values, standard errors and the RMS it leaves, and
+// sets Diagnosis::effects_with_empirical.
+void refit_with_empirical(const State& state, Diagnosis& out) {
+  EmpiricalTerm& e = out.empirical;
+  const int rows = state.rows;
+  const Eigen::MatrixXd b = empirical_columns(state.residuals.points, e);
+  Eigen::MatrixXd joint(rows, state.x_after.cols() + b.cols());
+  joint << state.x_after, b;
+  const Eigen::VectorXd y =
+      state.r - Eigen::VectorXd::Constant(rows, state.mean_after);  // a point law's mean taken out
+  const LeastSquaresFit fit = least_squares(joint, y);
+  const int first = static_cast<int>(state.x_after.cols());
+  const double sigma2 = rows - fit.rank > 0 ? fit.rss / (rows - fit.rank) : 0.0;
+  Eigen::VectorXd term = Eigen::VectorXd::Zero(b.cols());
+  for (int c = 0; c < b.cols(); ++c) {
+    const int at = first + c;
+    if (!fit.estimable[at]) continue;
+    term[c] = fit.beta[at];
+    e.terms[static_cast<std::size_t>(c)].value_um = fit.beta[at];
+    e.terms[static_cast<std::size_t>(c)].std_error_um =
+        std::sqrt(sigma2 * fit.cov_unscaled(at, at));
+  }
+  const Eigen::VectorXd shape = b * term;
+  e.fitted_rms_um = std::sqrt(shape.squaredNorm() / rows);
+  Residuals less = state.residuals;
+  for (int k = 0; k < rows; ++k) less.points[k].residual_um -= shape[k];
+  DiagnoseOptions options = state.options;
+  options.fit_empirical = false;
+  const Diagnosis library = diagnose_residuals(less, state.noise, options);
+  out.effects_with_empirical = library.effects;
+  e.rms_after_um = library.gap_after.rms_um;
+  e.excess_rms_after_um = library.gap_after.excess_rms_um;
+}
+
+void make_verdict(const State& state, Diagnosis& out) {
+  const int rows = state.rows;
+  const Eigen::VectorXd& r = state.r;
+  const Eigen::VectorXd& r_after_c = state.r_after;
+  const ResidualLaw& law_before = state.law_before;
+  const ResidualLaw& law_after = state.law_after;
+  const NoiseFloor& noise = state.noise;
+  const DiagnoseOptions& options = state.options;
+  const SelectionOptions& so = options.selection;
+  const PointLawStage& stage = out.point_law;
+  const std::vector<int>& selected = out.selection.selected;
+  // 8. The verdict. The gap test is one test of level α (combined_p: χ² at the practical size,
+  // KS off the numerical floor — there the floor bounds an exact prediction's rounding, it is not
+  // a law of the residuals, so only residuals beyond it make a gap, not their shape).
+  auto gap_rejects = [&](const GapStatistics& g) { return g.combined_p < so.alpha; };
+  out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
+  out.unexplained_structure = gap_rejects(out.gap_after);
+  const double v0 = law_before.variance_um2();
+  const double excess = r.squaredNorm() - rows * v0;
+  const double explained = stage.chosen > 0 ? r.squaredNorm() - r_after_c.squaredNorm() +
+                                                  rows * (law_after.variance_um2() - v0)
+                           : state.per_gear_fit ? r.squaredNorm() - r_after_c.squaredNorm()
+                                                : r.squaredNorm() - state.fit.rss;
+  if (excess > 0.0) {
+    out.explained_fraction = std::clamp(explained / excess, 0.0, 1.0);
+  } else if (!out.effects.empty()) {
+    out.explained_fraction = 1.0;
+  }
+  if (out.nominal_fallback > 0) {
+    out.notes.push_back(std::to_string(out.nominal_fallback) +
+                        " points are not in the model's probing plan (or had no valid model "
+                        "contact) and were predicted with the nominal contact p + R n");
+  }
+  if (stage.chosen == 0 && noise.source == NoiseFloorSource::kModel && noise.robust_um > 0.0 &&
+      std::abs(noise.robust_um / noise.model_um - 1.0) > 0.2) {
+    std::ostringstream text;
+    text << "the residuals' own noise (robust estimate " << noise.robust_um
+         << " µm) differs by more than 20 % from the model's noise floor " << noise.model_um
+         << " µm";
+    out.notes.push_back(text.str());
+  }
+  if (!stage.ran && !stage.skipped_because.empty()) {
+    out.notes.push_back("the spread of single readings was not tested: " + stage.skipped_because);
+  }
+  if (!out.gap_detected) {
+    out.finding = DiagnosisFinding::kNone;
+  } else if (!out.effects.empty() && out.explained_fraction >= options.min_explained_fraction &&
+             !out.unexplained_structure) {
+    out.name_effect(out.effects.front().name);
+    for (const Ambiguity& a : out.effects.front().ambiguous) out.ambiguous_with.push_back(a.with);
+  } else {
+    out.finding = DiagnosisFinding::kUnexplained;
+  }
+  if (out.unexplained_structure) {
+    out.unexplained_along = structure_axis(state.residuals.points, to_vector(r_after_c));
+    if (!out.effects.empty()) out.partially_explained_by = out.effects.front().name;
+    std::ostringstream text;
+    text << "structure remains after the library's best fit";
+    if (!out.partially_explained_by.empty()) {
+      text << " (" << out.partially_explained_by << " explains "
+           << std::lround(100.0 * out.explained_fraction) << " % of the excess variance)";
+    }
+    if (!out.unexplained_along.axis.empty()) {
+      text << "; it varies most along " << out.unexplained_along.axis << " (its group means carry "
+           << std::lround(100.0 * out.unexplained_along.variance_share)
+           << " % of the remaining variance, F-test p = " << out.unexplained_along.p_value << ")";
+    }
+    if (!out.unexplained_along.axis.empty() && options.fit_empirical) {
+      out.empirical = fit_empirical_term(state.residuals.points, r_after_c, state.p_after,
+                                         law_after.variance_um2(), out.unexplained_along.axis,
+                                         so.min_delta_bic);
+      if (out.empirical.fitted) refit_with_empirical(state, out);
+      const EmpiricalTerm& e = out.empirical;
+      if (e.fitted) {
+        text << "; an empirical " << e.basis << " term of order " << e.order << " along " << e.axis
+             << " (ΔBIC " << std::lround(e.delta_bic)
+             << ", written to fitted.yaml as `empirical`) takes the residual RMS from "
+             << e.rms_before_um << " to " << e.rms_after_um << " µm (excess over the noise floor "
+             << e.excess_rms_before_um << " → " << e.excess_rms_after_um
+             << " µm); it describes the structure, it does not explain it: " << e.identify_by;
+      } else {
+        text << "; no empirical term was fitted: " << e.why_not;
+      }
+    }
+    out.notes.insert(out.notes.begin(), text.str());
+  }
+}
+
+}  // namespace gearmc::diagnosis_stages

@@ -1,0 +1,222 @@
+// Numerical tools of the diagnosis: bases, least squares, F and KS tails, Holm, canonical
+// correlations, robust scale, harmonic spectrum (see linear_model.h for the sources).
+#include "engine/apps/diagnose/linear_model.h"
+
+#include "core/special_functions.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <utility>
+
+namespace gearmc {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+}  // namespace
+
+ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, const Eigen::MatrixXd& against,
+                              double relative_tolerance) {
+  ColumnBasis out;
+  out.q.resize(x.rows(), x.cols());
+  int k = 0;
+  for (int c = 0; c < x.cols(); ++c) {
+    Eigen::VectorXd v = x.col(c);
+    const double norm0 = v.norm();
+    if (!(norm0 > 0.0) || !std::isfinite(norm0)) continue;
+    for (int pass = 0; pass < 2; ++pass) {  // modified Gram–Schmidt, twice
+      for (int a = 0; a < against.cols(); ++a) v -= against.col(a) * against.col(a).dot(v);
+      for (int a = 0; a < k; ++a) v -= out.q.col(a) * out.q.col(a).dot(v);
+    }
+    const double norm = v.norm();
+    if (norm > relative_tolerance * norm0) {
+      out.q.col(k++) = v / norm;
+      out.kept.push_back(c);
+    }
+  }
+  out.q.conservativeResize(x.rows(), k);
+  return out;
+}
+
+LeastSquaresFit least_squares(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
+                              double relative_tolerance) {
+  LeastSquaresFit fit;
+  const int p = static_cast<int>(x.cols());
+  fit.beta = Eigen::VectorXd::Zero(p);
+  fit.cov_unscaled = Eigen::MatrixXd::Zero(p, p);
+  fit.estimable.assign(p, false);
+  fit.fitted = Eigen::VectorXd::Zero(x.rows());
+  const ColumnBasis basis = orthonormal_basis(x, relative_tolerance);
+  const int k = static_cast<int>(basis.kept.size());
+  fit.rank = k;
+  if (k > 0) {
+    Eigen::MatrixXd xs(x.rows(), k);
+    Eigen::VectorXd scale(k);
+    for (int a = 0; a < k; ++a) {
+      scale[a] = x.col(basis.kept[a]).norm();
+      xs.col(a) = x.col(basis.kept[a]) / scale[a];
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(xs);
+    const Eigen::VectorXd beta_s = qr.solve(y);
+    const Eigen::MatrixXd r = qr.matrixQR().topLeftCorner(k, k).triangularView<Eigen::Upper>();
+    const Eigen::MatrixXd r_inv =
+        r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(k, k));
+    const Eigen::MatrixXd cov_s = r_inv * r_inv.transpose();
+    for (int a = 0; a < k; ++a) {
+      const int ca = basis.kept[a];
+      fit.beta[ca] = beta_s[a] / scale[a];
+      fit.estimable[ca] = true;
+      for (int b = 0; b < k; ++b) {
+        fit.cov_unscaled(ca, basis.kept[b]) = cov_s(a, b) / (scale[a] * scale[b]);
+      }
+    }
+    fit.fitted = x * fit.beta;
+  }
+  fit.rss = (y - fit.fitted).squaredNorm();
+  return fit;
+}
+
+std::vector<double> holm_adjust(const std::vector<double>& p) {
+  const std::size_t m = p.size();
+  std::vector<std::size_t> idx(m);
+  std::iota(idx.begin(), idx.end(), 0);
+  std::stable_sort(idx.begin(), idx.end(),
+                   [&](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<double> adjusted(m);
+  double running = 0.0;
+  for (std::size_t r = 0; r < m; ++r) {
+    const double v = std::min(1.0, static_cast<double>(m - r) * p[idx[r]]);
+    running = std::max(running, v);
+    adjusted[idx[r]] = running;
+  }
+  return adjusted;
+}
+
+std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eigen::MatrixXd& qb) {
+  if (qa.cols() == 0 || qb.cols() == 0) return {};
+  const Eigen::MatrixXd m = qa.transpose() * qb;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m);
+  std::vector<double> out;
+  for (int i = 0; i < svd.singularValues().size(); ++i) {
+    out.push_back(std::min(1.0, svd.singularValues()[i]));
+  }
+  return out;
+}
+
+double scaled_condition_number(const Eigen::MatrixXd& x) {
+  std::vector<int> nonzero;
+  for (int c = 0; c < x.cols(); ++c) {
+    if (x.col(c).norm() > 0.0) nonzero.push_back(c);
+  }
+  if (nonzero.empty()) return kNaN;
+  Eigen::MatrixXd s(x.rows(), static_cast<int>(nonzero.size()));
+  for (std::size_t a = 0; a < nonzero.size(); ++a) {
+    s.col(static_cast<int>(a)) = x.col(nonzero[a]).normalized();
+  }
+  if (s.cols() > s.rows()) return kInf;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(s);
+  const double hi = svd.singularValues()[0];
+  const double lo = svd.singularValues()[svd.singularValues().size() - 1];
+  return lo > hi * 1e-15 ? hi / lo : kInf;
+}
+
+double ks_distance_normal(std::vector<double> values, double sigma) {
+  if (values.empty() || !(sigma > 0.0)) return kNaN;
+  return ks_distance(std::move(values), [sigma](double x) { return normal_cdf(x / sigma); });
+}
+
+double mad_sigma(std::vector<double> values) {
+  if (values.empty()) return kNaN;
+  const double med = sample_quantile(values, 0.5);
+  for (double& v : values) v = std::abs(v - med);
+  return 1.482602218505602 * sample_quantile(std::move(values), 0.5);
+}
+
+double empirical_p_value(double observed, const std::vector<double>& null_values) {
+  if (std::isnan(observed)) return kNaN;
+  std::size_t at_least = 0;
+  for (double v : null_values) at_least += v >= observed ? 1 : 0;
+  return (1.0 + static_cast<double>(at_least)) / (1.0 + static_cast<double>(null_values.size()));
+}
+
+double min_p_combined_p_value(const std::vector<ResampledTest>& family) {
+  if (family.empty() || family.front().null_values.empty()) return kNaN;
+  const std::size_t samples = family.front().null_values.size() + 1;  // the data is sample 0
+  bool any = false;
+  for (const ResampledTest& t : family) {
+    if (t.null_values.size() + 1 != samples) return kNaN;  // not the same replicates
+    any = any || std::isfinite(t.observed);
+  }
+  if (!any) return kNaN;
+  // m(i) as an integer count (p = count / (K + 1)), so ties compare exactly.
+  std::vector<std::size_t> smallest(samples, samples);
+  for (const ResampledTest& t : family) {
+    std::vector<double> all(samples);
+    all[0] = t.observed;
+    std::copy(t.null_values.begin(), t.null_values.end(), all.begin() + 1);
+    std::vector<double> sorted;
+    for (double v : all) {
+      if (!std::isnan(v)) sorted.push_back(v);
+    }
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < samples; ++i) {
+      if (std::isnan(all[i]) || !(all[i] >= t.gate)) continue;  // cannot reject: p = 1
+      const auto at_least = static_cast<std::size_t>(
+          sorted.end() - std::lower_bound(sorted.begin(), sorted.end(), all[i]));
+      smallest[i] = std::min(smallest[i], at_least);
+    }
+  }
+  std::size_t as_small = 0;
+  for (std::size_t m : smallest) as_small += m <= smallest[0] ? 1 : 0;
+  return static_cast<double>(as_small) / static_cast<double>(samples);
+}
+
+double sample_quantile(std::vector<double> values, double q) {
+  if (values.empty()) return kNaN;
+  std::sort(values.begin(), values.end());
+  const double h = (static_cast<double>(values.size()) - 1.0) * std::clamp(q, 0.0, 1.0);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (h - static_cast<double>(lo)) * (values[hi] - values[lo]);
+}
+
+HarmonicSpectrum::HarmonicSpectrum(const std::vector<double>& azimuth_rad, int max_order)
+    : max_order_(max_order) {
+  const int rows = static_cast<int>(azimuth_rad.size());
+  // Xᵀ is built in place of the operator and overwritten block by block, so the memory is one
+  // (2K + 1) × rows matrix (at 10⁶ readings 200 MB, not three of them).
+  solve_.resize(2 * max_order + 1, rows);
+  for (int r = 0; r < rows; ++r) {
+    solve_(0, r) = 1.0;
+    for (int k = 1; k <= max_order; ++k) {
+      solve_(2 * k - 1, r) = std::cos(k * azimuth_rad[r]);
+      solve_(2 * k, r) = std::sin(k * azimuth_rad[r]);
+    }
+  }
+  // Minimum-norm least squares, pinv(X) = pinv(XᵀX) Xᵀ (complete orthogonal decomposition of
+  // the small Gram matrix): a plan that covers too few azimuths for the high orders still gives
+  // finite amplitudes.
+  const Eigen::MatrixXd gram = solve_ * solve_.transpose();
+  const Eigen::MatrixXd pinv =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(gram).pseudoInverse();
+  constexpr int kBlock = 4096;
+  for (int b = 0; b < rows; b += kBlock) {
+    const int w = std::min(kBlock, rows - b);
+    const Eigen::MatrixXd block = pinv * solve_.middleCols(b, w);
+    solve_.middleCols(b, w) = block;
+  }
+}
+
+std::vector<double> HarmonicSpectrum::amplitudes(const Eigen::VectorXd& residual_um) const {
+  const Eigen::VectorXd c = solve_ * residual_um;
+  std::vector<double> a(max_order_ + 1);
+  a[0] = std::abs(c[0]);
+  for (int k = 1; k <= max_order_; ++k) a[k] = std::hypot(c[2 * k - 1], c[2 * k]);
+  return a;
+}
+
+}  // namespace gearmc

@@ -1,0 +1,210 @@
+// The model's prediction at the measured points, residuals and the noise floor (see
+// prediction.h).
+#include "engine/apps/diagnose/prediction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include "core/input_error.h"
+#include "engine/apps/diagnose/linear_model.h"
+#include "engine/measurement/gear_measurement.h"
+
+namespace gearmc {
+namespace {
+
+using PlanKey = std::tuple<int, int, int, int>;  // tooth, side (0 L, 1 R), i, j
+
+PlanKey plan_key(int tooth, FlankSide side, int i, int j) {
+  return {tooth, side == FlankSide::kRight ? 1 : 0, i, j};
+}
+
+// The model's nominal point and contact at a planned point.
+struct ContactPrediction {
+  Eigen::Vector3d p;
+  ContactResult contact;
+};
+
+// A row's nominal point must equal the model plan's to this (mm) to use the model's contact.
+constexpr double kSamePointMm = 1e-4;
+
+}  // namespace
+
+Residuals compute_residuals(const Scenario& model, const Readings& readings,
+                            const PredictionOptions& options) {
+  if (readings.rows.empty()) {
+    throw InputError({"<readings>", 0, 0}, "the readings have no rows: nothing to diagnose");
+  }
+  Scenario scenario = model;
+  const bool nominal = options.artefact == ArtefactModel::kNominalMaster || readings.has_ref_dev;
+  if (nominal) scenario.deviations.random = false;
+  if (readings.has_ref_dev) scenario.normal_expression_um.clear();
+  scenario.stylus_radius_mm = readings.stylus_radius_mm;
+  const double R = readings.stylus_radius_mm;
+
+  Residuals out;
+  out.stylus_radius_mm = R;
+  out.artefact = nominal ? ArtefactModel::kNominalMaster : ArtefactModel::kModelGears;
+
+  // Each gear's place in the measurement: first and last order of its rows.
+  std::map<int, std::pair<int, int>> gear_orders;
+  for (const ReadingRow& row : readings.rows) {
+    auto [it, inserted] = gear_orders.try_emplace(row.gear, row.order, row.order);
+    if (!inserted) {
+      it->second.first = std::min(it->second.first, row.order);
+      it->second.second = std::max(it->second.second, row.order);
+    }
+  }
+
+  // The model's contacts, per gear (one nominal gear serves every gear of a master): the
+  // measurement pipeline without effects (gear_measurement.h).
+  const MeasurementModel pipeline(scenario);
+  std::map<int, std::map<PlanKey, ContactPrediction>> by_plan;
+  auto model_points = [&](int gear) -> const std::map<PlanKey, ContactPrediction>& {
+    const int key = nominal ? 0 : gear;
+    auto found = by_plan.find(key);
+    if (found != by_plan.end()) return found->second;
+    auto& index = by_plan[key];
+    GearMeasurement(pipeline, key, EffectMode::kNone).measure([&](const PointMeasurement& m) {
+      const PlanPoint& q = *m.plan;
+      index[plan_key(q.tooth, q.side, q.i, q.j)] = {q.nominal.point, m.contact};
+    });
+    return index;
+  };
+
+  const EffectChain& effects = *scenario.effects;
+  const EffectValues values = effects.nominal();
+  out.points.reserve(readings.rows.size());
+  for (const ReadingRow& row : readings.rows) {
+    ResidualPoint point;
+    point.gear = row.gear;
+    point.tooth = row.tooth;
+    point.side = row.side;
+    point.i = row.i;
+    point.j = row.j;
+    point.order = row.order;
+    point.line = row.line;
+    const auto [first, last] = gear_orders.at(row.gear);
+    PointContext& context = point.context;
+    context = point_context(row.p, row.n, row.n, row.order - first, last - first + 1, row.tooth,
+                            row.side, R);
+    context.base_radius_mm = 0.5 * pipeline.gear().base_diameter_mm();
+    context.teeth = pipeline.gear().teeth();
+
+    Eigen::Vector3d centre = row.p + R * row.n;  // nominal contact
+    const auto& plan = model_points(row.gear);
+    const auto found = plan.find(plan_key(row.tooth, row.side, row.i, row.j));
+    if (found != plan.end() && found->second.contact.status == ContactResult::Status::kOk &&
+        (found->second.p - row.p).norm() <= kSamePointMm) {
+      const ContactResult& contact = found->second.contact;
+      centre = contact.centre;
+      context.contact_normal = (contact.centre - contact.contact).normalized();
+    } else {
+      point.model_contact = false;
+      ++out.nominal_fallback;
+    }
+    const Eigen::Vector3d recorded = effects.apply_mean(context, values, centre);
+    point.predicted_um = reading_um(context, recorded);
+    point.measured_um = measured_deviation_um(row, R);
+    point.residual_um = point.measured_um - point.predicted_um;
+    out.points.push_back(point);
+  }
+  return out;
+}
+
+std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& points) {
+  std::map<std::tuple<int, int, int, int>, std::map<int, int>> scans;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const ResidualPoint& p = points[k];
+    scans[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = static_cast<int>(k);
+  }
+  std::vector<std::array<int, 3>> out;
+  for (const auto& [key, scan] : scans) {
+    if (scan.size() < 3) continue;
+    auto a = scan.begin();
+    auto b = std::next(a), c = std::next(b);
+    for (; c != scan.end(); ++a, ++b, ++c) {
+      if (b->first == a->first + 1 && c->first == b->first + 1) {
+        out.push_back({a->second, b->second, c->second});
+      }
+    }
+  }
+  return out;
+}
+
+double robust_noise_sigma(const std::vector<std::array<int, 3>>& triplets,
+                          const std::vector<double>& residual_um) {
+  std::vector<double> d;
+  d.reserve(triplets.size());
+  for (const auto& t : triplets) {
+    d.push_back(residual_um[t[0]] - 2.0 * residual_um[t[1]] + residual_um[t[2]]);
+  }
+  if (d.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return mad_sigma(std::move(d)) / std::sqrt(6.0);
+}
+
+double robust_noise_sigma(const std::vector<ResidualPoint>& points,
+                          const std::vector<double>& residual_um, int* count) {
+  const std::vector<std::array<int, 3>> triplets = scan_triplets(points);
+  if (count) *count = static_cast<int>(triplets.size());
+  return robust_noise_sigma(triplets, residual_um);
+}
+
+std::string_view spelling(NoiseFloorSource source) {
+  switch (source) {
+    case NoiseFloorSource::kModel:
+      return "model";
+    case NoiseFloorSource::kResidualSecondDifferences:
+      return "residual_second_differences";
+    case NoiseFloorSource::kResidualMad:
+      return "residual_mad";
+    case NoiseFloorSource::kNumericalFloor:
+      return "numerical_floor";
+    case NoiseFloorSource::kGiven:
+      return "given";
+  }
+  return "?";
+}
+
+NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals) {
+  NoiseFloor floor;
+  const PointLaw model_law = model.effects->point_law(model.effects->nominal());
+  const double variance = model_law.variance_um2();
+  floor.model_um = std::sqrt(variance);
+  std::vector<double> r;
+  r.reserve(residuals.points.size());
+  for (const ResidualPoint& p : residuals.points) r.push_back(p.residual_um);
+  floor.robust_um = robust_noise_sigma(residuals.points, r, &floor.differences);
+  floor.numerical_um = kNumericalFloorUm;
+  const int n = static_cast<int>(r.size());
+  if (floor.model_um > 0.0) {
+    floor.sigma_um = floor.model_um;
+    floor.source = NoiseFloorSource::kModel;
+    floor.law = model_law;
+  } else if (floor.differences >= kMinFloorSamples) {
+    floor.sigma_um = floor.robust_um;
+    floor.source = NoiseFloorSource::kResidualSecondDifferences;
+  } else if (n >= kMinFloorSamples) {
+    // Without enough scans of 3 points: the MAD of the residuals themselves (an upper bound).
+    floor.sigma_um = mad_sigma(r);
+    floor.source = NoiseFloorSource::kResidualMad;
+  } else {
+    floor.sigma_um = 0.0;
+    floor.source = NoiseFloorSource::kNumericalFloor;
+    floor.not_enough = "not enough readings: " + std::to_string(n) + ", need ≥ " +
+                       std::to_string(kMinFloorSamples) +
+                       " (or as many second differences along profile scans) to estimate the "
+                       "noise floor of a model without a random part";
+  }
+  if (!(floor.sigma_um >= floor.numerical_um)) {
+    floor.sigma_um = floor.numerical_um;
+    floor.at_numerical_floor = true;
+  }
+  if (floor.source != NoiseFloorSource::kModel)
+    floor.law = PointLaw{floor.sigma_um * floor.sigma_um, {}};
+  return floor;
+}
+
+}  // namespace gearmc

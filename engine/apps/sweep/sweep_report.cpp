@@ -1,0 +1,231 @@
+// sweep.csv, sweep.json and report.html of `gearmc sweep` (sweep_report.h).
+#include "engine/apps/sweep/sweep_report.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "core/number_text.h"
+#include "engine/reports/html_report.h"
+#include "engine/reports/svg_plot.h"
+
+namespace gearmc {
+namespace {
+
+const char* const kSides[3] = {"left", "right", "both"};
+
+// The value as a number when the whole text is one (e.g. "0.5"), else nullopt.
+std::optional<double> number_of(const std::string& text) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return {};
+  return v;
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+}  // namespace
+
+std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s) {
+  std::vector<std::array<SweepValue, 3>> values;
+  for (const RunResults& r : s.results) {
+    std::array<SweepValue, 3> v;
+    for (int side = 0; side < 3; ++side) {
+      v[side].value =
+          sweep_statistic_value(s.statistic, sweep_quantity(s.statistic, r, side), &v[side].note);
+    }
+    values.push_back(v);
+  }
+  return values;
+}
+
+std::string sweep_csv(const SweepOutcome& s) {
+  std::ostringstream csv;
+  csv << "# " << provenance_line(s.provenance) << "\n";
+  for (const SweepAxis& a : s.axes) csv << csv_field(a.key) << ",";
+  csv << "gears,contacts,failed_contacts";
+  for (const char* side : kSides) csv << "," << s.statistic.text << "_" << side << "_um";
+  csv << "\n";
+  const auto values = sweep_values(s);
+  for (std::size_t i = 0; i < s.points.size(); ++i) {
+    for (const std::string& v : s.points[i].values) csv << csv_field(v) << ",";
+    const RunResults& r = s.results[i];
+    csv << r.gears << "," << r.contacts << "," << r.failed_contacts;
+    for (const SweepValue& v : values[i]) {
+      csv << "," << (v.value ? shortest_text(*v.value) : std::string());
+    }
+    csv << "\n";
+  }
+  return csv.str();
+}
+
+nlohmann::ordered_json sweep_json(const SweepOutcome& s) {
+  nlohmann::ordered_json j;
+  j["provenance"] = provenance_json(s.provenance);
+  j["scenario"] = s.scenario_name;
+  j["source"] = s.source_path;
+  j["statistic"] = s.statistic.text;
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+  for (const SweepAxis& a : s.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
+  j["vary"] = axes;
+  const auto values = sweep_values(s);
+  nlohmann::ordered_json points = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < s.points.size(); ++i) {
+    nlohmann::ordered_json p;
+    nlohmann::ordered_json at;
+    for (std::size_t a = 0; a < s.axes.size(); ++a) at[s.axes[a].key] = s.points[i].values[a];
+    p["values"] = at;
+    const RunResults& r = s.results[i];
+    p["gears"] = r.gears;
+    p["seed"] = s.points[i].scenario.seed;
+    p["contacts"] = r.contacts;
+    p["failed_contacts"] = r.failed_contacts;
+    p["edge_contacts"] = r.edge_contacts;
+    p["collisions"] = r.collisions;
+    for (int side = 0; side < 3; ++side) {
+      const SweepValue& v = values[i][side];
+      p[kSides[side] + std::string("_um")] =
+          v.value ? nlohmann::ordered_json(*v.value) : nlohmann::ordered_json();
+      if (!v.value) p[kSides[side] + std::string("_note")] = v.note;
+    }
+    points.push_back(p);
+  }
+  j["points"] = points;
+  j["ranks"] = s.ranks;
+  j["threads"] = s.threads;
+  j["wall_s"] = s.wall_s;
+  return j;
+}
+
+std::vector<std::string> sweep_figures(const SweepOutcome& s) {
+  const auto values = sweep_values(s);
+  std::vector<std::string> figures;
+  const std::size_t axes = s.axes.size();
+  // Index of the point with the value index `at[a]` on every axis a (last axis fastest).
+  const auto point_index = [&](const std::vector<std::size_t>& at) {
+    std::size_t index = 0;
+    for (std::size_t a = 0; a < axes; ++a) index = index * s.axes[a].values.size() + at[a];
+    return index;
+  };
+  for (std::size_t x_axis = 0; x_axis < axes; ++x_axis) {
+    const SweepAxis& xa = s.axes[x_axis];
+    bool numeric = true;
+    for (const std::string& v : xa.values) numeric = numeric && number_of(v).has_value();
+    // One line per combination of the other axes' values.
+    std::size_t lines = 1;
+    for (std::size_t a = 0; a < axes; ++a) {
+      if (a != x_axis) lines *= s.axes[a].values.size();
+    }
+    std::vector<Series> series;
+    for (std::size_t line = 0; line < lines; ++line) {
+      std::vector<std::size_t> at(axes, 0);
+      std::size_t rest = line;
+      std::string label;
+      for (std::size_t a = axes; a-- > 0;) {
+        if (a == x_axis) continue;
+        at[a] = rest % s.axes[a].values.size();
+        rest /= s.axes[a].values.size();
+      }
+      for (std::size_t a = 0; a < axes; ++a) {
+        if (a == x_axis) continue;
+        label += (label.empty() ? "" : ", ") + s.axes[a].key + " = " + s.axes[a].values[at[a]];
+      }
+      Series line_series;
+      line_series.label = label;
+      line_series.style = SeriesStyle::kLineAndPoints;
+      for (std::size_t k = 0; k < xa.values.size(); ++k) {
+        at[x_axis] = k;
+        const SweepValue& v = values[point_index(at)][2];
+        line_series.x.push_back(numeric ? *number_of(xa.values[k]) : static_cast<double>(k));
+        line_series.y.push_back(v.value ? *v.value : std::nan(""));
+      }
+      // A line with exactly the values of an earlier one would hide it: one line, both labels.
+      bool merged = false;
+      for (Series& earlier : series) {
+        bool same = earlier.y.size() == line_series.y.size();
+        for (std::size_t k = 0; same && k < earlier.y.size(); ++k) {
+          same = earlier.y[k] == line_series.y[k] ||
+                 (std::isnan(earlier.y[k]) && std::isnan(line_series.y[k]));
+        }
+        if (same) {
+          const std::string tag = " (same values)";
+          if (earlier.label.size() >= tag.size() &&
+              earlier.label.compare(earlier.label.size() - tag.size(), tag.size(), tag) == 0) {
+            earlier.label.resize(earlier.label.size() - tag.size());
+          }
+          earlier.label += "; " + line_series.label + tag;
+          merged = true;
+          break;
+        }
+      }
+      if (!merged) series.push_back(std::move(line_series));
+    }
+    XYPlotOptions options;
+    options.title = s.statistic.text + " (both flanks) against " + xa.key;
+    options.x_label = numeric ? xa.key : xa.key + " (index of its values)";
+    options.y_label = s.statistic.text + ", µm";
+    options.y_from_zero = true;
+    options.width_px = 760;
+    options.height_px = 460;
+    figures.push_back(xy_plot_svg(series, options));
+  }
+  return figures;
+}
+
+std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::string>& figures) {
+  HtmlReport report("gearmc sweep: " + s.scenario_name);
+  std::string grid;
+  for (const SweepAxis& a : s.axes) {
+    grid += (grid.empty() ? "" : " × ") + a.key + " ∈ {";
+    for (std::size_t k = 0; k < a.values.size(); ++k) grid += (k ? ", " : "") + a.values[k];
+    grid += "}";
+  }
+  report.paragraph(
+      "Scenario " + s.source_path + ", grid " + grid + ": " + std::to_string(s.points.size()) +
+      " runs of " + std::to_string(s.points.empty() ? 0 : s.points[0].scenario.gears) +
+      " gears each (seed " + std::to_string(s.points.empty() ? 0 : s.points[0].scenario.seed) +
+      ", the same perturbed gears at every point). Statistic: " + s.statistic.text +
+      " in µm, of the left flanks, the right flanks and both together.");
+  for (std::size_t a = 0; a < figures.size(); ++a) {
+    report.figure(figures[a],
+                  s.statistic.text + " of both flanks against " + s.axes[a].key +
+                      (s.axes.size() > 1 ? "; one line per level of the other key(s)" : ""));
+  }
+  HtmlTable table;
+  table.caption = "Every grid point";
+  for (const SweepAxis& a : s.axes) table.header.push_back(a.key);
+  for (const char* h : {"gears", "contacts", "failed", "left, µm", "right, µm", "both, µm"}) {
+    table.header.push_back(h);
+  }
+  const auto values = sweep_values(s);
+  for (std::size_t i = 0; i < s.points.size(); ++i) {
+    HtmlTable::Row row;
+    row.cells = s.points[i].values;
+    const RunResults& r = s.results[i];
+    row.cells.push_back(std::to_string(r.gears));
+    row.cells.push_back(std::to_string(r.contacts));
+    row.cells.push_back(std::to_string(r.failed_contacts));
+    for (const SweepValue& v : values[i]) {
+      std::ostringstream text;
+      if (v.value) {
+        text.precision(4);
+        text << *v.value;
+      } else {
+        text << "— (" << v.note << ")";
+      }
+      row.cells.push_back(text.str());
+    }
+    table.rows.push_back(row);
+  }
+  report.table(table);
+  report.paragraph("Made by " + provenance_line(s.provenance) + ".");
+  return report.html();
+}
+
+}  // namespace gearmc

@@ -1,0 +1,40 @@
+// The outputs of `gearmc sweep` (docs/sweep.md): sweep.csv (one row per grid point), sweep.json
+// (the grid, the statistic per point for the left, right and both flanks, counts, provenance) and
+// report.html with one figure per varied key: the statistic (both flanks) against that key's
+// values, one line per level of the other keys. Values in µm.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/provenance.h"
+#include "engine/apps/sweep/sweep.h"
+
+namespace gearmc {
+
+struct SweepOutcome {
+  std::string scenario_name, source_path;
+  std::vector<SweepAxis> axes;
+  SweepStatistic statistic;
+  std::vector<SweepPoint> points;
+  std::vector<RunResults> results;  // one per point, in point order
+  int ranks = 1, threads = 1;
+  double wall_s = 0.0;
+  Provenance provenance;
+};
+
+// Statistic values per point: [point][side 0 L, 1 R, 2 both]; nullopt with a note when missing.
+struct SweepValue {
+  std::optional<double> value;
+  std::string note;
+};
+std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s);
+
+std::string sweep_csv(const SweepOutcome& s);
+nlohmann::ordered_json sweep_json(const SweepOutcome& s);
+// The figures: one SVG per axis (statistic of both flanks against the axis' values).
+std::vector<std::string> sweep_figures(const SweepOutcome& s);
+std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::string>& figures);
+
+}  // namespace gearmc

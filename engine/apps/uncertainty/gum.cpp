@@ -1,0 +1,147 @@
+// Implementation of gum.h; formulas cited there.
+#include "engine/apps/uncertainty/gum.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/special_functions.h"
+#include "engine/apps/uncertainty/model_function.h"
+
+namespace gearmc::uncertainty {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// h with x + h and x − h representable as written: h is rounded to (x + h) − x.
+double exact_step(double x, double h) {
+  volatile double xp = x + h;
+  return xp - x;
+}
+
+}  // namespace
+
+double welch_satterthwaite(double u_c, const std::vector<double>& contributions,
+                           const std::vector<double>& dof) {
+  double denom = 0.0;
+  for (std::size_t i = 0; i < contributions.size(); ++i) {
+    if (std::isinf(dof[i]) || contributions[i] == 0.0) continue;
+    denom += std::pow(contributions[i], 4) / dof[i];
+  }
+  if (denom == 0.0) return kInf;
+  return std::pow(u_c, 4) / denom;
+}
+
+double coverage_factor(double p, double nu_eff) {
+  const double q = 0.5 * (1.0 + p);
+  // Above 1e7 degrees of freedom t and normal differ by < 1e-7 relative.
+  if (std::isinf(nu_eff) || nu_eff > 1e7) return normal_quantile(q);
+  return student_t_quantile(q, std::max(1.0, std::floor(nu_eff)));
+}
+
+std::vector<std::vector<double>> sensitivities(ModelFunction& f, const std::vector<double>& x,
+                                               const std::vector<double>& steps) {
+  const std::size_t n = x.size(), m = f.outputs();
+  std::vector<std::vector<double>> c(m, std::vector<double>(n, 0.0));
+  std::vector<double> xp = x, yp(m), ym(m);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double h = steps[i];
+    xp[i] = x[i] + h;
+    f.evaluate(xp.data(), yp.data());
+    xp[i] = x[i] - h;
+    f.evaluate(xp.data(), ym.data());
+    xp[i] = x[i];
+    for (std::size_t j = 0; j < m; ++j) c[j][i] = (yp[j] - ym[j]) / (2.0 * h);
+  }
+  return c;
+}
+
+GumResult evaluate_gum(const UncertaintyModel& model) {
+  ModelFunction f(model);
+  const std::size_t n = model.inputs.size(), m = f.outputs();
+  GumResult r;
+  r.second_order = model.settings.second_order;
+  std::vector<double> steps(n), dof(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Law& law = model.inputs[i].law;
+    r.x.push_back(law.mean());
+    r.u.push_back(law.gum_u());
+    dof[i] = model.inputs[i].dof;
+    const double h =
+        r.u[i] > 0 ? kSensitivityStepFraction * r.u[i] : 1e-6 * std::max(1.0, std::fabs(r.x[i]));
+    steps[i] = exact_step(r.x[i], h);
+  }
+  std::vector<double> y(m);
+  f.evaluate(r.x.data(), y.data());
+  const auto c = sensitivities(f, r.x, steps);
+
+  // Higher-order terms (JCGM 100 5.1.2 note) with steps h_i = 1e-2 u_i.
+  std::vector<double> second(m, 0.0);
+  if (r.second_order) {
+    std::vector<double> H(n);
+    for (std::size_t i = 0; i < n; ++i) H[i] = r.u[i] > 0 ? exact_step(r.x[i], 1e-2 * r.u[i]) : 0.0;
+    std::vector<double> xx = r.x, out(m);
+    auto at = [&](std::size_t i, double di, std::size_t j, double dj, std::size_t k) {
+      xx = r.x;
+      xx[i] += di;
+      xx[j] += dj;
+      f.evaluate(xx.data(), out.data());
+      return out[k];
+    };
+    for (std::size_t k = 0; k < m; ++k) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (H[i] == 0) continue;
+        for (std::size_t j = 0; j < n; ++j) {
+          if (H[j] == 0) continue;
+          const double hi = H[i], hj = H[j];
+          double d2 = 0.0, d3 = 0.0;
+          if (i == j) {
+            const double fp = at(i, hi, i, 0, k), fm = at(i, -hi, i, 0, k), f0 = y[k];
+            const double fp2 = at(i, 2 * hi, i, 0, k), fm2 = at(i, -2 * hi, i, 0, k);
+            d2 = (fp - 2 * f0 + fm) / (hi * hi);
+            d3 = (fp2 - 2 * fp + 2 * fm - fm2) / (2 * hi * hi * hi);
+          } else {
+            d2 = (at(i, hi, j, hj, k) - at(i, hi, j, -hj, k) - at(i, -hi, j, hj, k) +
+                  at(i, -hi, j, -hj, k)) /
+                 (4 * hi * hj);
+            // ∂³f/∂xi∂xj² = [D_jj f(x + h_i e_i) − D_jj f(x − h_i e_i)] / (2 h_i)
+            const double djj_p =
+                (at(i, hi, j, hj, k) - 2 * at(i, hi, j, 0, k) + at(i, hi, j, -hj, k)) / (hj * hj);
+            const double djj_m =
+                (at(i, -hi, j, hj, k) - 2 * at(i, -hi, j, 0, k) + at(i, -hi, j, -hj, k)) /
+                (hj * hj);
+            d3 = (djj_p - djj_m) / (2 * hi);
+          }
+          second[k] += (0.5 * d2 * d2 + c[k][i] * d3) * r.u[i] * r.u[i] * r.u[j] * r.u[j];
+        }
+      }
+    }
+  }
+
+  const double p = model.settings.coverage_probability;
+  for (std::size_t k = 0; k < m; ++k) {
+    GumOutput o;
+    o.name = model.outputs[k].name;
+    o.estimate = y[k];
+    o.sensitivities = c[k];
+    double var = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      o.contributions.push_back(std::fabs(c[k][i]) * r.u[i]);
+      for (std::size_t j = 0; j < n; ++j) {
+        var += c[k][i] * c[k][j] * model.correlation(Eigen::Index(i), Eigen::Index(j)) * r.u[i] *
+               r.u[j];
+      }
+    }
+    o.u_first_order = std::sqrt(std::max(0.0, var));
+    o.second_order_variance = second[k];
+    o.u = std::sqrt(std::max(0.0, var + second[k]));
+    o.nu_eff = welch_satterthwaite(o.u, o.contributions, dof);
+    o.k = coverage_factor(p, o.nu_eff);
+    o.U = o.k * o.u;
+    o.lo = o.estimate - o.U;
+    o.hi = o.estimate + o.U;
+    r.outputs.push_back(std::move(o));
+  }
+  return r;
+}
+
+}  // namespace gearmc::uncertainty

@@ -1,0 +1,377 @@
+// The gear parameters of every simulated measurement (see parameter_evaluation.h).
+#include "engine/evaluation/parameter_evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/contact/contact.h"
+#include "engine/effects/measurement_effect.h"
+#include "surfaces/analytic_flank.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The grid coordinate nearest `target` (first on ties).
+int nearest(const std::vector<double>& values, double target) {
+  int best = 0;
+  for (int i = 1; i < static_cast<int>(values.size()); ++i) {
+    if (std::abs(values[i] - target) < std::abs(values[best] - target)) best = i;
+  }
+  return best;
+}
+
+}  // namespace
+
+ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const EvaluationSpec& spec)
+    : model_(model), spec_(spec) {
+  const InvoluteGear& gear = model.gear();
+  const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
+  const double b = gear.face_width_mm();
+  profile_start_ = L0;
+  profile_end_ = L0 + spec.profile_end_fraction * (L1 - L0);
+  const double c = spec.helix_end_exclusion_mm.value_or(std::min(0.05 * b, gear.module_mm()));
+  helix_start_ = c;
+  helix_end_ = b - c;
+  const double r = gear.reference_diameter_mm() / 2, rb = gear.base_diameter_mm() / 2;
+  reference_L_ = std::sqrt(r * r - rb * rb);
+  ball_L_ = 0.5 * (profile_start_ + profile_end_);
+
+  // Which parameters the plan allows.
+  const std::vector<PlanFlank>& flanks = model.flanks();
+  const bool every_tooth = model.probed_teeth() == gear.teeth();
+  const bool both_sides = model.scenario().probing.left && model.scenario().probing.right;
+  for (const std::string& symbol : spec.parameters) {
+    const GearParameter p = *parameter_from_symbol(symbol);
+    const bool pitch = p == GearParameter::kfpt || p == GearParameter::kFp;
+    if ((pitch || p == GearParameter::kFr) && !every_tooth) {
+      notes_.push_back(symbol + ": not evaluated, not every tooth is probed (probing.teeth)");
+      continue;
+    }
+    if (p == GearParameter::kFr && !both_sides) {
+      notes_.push_back(symbol + ": not evaluated, the ball needs both flanks of every space");
+      continue;
+    }
+    parameters_.push_back(p);
+  }
+
+  // Where the traces run: the grid's section nearest mid face and column nearest mid profile, or
+  // the dedicated scans there.
+  std::vector<double> Ls, zs;
+  if (!flanks.empty()) {
+    for (const PlanPoint& q : flanks.front().points) {
+      if (q.j == 0) Ls.push_back(q.roll_length_mm);
+      if (q.i == 0) zs.push_back(q.z_mm);
+    }
+  }
+  grid_section_ = nearest(zs, 0.5 * (helix_start_ + helix_end_));
+  grid_column_ = nearest(Ls, ball_L_);
+  profile_z_ =
+      spec.profile_points > 0 || zs.empty() ? 0.5 * (helix_start_ + helix_end_) : zs[grid_section_];
+  helix_L_ = spec.helix_points > 0 || Ls.empty() ? ball_L_ : Ls[grid_column_];
+  if (spec.profile_points > 0 || spec.helix_points > 0) {
+    const double R = model.stylus_radius_mm();
+    int order = model.sequence_length();  // the scans follow the grid, flank after flank
+    for (const PlanFlank& f : flanks) {
+      PlanFlank& s = scans_.emplace_back();
+      s.tooth = f.tooth;
+      s.side = f.side;
+      s.mesh = f.mesh;
+      auto add = [&](int i, int j, double L, double z) {
+        PlanPoint& q = s.points.emplace_back();
+        q.tooth = f.tooth;
+        q.side = f.side;
+        q.i = i;
+        q.j = j;
+        q.roll_length_mm = L;
+        q.z_mm = z;
+        q.nominal = gear.flank_point(f.tooth, f.side, L, z);
+        q.order = order++;
+        q.clearance_mm =
+            tooth_space_clearance(gear, f.tooth, f.side, q.nominal.point + R * q.nominal.normal,
+                                  q.nominal.normal, R, kProbeApproachMm)
+                .smallest();
+      };
+      const int np = spec.profile_points, nh = spec.helix_points;
+      for (int i = 0; i < np; ++i) {
+        add(i, 0, profile_start_ + (profile_end_ - profile_start_) * i / (np - 1), profile_z_);
+      }
+      for (int j = 0; j < nh; ++j) {
+        add(0, 1 + j, helix_L_, helix_start_ + (helix_end_ - helix_start_) * j / (nh - 1));
+      }
+    }
+  }
+  balls_ = ball_contacts(gear, ball_L_, profile_z_);
+}
+
+ParameterEvaluator::~ParameterEvaluator() = default;
+
+bool ParameterEvaluator::evaluates(GearParameter p) const {
+  return std::find(parameters_.begin(), parameters_.end(), p) != parameters_.end();
+}
+
+int ParameterEvaluator::effect_count() const { return static_cast<int>(model_.effects().size()); }
+
+ParameterEvaluator::Gear::Gear(const ParameterEvaluator& evaluator,
+                               const GearMeasurement& measurement)
+    : e_(evaluator), measurement_(measurement) {
+  grid_.resize(e_.model_.flanks().size());
+  for (std::size_t f = 0; f < grid_.size(); ++f) {
+    grid_[f].resize(e_.model_.flanks()[f].points.size());
+  }
+}
+
+void ParameterEvaluator::Gear::record(int flank_index, const PointMeasurement& m) {
+  const PlanFlank& flank = e_.model_.flanks()[static_cast<std::size_t>(flank_index)];
+  const std::size_t at = static_cast<std::size_t>(m.plan - flank.points.data());
+  // Only the points of the traces are kept (the grid's mid section and column).
+  const bool in_profile = e_.spec_.profile_points == 0 && m.plan->j == e_.grid_section_;
+  const bool in_helix = e_.spec_.helix_points == 0 && m.plan->i == e_.grid_column_;
+  if (!in_profile && !in_helix) return;
+  PointRecord& r = grid_[static_cast<std::size_t>(flank_index)][at];
+  r.recorded = true;
+  r.valid = m.valid();
+  if (!r.valid) return;
+  const Eigen::Vector3d& p = m.plan->nominal.point;
+  const Eigen::Vector3d& n = m.plan->nominal.normal;
+  const double R = e_.model_.stylus_radius_mm();
+  r.measured_um = 1e3 * ((m.recorded_centre - p).dot(n) - R);
+  r.base_um = 1e3 * (m.contact.contact - p).dot(n) + m.contact.normal_error_um;
+  r.contributions.assign(m.contributions.begin(), m.contributions.end());
+}
+
+GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
+  // Probe the dedicated scans through the same pipeline.
+  std::vector<std::vector<PointRecord>> scans(e_.scans_.size());
+  for (std::size_t f = 0; f < e_.scans_.size(); ++f) {
+    const PlanFlank& s = e_.scans_[f];
+    scans[f].resize(s.points.size());
+    measurement_.measure_flank(s, [&](const PointMeasurement& m) {
+      PointRecord& r = scans[f][static_cast<std::size_t>(m.plan - s.points.data())];
+      r.recorded = true;
+      r.valid = m.valid();
+      if (!r.valid) return;
+      const Eigen::Vector3d& p = m.plan->nominal.point;
+      const Eigen::Vector3d& n = m.plan->nominal.normal;
+      r.measured_um = 1e3 * ((m.recorded_centre - p).dot(n) - e_.model_.stylus_radius_mm());
+      r.base_um = 1e3 * (m.contact.contact - p).dot(n) + m.contact.normal_error_um;
+      r.contributions.assign(m.contributions.begin(), m.contributions.end());
+    });
+  }
+
+  const MeasurementModel& model = e_.model_;
+  const InvoluteGear& gear = model.gear();
+  const PerturbedGear& g = measurement_.perturbed();
+  const int effects = e_.effect_count();
+  // Variants of a trace: 0 measured, 1 true at the points, 2 … 1+E one effect alone, 2+E
+  // δRcomp alone (budget only with effects).
+  const int variants = effects > 0 ? 3 + effects : 2;
+  GearParameterValues out;
+  const auto put = [&](GearParameter p, int side, const std::vector<double>& v, double dense) {
+    if (!e_.evaluates(p)) return;
+    ParameterValue value;
+    value.measured = v[0];
+    value.true_points = v[1];
+    value.true_dense = dense;
+    value.budget.assign(v.begin() + 2, v.end());
+    out.values[static_cast<int>(p)][side].push_back(std::move(value));
+  };
+
+  // Per flank: the profile and helix traces' variants; the pitch and ball deviations.
+  const int teeth = gear.teeth();
+  std::vector<std::vector<double>> pitch_u[2], ball_d[2];  // [side][variant][tooth-1]
+  std::vector<double> pitch_dense[2], ball_dense[2];
+  for (int s = 0; s < 2; ++s) {
+    pitch_u[s].assign(variants, std::vector<double>(teeth, kNaN));
+    ball_d[s].assign(variants, std::vector<double>(teeth, kNaN));
+    pitch_dense[s].assign(teeth, kNaN);
+    ball_dense[s].assign(teeth, kNaN);
+  }
+  const std::vector<PlanFlank>& flanks = model.flanks();
+  const double alpha = gear.pressure_angle_rad();
+  for (std::size_t f = 0; f < flanks.size(); ++f) {
+    const PlanFlank& flank = flanks[f];
+    const int s = flank.side == FlankSide::kRight ? 1 : 0;
+    const AnalyticFlank surface(gear, flank.tooth, flank.side, g.flank(flank.tooth, flank.side),
+                                g.eccentricity_mm, model.expression());
+    // The real surface's deviation along the nominal normal line through the nominal point
+    // (L, z) — where a probe moving along that line meets it. The surface point of the same
+    // parameters is moved sideways by the eccentricity e (up to ~10 µm; times a slope of a few
+    // µm/mm that is tens of nm): one Newton step on L puts it on the line, (S(L') − p)·t = 0
+    // with |∂S/∂L| = L / r_b on the involute (the deviation changes it by a relative 1e-3);
+    // what remains is second order in e (ΔL² times the involute's curvature: a few pm).
+    const double rb = gear.base_diameter_mm() / 2;
+    const auto true_deviation = [&](double L, double z) {
+      const FlankPoint nominal = gear.flank_point(flank.tooth, flank.side, L, z);
+      const double off_line = (surface.point(L, z) - nominal.point).dot(nominal.profile_tangent);
+      const double at = L - off_line * rb / L;
+      return 1e3 * (surface.point(at, z) - nominal.point).dot(nominal.normal);
+    };
+    // One trace: its points (records with their abscissa), evaluated in every variant.
+    struct Sample {
+      double x;
+      const PointRecord* record;
+      double L, z;
+    };
+    const auto trace_samples = [&](bool profile) {
+      std::vector<Sample> samples;
+      const bool scanned = profile ? e_.spec_.profile_points > 0 : e_.spec_.helix_points > 0;
+      if (scanned) {
+        const PlanFlank& scan = e_.scans_[f];
+        for (std::size_t k = 0; k < scan.points.size(); ++k) {
+          const PlanPoint& q = scan.points[k];
+          if ((q.j == 0) != profile) continue;
+          samples.push_back(
+              {profile ? q.roll_length_mm : q.z_mm, &scans[f][k], q.roll_length_mm, q.z_mm});
+        }
+      } else {
+        for (std::size_t k = 0; k < flank.points.size(); ++k) {
+          const PlanPoint& q = flank.points[k];
+          if (profile ? q.j != e_.grid_section_ : q.i != e_.grid_column_) continue;
+          samples.push_back(
+              {profile ? q.roll_length_mm : q.z_mm, &grid_[f][k], q.roll_length_mm, q.z_mm});
+        }
+      }
+      std::sort(samples.begin(), samples.end(),
+                [](const Sample& a, const Sample& b) { return a.x < b.x; });
+      return samples;
+    };
+    for (const bool profile : {true, false}) {
+      const std::vector<Sample> samples = trace_samples(profile);
+      std::vector<double> x;
+      std::vector<std::vector<double>> d(variants);
+      FlankTrace chart;
+      chart.tooth = flank.tooth;
+      chart.side = flank.side;
+      for (const Sample& sample : samples) {
+        chart.x_mm.push_back(sample.x);
+        const double t = true_deviation(sample.L, sample.z);
+        chart.true_um.push_back(t);
+        chart.measured_um.push_back(sample.record->valid ? sample.record->measured_um : kNaN);
+        if (!sample.record->valid) continue;
+        x.push_back(sample.x);
+        d[0].push_back(sample.record->measured_um);
+        d[1].push_back(t);
+        for (int e = 0; e < effects; ++e) {
+          const double c = e < static_cast<int>(sample.record->contributions.size())
+                               ? sample.record->contributions[e]
+                               : 0.0;
+          d[2 + e].push_back(sample.record->base_um + c);
+        }
+        if (effects > 0) d[2 + effects].push_back(sample.record->base_um);
+      }
+      const double a = profile ? e_.profile_start_ : e_.helix_start_;
+      const double b = profile ? e_.profile_end_ : e_.helix_end_;
+      const int n_dense = e_.spec_.truth_points;
+      std::vector<double> xd(n_dense), dd(n_dense);
+      for (int i = 0; i < n_dense; ++i) {
+        xd[i] = a + (b - a) * i / (n_dense - 1);
+        dd[i] = profile ? true_deviation(xd[i], e_.profile_z_) : true_deviation(e_.helix_L_, xd[i]);
+      }
+      const auto dense = evaluate_trace_over(xd, dd, a, b);
+      std::vector<std::optional<TraceResult>> results(variants);
+      for (int v = 0; v < variants; ++v) results[v] = evaluate_trace_over(x, d[v], a, b);
+      const auto column = [&](auto field) {
+        std::vector<double> values(variants);
+        for (int v = 0; v < variants; ++v) values[v] = results[v] ? field(*results[v]) : kNaN;
+        return values;
+      };
+      const auto total = [](const TraceResult& r) { return r.total_um; };
+      const auto slope = [](const TraceResult& r) { return r.slope_um; };
+      const auto form = [](const TraceResult& r) { return r.form_um; };
+      put(profile ? GearParameter::kFalpha : GearParameter::kFbeta, s, column(total),
+          dense->total_um);
+      put(profile ? GearParameter::kfHalpha : GearParameter::kfHbeta, s, column(slope),
+          dense->slope_um);
+      put(profile ? GearParameter::kffalpha : GearParameter::kffbeta, s, column(form),
+          dense->form_um);
+      if (keep_traces) {
+        chart.dense_x_mm = xd;
+        chart.dense_um = dd;
+      }
+      chart.range_start_mm = a;
+      chart.range_end_mm = b;
+      if (results[0]) chart.measured_line = *results[0];
+      if (keep_traces)
+        (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
+      if (profile && x.size() >= 2) {
+        const int k = flank.tooth - 1;
+        for (int v = 0; v < variants; ++v) {
+          pitch_u[s][v][k] =
+              flank_arc_position_um(flank.side, interpolate_trace(x, d[v], e_.reference_L_), alpha);
+          ball_d[s][v][k] = interpolate_trace(x, d[v], e_.ball_L_);
+        }
+        pitch_dense[s][k] = flank_arc_position_um(
+            flank.side, true_deviation(e_.reference_L_, e_.profile_z_), alpha);
+        ball_dense[s][k] = true_deviation(e_.ball_L_, e_.profile_z_);
+      }
+    }
+  }
+  const auto complete = [](const std::vector<double>& v) {
+    return std::none_of(v.begin(), v.end(), [](double x) { return std::isnan(x); });
+  };
+  // Pitch per side: every tooth's position is needed.
+  if (e_.evaluates(GearParameter::kfpt) || e_.evaluates(GearParameter::kFp)) {
+    for (int s = 0; s < 2; ++s) {
+      if (!complete(pitch_dense[s]) && std::all_of(pitch_dense[s].begin(), pitch_dense[s].end(),
+                                                   [](double x) { return std::isnan(x); })) {
+        continue;  // the side is not probed
+      }
+      std::vector<PitchResult> r(variants);
+      std::vector<bool> ok(variants);
+      for (int v = 0; v < variants; ++v) {
+        ok[v] = complete(pitch_u[s][v]);
+        if (ok[v]) r[v] = evaluate_pitch(pitch_u[s][v]);
+      }
+      const PitchResult dense = evaluate_pitch(pitch_dense[s]);
+      for (int k = 0; k < teeth; ++k) {
+        std::vector<double> v(variants);
+        for (int i = 0; i < variants; ++i) v[i] = ok[i] ? r[i].single_um[k] : kNaN;
+        put(GearParameter::kfpt, s, v, dense.single_um[k]);
+      }
+      std::vector<double> v(variants);
+      for (int i = 0; i < variants; ++i) v[i] = ok[i] ? r[i].cumulative_um : kNaN;
+      put(GearParameter::kFp, s, v, dense.cumulative_um);
+      out.traces.pitch_measured[s] = ok[0] ? r[0].single_um : std::vector<double>(teeth, kNaN);
+      out.traces.pitch_true[s] = dense.single_um;
+    }
+  }
+  if (e_.evaluates(GearParameter::kFr) && complete(ball_dense[0]) && complete(ball_dense[1])) {
+    std::vector<double> v(variants);
+    for (int i = 0; i < variants; ++i) {
+      v[i] = complete(ball_d[1][i]) && complete(ball_d[0][i])
+                 ? runout_um(e_.balls_, ball_d[1][i], ball_d[0][i])
+                 : kNaN;
+    }
+    put(GearParameter::kFr, 0, v, runout_um(e_.balls_, ball_dense[1], ball_dense[0]));
+    for (int k = 0; k < teeth; ++k) {
+      const int next = (k + 1) % teeth;
+      out.traces.ball_measured.push_back(
+          complete(ball_d[1][0]) && complete(ball_d[0][0])
+              ? ball_radial_displacement_um(e_.balls_[k], ball_d[1][0][k], ball_d[0][0][next])
+              : kNaN);
+      out.traces.ball_true.push_back(
+          ball_radial_displacement_um(e_.balls_[k], ball_dense[1][k], ball_dense[0][next]));
+    }
+  }
+  return out;
+}
+
+void ParameterSamples::append(int gear, GearParameterValues&& g) {
+  for (int p = 0; p < kGearParameterCount; ++p) {
+    for (int s = 0; s < 2; ++s) {
+      auto& to = values[p][s];
+      auto& from = g.values[p][s];
+      to.insert(to.end(), std::make_move_iterator(from.begin()),
+                std::make_move_iterator(from.end()));
+    }
+  }
+  if (!chart_gear) {
+    chart_gear = gear;
+    chart = std::move(g.traces);
+  }
+}
+
+}  // namespace gearmc

@@ -1,0 +1,340 @@
+// The gear parameters of a run: statistics, conformity, JSON, terminal, figures (see
+// parameter_report.h).
+#include "engine/reports/parameter_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "engine/effects/measurement_effect.h"
+#include "engine/reports/svg_plot.h"
+#include "engine/statistics/histogram_bins.h"
+#include "engine/statistics/stats_json.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kCoverageFactor = 2.0;  // U = k u_c, k = 2 (about 95 % for a normal law)
+
+std::string fixed(double v, int decimals) {
+  if (!std::isfinite(v)) return "–";
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
+  return b;
+}
+std::string signed_fixed(double v, int decimals) {
+  if (!std::isfinite(v)) return "–";
+  char b[64];
+  std::snprintf(b, sizeof b, "%+.*f", decimals, v);
+  return b;
+}
+std::string percent(double fraction) { return fixed(100.0 * fraction, 2) + " %"; }
+
+nlohmann::ordered_json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+}
+
+nlohmann::ordered_json moments_json(const RunningStats& m) {
+  nlohmann::ordered_json j;
+  j["n"] = m.count();
+  j["mean"] = number_or_null(m.count() ? m.mean() : NAN);
+  j["std"] = number_or_null(m.count() > 1 ? m.stddev() : NAN);
+  return j;
+}
+
+nlohmann::ordered_json full_stats(const RunningStats& m, const RelativeHistogram& h) {
+  if (m.count() == 0) return moments_json(m);
+  return stats_json(m, h, freedman_diaconis_bins({&h}));
+}
+
+const char* rule_name(DecisionRule r) {
+  return r == DecisionRule::kSimple ? "simple" : "guard_banded";
+}
+
+nlohmann::ordered_json rates_json(const DecisionRates& r) {
+  return {{"items", r.items},
+          {"accepted", r.accepted},
+          {"nonconforming", r.nonconforming},
+          {"false_accepts", r.false_accepts},
+          {"false_rejects", r.false_rejects},
+          {"false_accept", r.false_accept_rate()},
+          {"false_reject", r.false_reject_rate()}};
+}
+
+}  // namespace
+
+std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
+                                                        const RunResults& r) {
+  const ParameterEvaluator* evaluator = mc.parameter_evaluator();
+  if (evaluator == nullptr || !r.parameters) return std::nullopt;
+  ParameterPresentation view;
+  view.notes = evaluator->notes();
+  const EffectChain& effects = mc.model().effects();
+  for (std::size_t e = 0; e < effects.size(); ++e) {
+    view.budget_sources.emplace_back(effects.effect(e).name());
+  }
+  if (!effects.empty()) view.budget_sources.emplace_back("δRcomp alone");
+  const ToleranceSet& tolerances = mc.tolerances();
+  for (const GearParameter p : evaluator->parameters()) {
+    ParameterSummary summary;
+    summary.parameter = p;
+    const auto& values = r.parameters->values[static_cast<int>(p)];
+    ParameterConformity& c = summary.conformity;
+    const ToleranceKind kind = parameter_tolerance_kind(p);
+    c.tolerance_um = tolerances.get_um(kind);
+    c.tolerance_symbol = tolerance_symbol(kind, tolerances.standard).value_or("");
+    c.two_sided = parameter_signed(p);
+    c.rule = evaluator->spec().decision_rule == "guard_banded" ? DecisionRule::kGuardBanded
+                                                               : DecisionRule::kSimple;
+    std::vector<double> all_true, all_measured;
+    RunningStats all_error;
+    for (int s = 0; s < 2; ++s) {
+      if (values[s].empty()) continue;
+      ParameterSideSummary side;
+      side.side = p == GearParameter::kFr ? "both" : (s == 0 ? "left" : "right");
+      side.budget.resize(view.budget_sources.size());
+      for (const ParameterValue& v : values[s]) {
+        ++side.items;
+        if (!std::isfinite(v.measured) || !std::isfinite(v.true_dense) ||
+            !std::isfinite(v.true_points)) {
+          ++side.not_evaluated;
+          continue;
+        }
+        const double error = v.measured - v.true_dense;
+        side.true_moments.add(v.true_dense);
+        side.true_values.add(v.true_dense);
+        side.measured_moments.add(v.measured);
+        side.measured_values.add(v.measured);
+        side.error_moments.add(error);
+        side.error_values.add(error);
+        side.errors.push_back(error);
+        side.measurement_error.add(v.measured - v.true_points);
+        side.sampling_error.add(v.true_points - v.true_dense);
+        for (std::size_t b = 0; b < v.budget.size() && b < side.budget.size(); ++b) {
+          if (std::isfinite(v.budget[b])) side.budget[b].add(v.budget[b] - v.true_points);
+        }
+        all_true.push_back(v.true_dense);
+        all_measured.push_back(v.measured);
+        all_error.add(error);
+      }
+      std::sort(side.errors.begin(), side.errors.end());
+      if (side.error_moments.count() > 0) {
+        side.bias_um = side.error_moments.mean();
+        side.u_um = side.error_moments.count() > 1 ? side.error_moments.stddev() : 0.0;
+        // The bias is not corrected in a reading, so U covers it: U = k √(u² + b²).
+        side.U95_um = kCoverageFactor * std::hypot(side.u_um, side.bias_um);
+        side.interval95 = shortest_coverage_interval(side.errors, 0.95);
+      }
+      if (side.not_evaluated > 0) {
+        view.notes.push_back(parameter_symbol(p) + " " + side.side + ": " +
+                             std::to_string(side.not_evaluated) + " of " +
+                             std::to_string(side.items) +
+                             " items without a value (too few valid points in a trace)");
+      }
+      c.guard_band_um = std::max(c.guard_band_um, side.U95_um);
+      summary.sides.push_back(std::move(side));
+    }
+    if (c.tolerance_um) {
+      const double T = *c.tolerance_um;
+      c.tolerance = c.two_sided ? ToleranceLimits{-T, T} : ToleranceLimits{std::nullopt, T};
+      const ToleranceLimits simple = acceptance_limits(c.tolerance, DecisionRule::kSimple, 0.0);
+      const ToleranceLimits guarded =
+          acceptance_limits(c.tolerance, DecisionRule::kGuardBanded, c.guard_band_um);
+      c.acceptance = c.rule == DecisionRule::kSimple ? simple : guarded;
+      c.simple = decision_rates(all_true, all_measured, c.tolerance, simple);
+      c.guard_banded = decision_rates(all_true, all_measured, c.tolerance, guarded);
+      if (all_error.count() > 1) {
+        double worst = all_measured.front();
+        for (double y : all_measured) {
+          if (c.two_sided ? std::abs(y) > std::abs(worst) : y > worst) worst = y;
+        }
+        c.worst_measured_um = worst;
+        c.conformance_probability_of_worst = conformance_probability(
+            worst - all_error.mean(), all_error.stddev(), c.tolerance.lower, c.tolerance.upper);
+      }
+    }
+    view.parameters.push_back(std::move(summary));
+  }
+  return view;
+}
+
+void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc,
+                        const ParameterPresentation& p) {
+  const ParameterEvaluator& e = *mc.parameter_evaluator();
+  const EvaluationSpec& spec = e.spec();
+  nlohmann::ordered_json how;
+  how["standard"] = "ISO 1328-1:2013";
+  how["error_definition"] =
+      "measured - true; true = the evaluation of the real surface on a "
+      "dense trace";
+  how["coverage_factor"] = kCoverageFactor;
+  how["U95_definition"] = "k * sqrt(u^2 + bias^2) (the bias is not corrected in a reading)";
+  how["profile_range_mm"] = {e.profile_start_mm(), e.profile_end_mm()};
+  how["helix_range_mm"] = {e.helix_start_mm(), e.helix_end_mm()};
+  how["profile_trace"] =
+      spec.profile_points > 0
+          ? "dedicated scan of " + std::to_string(spec.profile_points) + " points at mid face"
+          : std::string("the probing grid's section nearest mid face");
+  how["helix_trace"] =
+      spec.helix_points > 0
+          ? "dedicated scan of " + std::to_string(spec.helix_points) + " points at mid profile"
+          : std::string("the probing grid's column nearest mid profile");
+  how["truth_points"] = spec.truth_points;
+  how["decision_rule"] = spec.decision_rule;
+  how["budget_sources"] = p.budget_sources;
+  how["notes"] = p.notes;
+  summary["parameter_evaluation"] = how;
+
+  nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
+  nlohmann::ordered_json conformity = nlohmann::ordered_json::object();
+  for (const ParameterSummary& s : p.parameters) {
+    const std::string& symbol = parameter_symbol(s.parameter);
+    nlohmann::ordered_json sides = nlohmann::ordered_json::object();
+    for (const ParameterSideSummary& side : s.sides) {
+      nlohmann::ordered_json j;
+      j["items"] = side.items;
+      j["not_evaluated"] = side.not_evaluated;
+      j["true"] = full_stats(side.true_moments, side.true_values);
+      j["measured"] = full_stats(side.measured_moments, side.measured_values);
+      j["error"] = full_stats(side.error_moments, side.error_values);
+      j["bias_um"] = side.bias_um;
+      j["u_um"] = side.u_um;
+      j["U95_um"] = side.U95_um;
+      j["interval95_um"] = side.interval95
+                               ? nlohmann::ordered_json{side.interval95->lo, side.interval95->hi}
+                               : nlohmann::ordered_json();
+      if (!side.interval95) {
+        j["interval95_note"] = "not enough values: the shortest 95 % interval needs at least 21";
+      }
+      j["measurement_error"] = moments_json(side.measurement_error);
+      j["sampling_error"] = moments_json(side.sampling_error);
+      if (!side.budget.empty()) {
+        nlohmann::ordered_json budget = nlohmann::ordered_json::array();
+        for (std::size_t b = 0; b < side.budget.size(); ++b) {
+          nlohmann::ordered_json line = moments_json(side.budget[b]);
+          line["source"] = p.budget_sources[b];
+          budget.push_back(line);
+        }
+        j["error_budget"] = budget;
+      }
+      sides[side.side] = j;
+    }
+    parameters[symbol] = sides;
+    const ParameterConformity& c = s.conformity;
+    nlohmann::ordered_json k;
+    k["tolerance_um"] = c.tolerance_um ? nlohmann::ordered_json(*c.tolerance_um) : nullptr;
+    k["tolerance_symbol"] = c.tolerance_symbol;
+    k["two_sided"] = c.two_sided;
+    k["decision_rule"] = rule_name(c.rule);
+    if (!c.tolerance_um) {
+      k["note"] = "the scenario's tolerance set has no value for this parameter";
+    } else {
+      k["acceptance_limit_um"] = *c.acceptance.upper;
+      k["guard_band_um"] = c.guard_band_um;
+      k["false_accept"] = c.chosen().false_accept_rate();
+      k["false_reject"] = c.chosen().false_reject_rate();
+      k["rates"] = {{"simple", rates_json(c.simple)}, {"guard_banded", rates_json(c.guard_banded)}};
+      k["worst_measured_um"] = c.worst_measured_um;
+      k["conformance_probability_of_worst"] = c.conformance_probability_of_worst;
+    }
+    conformity[symbol] = k;
+  }
+  summary["parameters"] = parameters;
+  summary["conformity"] = conformity;
+}
+
+void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
+                            const ParameterPresentation& p) {
+  const ParameterEvaluator& e = *mc.parameter_evaluator();
+  out << "\nGear parameters (ISO 1328-1:2013), µm; error = measured − true (dense trace); "
+         "U = 2·√(u² + bias²)\n";
+  char line[512];
+  std::snprintf(line, sizeof line, "%-9s %-5s %6s %9s %9s %8s %7s %7s %19s %8s %8s\n", "parameter",
+                "side", "n", "true", "measured", "bias", "u", "U", "95 % interval", "meas.err",
+                "sampl.err");
+  out << line;
+  for (const ParameterSummary& s : p.parameters) {
+    for (const ParameterSideSummary& side : s.sides) {
+      const bool any = side.error_moments.count() > 0;
+      const std::string interval = side.interval95
+                                       ? "[" + signed_fixed(side.interval95->lo, 2) + ", " +
+                                             signed_fixed(side.interval95->hi, 2) + "]"
+                                       : "–";
+      std::snprintf(
+          line, sizeof line, "%-9s %-5s %6llu %9s %9s %8s %7s %7s %19s %8s %8s\n",
+          parameter_symbol(s.parameter).c_str(), side.side.c_str(),
+          static_cast<unsigned long long>(side.error_moments.count()),
+          any ? fixed(side.true_moments.mean(), 2).c_str() : "–",
+          any ? fixed(side.measured_moments.mean(), 2).c_str() : "–",
+          any ? signed_fixed(side.bias_um, 3).c_str() : "–",
+          any ? fixed(side.u_um, 3).c_str() : "–", any ? fixed(side.U95_um, 2).c_str() : "–",
+          interval.c_str(),
+          side.measurement_error.count() > 1 ? fixed(side.measurement_error.stddev(), 3).c_str()
+                                             : "–",
+          side.sampling_error.count() > 1 ? fixed(side.sampling_error.stddev(), 3).c_str() : "–");
+      out << line;
+    }
+  }
+  out << "  (meas.err, sampl.err: standard deviations of measured − true at the same points and "
+         "of true at the points − dense true)\n";
+  out << "\nConformity (ISO 14253-1, rule " << e.spec().decision_rule
+      << "; over every flank, tooth or gear of the run)\n";
+  std::snprintf(line, sizeof line, "%-9s %-10s %8s %11s %11s %11s %12s %16s\n", "parameter",
+                "tolerance", "T", "accept if", "false acc.", "false rej.", "rej. (other)",
+                "p_c(worst)");
+  out << line;
+  for (const ParameterSummary& s : p.parameters) {
+    const ParameterConformity& c = s.conformity;
+    if (!c.tolerance_um) {
+      std::snprintf(line, sizeof line, "%-9s %-10s %8s   (no tolerance in the set)\n",
+                    parameter_symbol(s.parameter).c_str(), "–", "–");
+      out << line;
+      continue;
+    }
+    const std::string accept = (c.two_sided ? "|y| ≤ " : "y ≤ ") + fixed(*c.acceptance.upper, 2);
+    const DecisionRates& other = c.rule == DecisionRule::kSimple ? c.guard_banded : c.simple;
+    std::snprintf(
+        line, sizeof line, "%-9s %-10s %8s %13s %11s %11s %12s %16s\n",
+        parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
+        ((c.two_sided ? "±" : "") + fixed(*c.tolerance_um, 1)).c_str(), accept.c_str(),
+        percent(c.chosen().false_accept_rate()).c_str(),
+        percent(c.chosen().false_reject_rate()).c_str(),
+        percent(1.0 - static_cast<double>(other.accepted) /
+                          static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
+            .c_str(),
+        (fixed(c.worst_measured_um, 2) + ": " + fixed(c.conformance_probability_of_worst, 3))
+            .c_str());
+    out << line;
+  }
+  out << "  (rej. (other): the share rejected under the other rule; p_c(worst): the run's "
+         "worst measured value and the JCGM 106 probability that its true value conforms)\n";
+  if (!p.budget_sources.empty()) {
+    out << "\nError budget per parameter: u of measured − true at the same points, each source "
+           "alone (with δRcomp), µm\n";
+    std::string header = "parameter  side ";
+    for (const std::string& src : p.budget_sources) {
+      char cell[64];
+      std::snprintf(cell, sizeof cell, " %14.14s", src.c_str());
+      header += cell;
+    }
+    out << header << "\n";
+    for (const ParameterSummary& s : p.parameters) {
+      for (const ParameterSideSummary& side : s.sides) {
+        std::snprintf(line, sizeof line, "%-9s  %-5s", parameter_symbol(s.parameter).c_str(),
+                      side.side.c_str());
+        std::string row = line;
+        for (const RunningStats& b : side.budget) {
+          char cell[64];
+          std::snprintf(cell, sizeof cell, " %14s",
+                        b.count() > 1 ? fixed(b.stddev(), 3).c_str() : "–");
+          row += cell;
+        }
+        out << row << "\n";
+      }
+    }
+  }
+  for (const std::string& note : p.notes) out << "note: " << note << "\n";
+}
+
+}  // namespace gearmc

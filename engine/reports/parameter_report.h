@@ -1,0 +1,94 @@
+// What a run with `evaluation:` says about the gear parameters (docs/parameters.md): per ISO
+// 1328-1 parameter and flank side the distributions of the true (dense-trace) value, the measured
+// value and the error = measured − true, with bias, standard uncertainty u, the shortest 95 %
+// interval and U (k = 2); the split of the error into measurement error (measured − true at the
+// same points) and sampling error (true at the points − dense true); the error budget (each
+// effect alone, δRcomp alone); and the conformity decisions against the scenario's tolerances
+// with their false-accept and false-reject rates. summary.json keys, the terminal table and the
+// report's figures. Values in µm.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "engine/reports/run_report.h"
+#include "engine/run/monte_carlo.h"
+#include "engine/statistics/conformity.h"
+#include "engine/statistics/relative_histogram.h"
+#include "engine/statistics/running_stats.h"
+
+namespace gearmc {
+
+// The statistics of one parameter on one side ("left", "right", or "both" for F_r).
+struct ParameterSideSummary {
+  std::string side;
+  std::uint64_t items = 0, not_evaluated = 0;  // items without a value (NaN) are counted only
+  RunningStats true_moments, measured_moments, error_moments, measurement_error, sampling_error;
+  RelativeHistogram true_values, measured_values, error_values;
+  std::vector<double> errors;  // sorted ascending (for the interval and the histogram)
+  double bias_um = 0.0, u_um = 0.0, U95_um = 0.0;
+  std::optional<CoverageInterval> interval95;
+  // Per budget variant (each effect alone, then δRcomp alone): the error against the true value
+  // at the same points.
+  std::vector<RunningStats> budget;
+};
+
+struct ParameterConformity {
+  std::optional<double> tolerance_um;  // absent: the tolerance set has none for this parameter
+  std::string tolerance_symbol;        // the set's symbol, e.g. "F_alpha" or "f_f"
+  bool two_sided = false;              // ±T (slope, single pitch)
+  DecisionRule rule = DecisionRule::kSimple;
+  double guard_band_um = 0.0;  // the largest U95 of the parameter's sides (guard_banded)
+  ToleranceLimits tolerance, acceptance;
+  DecisionRates simple, guard_banded;  // over every item of both sides (true = dense value)
+  const DecisionRates& chosen() const {
+    return rule == DecisionRule::kSimple ? simple : guard_banded;
+  }
+  // JCGM 106 §7.6 for one measured value: the run's worst measured item (largest value, or
+  // largest |value| for ±T), corrected by the bias, with u: the probability that its true value
+  // conforms, p_c = Φ((T_U − y + b)/u) − Φ((T_L − y + b)/u) (bias b and u of the parameter's
+  // errors over both sides).
+  double worst_measured_um = 0.0, conformance_probability_of_worst = 0.0;
+};
+
+struct ParameterSummary {
+  GearParameter parameter;
+  std::vector<ParameterSideSummary> sides;
+  ParameterConformity conformity;
+};
+
+struct ParameterPresentation {
+  std::vector<ParameterSummary> parameters;
+  std::vector<std::string> budget_sources;  // effect names, then "δRcomp alone"
+  std::vector<std::string> notes;           // parameters left out, items without a value
+};
+
+// Null when the run has no parameter evaluation.
+std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
+                                                        const RunResults& r);
+
+// summary.json "parameters", "conformity" and "parameter_evaluation" (how they were evaluated).
+void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc,
+                        const ParameterPresentation& p);
+
+// The terminal tables: parameters with U, then conformity with the decision risks, then the
+// error budget (with effects).
+void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
+                            const ParameterPresentation& p);
+
+// The report's figures: profile and helix charts of the chart gear (4 teeth × L/R), pitch and
+// runout bars, the error histogram of each parameter with its interval.
+std::vector<RunFigure> parameter_figures(const MonteCarloRun& mc, const RunResults& r,
+                                         const ParameterPresentation& p);
+
+class HtmlReport;
+// The report's gear-parameter section: the parameter and conformity tables first, then the
+// figures (parameter_figures) and how the parameters were evaluated.
+void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
+                           const ParameterPresentation& p, const std::vector<RunFigure>& figures);
+
+}  // namespace gearmc

@@ -1,0 +1,90 @@
+// Conformity decisions and coverage intervals (see conformity.h).
+#include "engine/statistics/conformity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace gearmc {
+
+double conformance_probability(double y, double u, std::optional<double> lower,
+                               std::optional<double> upper) {
+  const auto below = [&](double limit) {  // P(Y <= limit), Y ~ N(y, u²)
+    if (!(u > 0.0)) return y <= limit ? 1.0 : 0.0;
+    return 0.5 * std::erfc(-(limit - y) / (u * std::numbers::sqrt2));
+  };
+  const double p_upper = upper ? below(*upper) : 1.0;
+  const double p_lower = lower ? below(*lower) : 0.0;
+  return std::max(0.0, p_upper - p_lower);
+}
+
+std::uint64_t coverage_count(std::uint64_t M, double p) {
+  const double pM = p * static_cast<double>(M);
+  const double rounded = std::round(pM);
+  if (std::abs(pM - rounded) < 1e-9 * std::max(1.0, pM)) {
+    return static_cast<std::uint64_t>(rounded);
+  }
+  return static_cast<std::uint64_t>(std::floor(pM + 0.5));
+}
+
+std::optional<CoverageInterval> shortest_coverage_interval(std::span<const double> sorted,
+                                                           double p) {
+  const std::uint64_t M = sorted.size();
+  if (M == 0) return std::nullopt;
+  const std::uint64_t q = coverage_count(M, p);
+  if (q >= M) return std::nullopt;
+  std::uint64_t best = 0;
+  double width = sorted[q] - sorted[0];
+  for (std::uint64_t r = 1; r + q < M; ++r) {
+    const double w = sorted[r + q] - sorted[r];
+    if (w < width) {
+      width = w;
+      best = r;
+    }
+  }
+  return CoverageInterval{sorted[best], sorted[best + q]};
+}
+
+ToleranceLimits acceptance_limits(const ToleranceLimits& tolerance, DecisionRule rule,
+                                  double guard_band) {
+  if (rule == DecisionRule::kSimple) return tolerance;
+  ToleranceLimits a = tolerance;
+  if (a.lower) *a.lower += guard_band;
+  if (a.upper) *a.upper -= guard_band;
+  return a;
+}
+
+bool within(const ToleranceLimits& limits, double value) {
+  if (limits.lower && value < *limits.lower) return false;
+  if (limits.upper && value > *limits.upper) return false;
+  return true;
+}
+
+double DecisionRates::false_accept_rate() const {
+  return items ? static_cast<double>(false_accepts) / static_cast<double>(items) : 0.0;
+}
+double DecisionRates::false_reject_rate() const {
+  return items ? static_cast<double>(false_rejects) / static_cast<double>(items) : 0.0;
+}
+
+DecisionRates decision_rates(std::span<const double> true_values,
+                             std::span<const double> measured_values,
+                             const ToleranceLimits& tolerance, const ToleranceLimits& acceptance) {
+  if (true_values.size() != measured_values.size()) {
+    throw std::invalid_argument("decision_rates: as many true as measured values are needed");
+  }
+  DecisionRates r;
+  for (std::size_t i = 0; i < true_values.size(); ++i) {
+    const bool conforms = within(tolerance, true_values[i]);
+    const bool accepted = within(acceptance, measured_values[i]);
+    ++r.items;
+    r.accepted += accepted ? 1 : 0;
+    r.nonconforming += conforms ? 0 : 1;
+    r.false_accepts += accepted && !conforms ? 1 : 0;
+    r.false_rejects += !accepted && conforms ? 1 : 0;
+  }
+  return r;
+}
+
+}  // namespace gearmc

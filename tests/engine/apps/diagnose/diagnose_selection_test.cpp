@@ -1,0 +1,127 @@
+// Tests of the diagnosis's effect selection (engine/apps/diagnose/selection.h): the null simulation
+// is reproducible and bounded as Bonferroni says, and each gate (Holm-adjusted F test, BIC)
+// decides alone on hand-made designs whose F and ΔBIC are known in closed form. α = 0.01.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "engine/apps/diagnose/diagnosis.h"
+#include "tests/support/diagnose_readings.h"
+
+namespace gearmc {
+namespace {
+
+using testing_support::baseline;
+using testing_support::hidden;
+using testing_support::kNoiseUm;
+
+TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
+  const Residuals r = compute_residuals(baseline(), hidden(""));
+  std::vector<PointContext> points;
+  for (const ResidualPoint& p : r.points) points.push_back(p.context);
+  const std::vector<CandidateDesign> c = candidate_designs(points);
+  const NullSelectionDistribution a = simulate_null_selection(c, {}, kNoiseUm, 200, 7);
+  const NullSelectionDistribution b = simulate_null_selection(c, {}, kNoiseUm, 200, 7);
+  ASSERT_EQ(a.max_f.size(), 200u);
+  EXPECT_EQ(a.max_f, b.max_f);
+  EXPECT_EQ(a.min_p, b.min_p);
+  // Under the null each candidate's p is uniform, so P(min p ≤ 0.05/8) ≤ 0.05 (Bonferroni);
+  // allow 3 binomial standard errors for 200 replicates.
+  const double bound = 0.05 + 3.0 * std::sqrt(0.05 * 0.95 / 200.0);
+  const double hits = static_cast<double>(
+      std::count_if(a.min_p.begin(), a.min_p.end(), [](double p) { return p <= 0.05 / 8; }));
+  EXPECT_LE(hits / 200.0, bound);
+  for (double f : a.max_f) EXPECT_TRUE(f > 0.0 && std::isfinite(f));
+}
+
+// --- The selection's gates, each deciding alone -------------------------------------------------
+// Hand-made designs on n = 32 points with Walsh columns (±1 Rademacher functions of periods 2, 4,
+// 8, 16 and 32, mutually orthogonal), residual y = a·R1 + e with e = R1·R2 (a Walsh product,
+// orthogonal to every column): adding R1 leaves RSS = |e|² = 32 from |y|² = 32(1 + a²), so
+// F = 31 a² (1 and 31 degrees of freedom) and ΔBIC = 32 ln(1/(1 + a²)) + ln 32 (selection.h's
+// formulas), every other candidate adds nothing (F = 0). No null simulation (null_replicates 0),
+// so "significant" is the Holm-adjusted F test alone; the noise floor (0.01 µm) keeps the
+// practical size out of the way. α = 0.01.
+
+CandidateDesign walsh_candidate(const std::string& name, int period) {
+  CandidateDesign c;
+  c.name = name;
+  c.coefficients = {"c_um"};
+  c.units = {"µm"};
+  c.observable = {true};
+  c.x.resize(32, 1);
+  for (int k = 0; k < 32; ++k) c.x(k, 0) = (k % period) < period / 2 ? 1.0 : -1.0;
+  return c;
+}
+
+Eigen::VectorXd walsh_residual(double a) {
+  const CandidateDesign r1 = walsh_candidate("r1", 2), r2 = walsh_candidate("r2", 4);
+  return a * r1.x.col(0) + r1.x.col(0).cwiseProduct(r2.x.col(0));
+}
+
+SelectionOptions gate_options() {
+  SelectionOptions o;
+  o.alpha = 0.01;
+  o.null_replicates = 0;
+  o.max_effects = 1;
+  return o;
+}
+
+TEST(DiagnoseSelection, HolmDecidesWhenTheRawFTestPassesButTheAdjustedOneDoesNot) {
+  // a = 0.55: F = 31 · 0.3025 = 9.38, raw p ≈ 0.0045 < α; with 5 candidates Holm multiplies the
+  // smallest p by 5 (Holm 1979): ≈ 0.022 > α. ΔBIC = 32 ln(1/1.3025) + ln 32 = −5.0, so the
+  // BIC gate is set to 4 here and only Holm can refuse.
+  std::vector<CandidateDesign> five;
+  for (int period : {2, 4, 8, 16, 32}) {
+    five.push_back(walsh_candidate("w" + std::to_string(period), period));
+  }
+  SelectionOptions o = gate_options();
+  o.min_delta_bic = 4.0;
+  const Eigen::VectorXd y = walsh_residual(0.55);
+  const Selection s = forward_select(five, y, 0.01, o);
+  ASSERT_EQ(s.steps.size(), 1u);
+  const CandidateTest& t = s.steps[0].tests[0];
+  EXPECT_NEAR(t.f, 31.0 * 0.3025, 1e-9);
+  ASSERT_LT(t.p_f, o.alpha);  // the unadjusted test would pass
+  EXPECT_NEAR(t.p_holm, 5.0 * t.p_f, 1e-12);
+  EXPECT_GE(t.p_holm, o.alpha);
+  EXPECT_TRUE(t.bic_support);
+  EXPECT_TRUE(t.practical);
+  EXPECT_FALSE(t.significant);
+  EXPECT_TRUE(s.selected.empty());
+  // Control: the same residuals with R1 the only candidate (Holm over one test is the raw p):
+  // every gate passes and it is selected, so it was Holm that refused it above.
+  const Selection alone = forward_select({five[0]}, y, 0.01, o);
+  ASSERT_EQ(alone.selected.size(), 1u);
+  EXPECT_TRUE(alone.steps[0].tests[0].significant);
+}
+
+TEST(DiagnoseSelection, TheBicGateDecidesBetweenTwoSignificantEffects) {
+  // One candidate (Holm = raw p). a² = 0.344: F = 10.7 (p ≈ 0.003 < α), ΔBIC = 32 ln(1/1.344) +
+  // ln 32 = −6.0 > −10: significant and practical, refused by the BIC gate alone.
+  // a² = 0.78: F = 24.2, ΔBIC = 32 ln(1/1.78) + ln 32 = −15.0 ≤ −10: selected.
+  const std::vector<CandidateDesign> one = {walsh_candidate("r1", 2)};
+  const SelectionOptions o = gate_options();
+  const Selection weak = forward_select(one, walsh_residual(std::sqrt(0.344)), 0.01, o);
+  const CandidateTest& w = weak.steps.at(0).tests.at(0);
+  EXPECT_NEAR(w.delta_bic, 32.0 * std::log(1.0 / 1.344) + std::log(32.0), 1e-9);
+  EXPECT_TRUE(w.significant);
+  EXPECT_TRUE(w.practical);
+  EXPECT_FALSE(w.bic_support);
+  EXPECT_TRUE(weak.selected.empty());
+  const Selection strong = forward_select(one, walsh_residual(std::sqrt(0.78)), 0.01, o);
+  const CandidateTest& t = strong.steps.at(0).tests.at(0);
+  EXPECT_NEAR(t.delta_bic, 32.0 * std::log(1.0 / 1.78) + std::log(32.0), 1e-9);
+  EXPECT_TRUE(t.significant);
+  EXPECT_TRUE(t.bic_support);
+  ASSERT_EQ(strong.selected.size(), 1u);
+  // Between the two: a gate of 5 accepts the weak one, so the threshold's sign matters.
+  SelectionOptions loose = o;
+  loose.min_delta_bic = 5.0;
+  EXPECT_EQ(forward_select(one, walsh_residual(std::sqrt(0.344)), 0.01, loose).selected.size(), 1u);
+}
+
+}  // namespace
+}  // namespace gearmc

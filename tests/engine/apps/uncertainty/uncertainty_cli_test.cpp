@@ -1,0 +1,268 @@
+// `gearmc uncertainty` run as a user runs it:
+//  * bad model files (unknown law, wrong parameter count, an expression naming an unknown input,
+//    a correlation matrix that is not positive definite, sd <= 0, unknown keys, an unknown
+//    builtin, too few trials) give exit code 2 and one message with file:line:column, the key
+//    and a "did you mean" where one fits, and write nothing (the --out folder is not created);
+//  * uncertainty.json has the documented keys, and is byte-identical for 1 and 2 threads apart
+//    from "threads", "wall_s" and the provenance (command line, time) — fixed M and adaptive.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "engine/apps/uncertainty/evaluation.h"
+#include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+namespace gearmc {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::run_gearmc;
+
+std::string temp_dir(const std::string& tag) {
+  return testing_support::fresh_temp_path("unc_" + tag).string();
+}
+
+std::string write_model(const std::string& tag, const std::string& text) {
+  const std::string path = temp_dir(tag) + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+const char* kGood = R"M(name: good
+inputs:
+  X1: {normal: [0, 1]}
+  X2: {uniform: [-1, 1]}
+  X3: {normal: [0, 1]}
+outputs:
+  Y: "X1 + X2*X3"
+settings: {trials: 20000, seed: 3}
+)M";
+
+struct BadCase {
+  const char* tag;
+  std::string text;
+  std::string where;    // "file:line:col" suffix expected after the file name
+  std::string message;  // a part of the message
+};
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
+  const std::string g = kGood;
+  const BadCase cases[] = {
+      {"law", replace(g, "uniform: [-1, 1]", "uniforn: [-1, 1]"),
+       ":4:8:", "did you mean 'uniform'"},
+      {"count", replace(g, "normal: [0, 1]}\n  X2", "normal: [0]}\n  X2"),
+       ":3:16:", "normal [mean, sd]"},
+      {"sd", replace(g, "normal: [0, 1]}\n  X2", "normal: [0, -1]}\n  X2"),
+       ":3:16:", "sd must be > 0"},
+      {"unknown_input", replace(g, "X1 + X2*X3", "X1 + X2*X4"), ":7:6:", "'X4' is none of them"},
+      {"non_pd", g + "correlations: [[X1, X3, 0.9], [X1, X3, 0.8]]\n",
+       ":9:31:", "each pair of inputs at most once"},
+      {"not_pd",
+       replace(g, "X2: {uniform: [-1, 1]}", "X2: {normal: [0, 1]}") +
+           "correlations: [[X1, X2, 0.9], [X1, X3, 0.9], [X2, X3, -0.9]]\n",
+       ":9:15:", "positive definite"},
+      {"top_key", replace(g, "settings:", "setings:"), ":8:1:", "did you mean 'settings'"},
+      {"setting_key", replace(g, "trials: 20000", "trails: 20000"),
+       ":8:12:", "did you mean 'trials'"},
+      {"builtin", replace(g, "outputs:\n  Y: \"X1 + X2*X3\"", "builtin: {model: summ}"),
+       ":6:18:", "did you mean 'sum'"},
+      {"few_trials", replace(g, "trials: 20000", "trials: 10"), ":8:", "at least 21 trials"},
+      // 4e9 trials x 16 bytes = 64 GB: refused before any work (the memory rule).
+      {"memory", replace(g, "trials: 20000", "trials: 4000000000"),
+       ":8:", "16 bytes per trial per output"},
+      {"later_output", replace(g, "Y: \"X1 + X2*X3\"", "Y: \"Z + 1\"\n  Z: \"X1\""),
+       ":7:6:", "outputs may use only outputs listed before them"},
+      {"tolerance_output", replace(g, "settings:", "tolerances: {W: {upper: 1}}\nsettings:"),
+       ":8:14:", "did you mean 'Y'"},
+      {"tolerance_order",
+       replace(g, "settings:", "tolerances: {Y: {lower: 2, upper: 1}}\nsettings:"),
+       ":8:", "an upper limit above the lower limit"},
+  };
+  for (const BadCase& c : cases) {
+    const std::string model = write_model(c.tag, c.text);
+    const std::string out = temp_dir(std::string(c.tag) + "_out");
+    const auto r = run_gearmc("uncertainty " + model + " --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << c.tag << ": " << r.err;
+    EXPECT_NE(r.err.find(model + c.where), std::string::npos) << c.tag << ": " << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.tag << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.tag << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.tag;
+    fs::remove(model);
+  }
+  const auto r = run_gearmc("uncertainty " + write_model("good", kGood) + " --trials 1e6 --out " +
+                            temp_dir("bad_trials"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--trials"), std::string::npos) << r.err;
+}
+
+TEST(UncertaintyCli, ConformanceProbabilityOfJcgm106Section7) {
+  // JCGM 106:2012 §7 (single measured value against two-sided limits): y = 13.6, u = 1.8, limits
+  // 12.5 and 16.3. p_c = Φ((16.3 − 13.6)/1.8) − Φ((12.5 − 13.6)/1.8) = Φ(1.5) − Φ(−0.6111)
+  // = 0.66263 (independently: Python math.erf, 0.6626297865). The GUM value to 1e-6; the MCM
+  // value (10^6 trials, seed 1) within 4 binomial standard errors √(p(1 − p)/M) = 4 × 0.00047.
+  using uncertainty::conformance_probability;
+  EXPECT_NEAR(conformance_probability(13.6, 1.8, 12.5, 16.3), 0.6626297865, 1e-6);
+  // One-sided: only the lower limit, 1 − Φ(−0.6111) = 0.7294369878.
+  EXPECT_NEAR(conformance_probability(13.6, 1.8, 12.5, std::nullopt), 0.7294369878, 1e-6);
+  const std::string model = write_model("jcgm106", R"M(name: jcgm106
+inputs:
+  x: {normal: [13.6, 1.8]}
+outputs:
+  y: "x"
+tolerances:
+  y: {lower: 12.5, upper: 16.3}
+settings: {trials: 1000000, seed: 1}
+)M");
+  const std::string out = temp_dir("jcgm106_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  const auto& c = j["outputs"]["y"]["conformity"];
+  EXPECT_EQ(c["lower"].get<double>(), 12.5);
+  EXPECT_EQ(c["upper"].get<double>(), 16.3);
+  EXPECT_NEAR(c["gum_probability"].get<double>(), 0.6626297865, 1e-6);
+  EXPECT_NEAR(c["mcm_probability"].get<double>(), 0.6626297865,
+              4.0 * std::sqrt(0.6626 * 0.3374 / 1e6));
+}
+
+TEST(UncertaintyCli, OutputsUseEarlierOutputs) {
+  const std::string model = write_model(
+      "chain", replace(kGood, "Y: \"X1 + X2*X3\"", "Y: \"X1 + X2*X3\"\n  Z: \"2*Y + 1\""));
+  const std::string out = temp_dir("chain_out");
+  const auto r = run_gearmc("uncertainty " + model + " --quiet --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  // Z = 2Y + 1 exactly, trial by trial: its mean and u follow from Y's.
+  const auto& y = j["outputs"]["Y"]["mcm"];
+  const auto& z = j["outputs"]["Z"]["mcm"];
+  EXPECT_NEAR(z["estimate"].get<double>(), 2 * y["estimate"].get<double>() + 1, 1e-12);
+  EXPECT_NEAR(z["u"].get<double>(), 2 * y["u"].get<double>(), 1e-12);
+  EXPECT_NEAR(j["outputs"]["Z"]["gum"]["sensitivities"]["X1"].get<double>(), 2.0, 1e-8);
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
+TEST(UncertaintyCli, AnOutputWithoutUncertaintyIsReported) {
+  // y depends only on a constant: u = 0 on both sides, the GUM trivially validated (δ = 0), and
+  // the report is still drawn (a zero-width histogram range once made it an internal error).
+  const std::string model = write_model("constant", R"M(name: constant_model
+inputs:
+  a: {constant: 3}
+  b: {normal: [0, 1]}
+outputs:
+  y: "2*a"
+  w: "b + a"
+settings: {trials: 1000}
+)M");
+  const std::string out = temp_dir("constant_out");
+  const auto r = run_gearmc("uncertainty " + model + " --quiet --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  const auto& y = j["outputs"]["y"];
+  EXPECT_EQ(y["gum"]["u"].get<double>(), 0.0);
+  EXPECT_EQ(y["mcm"]["u"].get<double>(), 0.0);
+  EXPECT_EQ(y["mcm"]["estimate"].get<double>(), 6.0);
+  EXPECT_TRUE(y["validation"]["gum_validated"].get<bool>());
+  EXPECT_TRUE(fs::exists(out + "/report.html"));
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
+TEST(UncertaintyCli, InterruptStopsCleanlyWithExit130) {
+  // SIGINT one second into an adaptive run that cannot stop by its rule soon (4 significant
+  // digits of u = 2 need about 10^10 trials): exit 130, no file and no folder left behind.
+  const std::string model =
+      write_model("endless", replace(replace(kGood, "trials: 20000", "trials: adaptive"), "seed: 3",
+                                     "seed: 3, significant_digits: 4"));
+  const std::string out = temp_dir("endless_out");
+  const std::string err_file = temp_dir("endless_err") + ".txt";
+  const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(GEARMC_BINARY) +
+                          " uncertainty " + model + " --quiet --out " + out + " >/dev/null 2>" +
+                          err_file;
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  std::ifstream e(err_file);
+  const std::string err((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(err.find("interrupted"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove(model);
+  fs::remove(err_file);
+}
+
+nlohmann::json run_json(const std::string& args, const std::string& out) {
+  const auto r = run_gearmc("uncertainty " + args + " --quiet --out " + out);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream f(out + "/uncertainty.json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_TRUE(fs::exists(out + "/report.html"));
+  return j;
+}
+
+TEST(UncertaintyCli, JsonKeysAndThreadIndependence) {
+  const std::string dir = std::string(GEARMC_SOURCE_DIR) + "/scenarios/uncertainty/";
+  for (const std::string& args :
+       {dir + "mass_calibration.yaml --trials 300000", dir + "additive_rectangular.yaml"}) {
+    const std::string a = temp_dir("t1"), b = temp_dir("t2");
+    nlohmann::json j1 = run_json(args + " --threads 1", a);
+    nlohmann::json j2 = run_json(args + " --threads 2", b);
+    EXPECT_EQ(j1["threads"], 1);
+    EXPECT_EQ(j2["threads"], 2);
+    for (auto* j : {&j1, &j2}) {
+      j->erase("threads");
+      j->erase("wall_s");
+      j->erase("provenance");
+    }
+    EXPECT_EQ(j1.dump(), j2.dump()) << args;
+    const auto& o = j1["outputs"].begin().value();
+    for (const char* k :
+         {"estimate", "u", "nu_eff", "k", "U", "interval", "sensitivities", "contributions"}) {
+      EXPECT_TRUE(o["gum"].contains(k)) << k;
+    }
+    for (const char* k :
+         {"estimate", "u", "interval_symmetric", "interval_shortest", "trials", "adaptive"}) {
+      EXPECT_TRUE(o["mcm"].contains(k)) << k;
+    }
+    EXPECT_TRUE(o["mcm"]["adaptive"].contains("blocks"));
+    EXPECT_TRUE(o["mcm"]["adaptive"].contains("delta"));
+    for (const char* k : {"delta", "d_low", "d_high", "gum_validated"}) {
+      EXPECT_TRUE(o["validation"].contains(k)) << k;
+    }
+    for (const char* k : {"model", "seed", "coverage_probability"}) {
+      EXPECT_TRUE(j1.contains(k)) << k;
+    }
+    // The report: histogram, CDFs and budget per output, plus the adaptive stop for adaptive
+    // runs; the verdict and the model file's text.
+    std::ifstream rf(a + "/report.html");
+    const std::string report((std::istreambuf_iterator<char>(rf)), {});
+    std::size_t svgs = 0;
+    for (std::size_t at = report.find("<svg"); at != std::string::npos;
+         at = report.find("<svg", at + 1)) {
+      ++svgs;
+    }
+    const bool adaptive = args.find("rectangular") != std::string::npos;
+    EXPECT_EQ(svgs, adaptive ? 4u : 3u) << args;
+    EXPECT_NE(report.find("JCGM 101 §8 validation"), std::string::npos);
+    EXPECT_NE(report.find("Model file"), std::string::npos);
+    EXPECT_NE(report.find(j1["model"].get<std::string>()), std::string::npos);
+    fs::remove_all(a);
+    fs::remove_all(b);
+  }
+}
+
+}  // namespace
+}  // namespace gearmc

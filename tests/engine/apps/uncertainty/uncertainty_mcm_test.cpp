@@ -1,0 +1,255 @@
+// The Monte Carlo side of `gearmc uncertainty` (JCGM 101:2008):
+//  * the numerical tolerance of §7.9.2 (u = 0.00035 at 2 digits: δ = 5e-6, the clause's own
+//    example form; u = 2.0 at 2 digits: δ = 0.05 as in §9.2), the block size of §7.9.4 b)
+//    (p = 0.9973: ceil(100/0.0027) = 37038) and the interval rules of §7.7.2 on small arrays;
+//  * JCGM 101 §9.2 (Y = X1 + X2 + X3 + X4): normal inputs, exact Y ~ N(0, 4) and 95 % interval
+//    ±1.959964·2; rectangular R(−√3, √3) inputs, exact Irwin–Hall 95 % limits ±3.879407
+//    (computed by tests/bench/uncertainty_reference.py from the piecewise-cubic CDF; the GUF
+//    gives ±3.92);
+//  * JCGM 101 §9.3 (mass calibration) against an independent NumPy run with 10^7 trials
+//    (tests/bench/uncertainty_reference.py, PCG64 seed 20261122: u = 0.075497 mg, symmetric
+//    95 % [1.084461, 1.383605] mg, shortest [1.084440, 1.383582] mg, endpoint standard errors
+//    0.00007 mg), not the printed [1.0834, 1.3825] of JCGM 101 Table 6, which lies ~15
+//    standard errors of that run away;
+//  * correlated normal inputs: u(a + b) = √7 for u 1 and 2, r = 0.5;
+//  * the adaptive stop: recomputed from the block values, the rule holds at the last block
+//    and failed at the one before;
+//  * a builtin model from the registry.
+// Tolerances: 4 Monte-Carlo standard errors (estimate σ/√M; u σ√((κ−1)/(4M)) with κ the
+// sample kurtosis; a quantile √(p(1−p)/M)/f(q) with the exact density f) plus the reference's
+// own uncertainty (half a unit of its last digit, or 4 of its standard errors). With seeds 1
+// (§9.2 normal), 2 (§9.2 rectangular), 3 (§9.3), 4 (correlated), a false failure by chance has
+// probability below 1e-4 per check; the runs are deterministic, so a pass stays a pass.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/random_stream.h"
+#include "core/special_functions.h"
+#include "engine/apps/uncertainty/mcm.h"
+#include "engine/apps/uncertainty/model.h"
+
+namespace gearmc::uncertainty {
+namespace {
+
+UncertaintyModel load(const std::string& name) {
+  return load_uncertainty_model(std::string(GEARMC_SOURCE_DIR) + "/scenarios/uncertainty/" + name);
+}
+
+McmResult fixed_run(const UncertaintyModel& m, std::uint64_t M, std::uint64_t seed) {
+  McmOptions o;
+  o.trials = M;
+  o.seed = seed;
+  o.coverage_probability = 0.95;
+  return run_mcm(m, o);
+}
+
+double kurtosis(const std::vector<double>& v) {
+  double mean = 0;
+  for (double x : v) mean += x;
+  mean /= double(v.size());
+  double m2 = 0, m4 = 0;
+  for (double x : v) {
+    const double d = (x - mean) * (x - mean);
+    m2 += d;
+    m4 += d * d;
+  }
+  m2 /= double(v.size());
+  m4 /= double(v.size());
+  return m4 / (m2 * m2);
+}
+
+// 4 standard errors of the estimate, of u and of a p-quantile at density f.
+double se_mean(const McmOutput& o) { return o.u / std::sqrt(double(o.sorted.size())); }
+double se_u(const McmOutput& o) {
+  return o.u * std::sqrt((kurtosis(o.sorted) - 1) / (4.0 * double(o.sorted.size())));
+}
+double se_quantile(double p, double f, std::size_t M) {
+  return std::sqrt(p * (1 - p) / static_cast<double>(M)) / f;
+}
+
+TEST(UncertaintyMcm, NumericalToleranceBlockSizeAndIntervals) {
+  EXPECT_DOUBLE_EQ(numerical_tolerance(0.00035, 2), 5e-6);
+  EXPECT_DOUBLE_EQ(numerical_tolerance(2.0, 2), 0.05);
+  EXPECT_DOUBLE_EQ(numerical_tolerance(2.0, 1), 0.5);
+  EXPECT_DOUBLE_EQ(numerical_tolerance(0.0539, 2), 0.0005);
+  EXPECT_DOUBLE_EQ(numerical_tolerance(0.0996, 2), 0.005);  // rounds to 0.10: c = 10, l = −2
+  EXPECT_EQ(adaptive_block_size(0.95), 10000u);
+  EXPECT_EQ(adaptive_block_size(0.9973), 37038u);
+  EXPECT_EQ(adaptive_block_size(0.999), 100000u);
+  // M = 20, p = 0.9: q = 18, r = 1: [y_(1), y_(19)]. The shortest of the two windows
+  // [y_(r), y_(r+18)], r = 1, 2: widths 24 and 18.5.
+  std::vector<double> y;
+  for (int i = 1; i <= 20; ++i) y.push_back(i);
+  y[19] = 20.5;
+  y[0] = -5;
+  EXPECT_EQ(coverage_count(20, 0.9), 18u);
+  EXPECT_DOUBLE_EQ(symmetric_interval(y, 0.9).lo, -5);
+  EXPECT_DOUBLE_EQ(symmetric_interval(y, 0.9).hi, 19);
+  EXPECT_DOUBLE_EQ(shortest_interval(y, 0.9).lo, 2);
+  EXPECT_DOUBLE_EQ(shortest_interval(y, 0.9).hi, 20.5);
+  // M = 21, p = 0.9: pM = 18.9 → q = 19; (M − q)/2 = 1: [y_(1), y_(20)].
+  y.push_back(30);
+  EXPECT_EQ(coverage_count(21, 0.9), 19u);
+  EXPECT_DOUBLE_EQ(symmetric_interval(y, 0.9).hi, 20.5);
+}
+
+TEST(UncertaintyMcm, RadixSortEqualsStdSort) {
+  // Mixed signs, zeros, subnormals, huge and tiny magnitudes, repeats; compared value by value
+  // with std::sort (which orders −0 and +0 as equal, so zeros are compared by value).
+  std::vector<double> v = {3.5, -0.0, 0.0, -1e-310, 1e-310, -1e300, 1e300, 2.0, -2.0, 2.0, -7.25};
+  for (int i = 0; i < 100000; ++i) {
+    TrialStream s(9, std::uint64_t(i), 0);
+    v.push_back(s.normal() * std::pow(10.0, 20 * s.uniform() - 10));
+  }
+  std::vector<double> expected = v;
+  std::sort(expected.begin(), expected.end());
+  sort_values(v);
+  ASSERT_EQ(v.size(), expected.size());
+  for (std::size_t i = 0; i < v.size(); ++i) ASSERT_EQ(v[i], expected[i]) << i;
+}
+
+TEST(UncertaintyMcm, AdditiveNormalJcgm101Section922) {
+  const McmResult r = fixed_run(load("additive_normal.yaml"), 200000, 1);
+  const McmOutput& o = r.outputs[0];
+  EXPECT_NEAR(o.estimate, 0.0, 4 * se_mean(o));
+  EXPECT_NEAR(o.u, 2.0, 4 * se_u(o));
+  const double q = 1.959963984540054 * 2;
+  const double f = std::exp(-0.5 * 1.959963984540054 * 1.959963984540054) /
+                   (std::sqrt(2 * std::numbers::pi) * 2);
+  const double tol = 4 * se_quantile(0.025, f, o.sorted.size());
+  EXPECT_NEAR(o.symmetric.lo, -q, tol);
+  EXPECT_NEAR(o.symmetric.hi, q, tol);
+  EXPECT_NEAR(o.shortest.lo, -q, tol);
+  EXPECT_NEAR(o.shortest.hi, q, tol);
+}
+
+// Irwin–Hall density of the sum S of four U(0,1) at s (for Y = 2√3 (S − 2): f_Y = f_S/(2√3)).
+double irwin_hall_pdf(double s) {
+  double f = 0;
+  for (int k = 0; k <= 4; ++k) {
+    const double c[] = {1, 4, 6, 4, 1};
+    if (s > k) f += (k % 2 ? -1 : 1) * c[k] * std::pow(s - k, 3);
+  }
+  return f / 6.0;
+}
+
+TEST(UncertaintyMcm, AdditiveRectangularJcgm101Section923) {
+  const McmResult r = fixed_run(load("additive_rectangular.yaml"), 200000, 2);
+  const McmOutput& o = r.outputs[0];
+  EXPECT_NEAR(o.estimate, 0.0, 4 * se_mean(o));
+  EXPECT_NEAR(o.u, 2.0, 4 * se_u(o));
+  const double q = 3.879407;  // tests/bench/uncertainty_reference.py, to 1e-6
+  const double s = q / (2 * std::sqrt(3.0)) + 2;
+  const double f = irwin_hall_pdf(s) / (2 * std::sqrt(3.0));
+  const double tol = 4 * se_quantile(0.025, f, o.sorted.size()) + 5e-7;
+  EXPECT_NEAR(o.symmetric.lo, -q, tol);
+  EXPECT_NEAR(o.symmetric.hi, q, tol);
+  EXPECT_NEAR(o.shortest.lo, -q, tol);
+  EXPECT_NEAR(o.shortest.hi, q, tol);
+  // The GUF's ±3.92 lies outside: the difference is real, not noise.
+  EXPECT_GT(3.919928 - o.symmetric.hi, tol / 2);
+}
+
+TEST(UncertaintyMcm, MassCalibrationJcgm101Section93) {
+  const McmResult r = fixed_run(load("mass_calibration.yaml"), 200000, 3);
+  const McmOutput& o = r.outputs[0];
+  // NumPy reference (10^7 trials): y 1.234012, u 0.075497, density at the endpoints 0.7416/mg.
+  const double ref_se_q = 0.00007;
+  EXPECT_NEAR(o.estimate, 1.234012, 4 * se_mean(o) + 4 * 0.0755 / std::sqrt(1e7));
+  EXPECT_NEAR(o.u, 0.075497, 4 * se_u(o) + 4 * 0.0755 / std::sqrt(2e7));
+  const double tol = 4 * se_quantile(0.025, 0.7416, o.sorted.size()) + 4 * ref_se_q;
+  EXPECT_NEAR(o.symmetric.lo, 1.084461, tol);
+  EXPECT_NEAR(o.symmetric.hi, 1.383605, tol);
+  EXPECT_NEAR(o.shortest.lo, 1.084440, tol);
+  EXPECT_NEAR(o.shortest.hi, 1.383582, tol);
+  const Validation v = validate_gum(1.2340, 1.959964 * 0.053852, 0.053852, o.symmetric, 2);
+  EXPECT_DOUBLE_EQ(v.delta, 0.0005);
+  EXPECT_FALSE(v.validated);  // JCGM 101 §9.3: the GUF interval is not validated
+}
+
+TEST(UncertaintyMcm, CorrelatedNormalInputs) {
+  const UncertaintyModel m = parse_uncertainty_model(R"M(
+inputs:
+  a: {normal: [1, 1]}
+  b: {normal: [2, 2]}
+  c: {uniform: [0, 1]}
+correlations: [[a, b, 0.5]]
+outputs:
+  s: "a + b"
+  c2: "c"
+)M",
+                                                     "t.yaml");
+  const McmResult r = fixed_run(m, 100000, 4);
+  EXPECT_NEAR(r.outputs[0].u, std::sqrt(7.0), 4 * se_u(r.outputs[0]));
+  EXPECT_NEAR(r.outputs[0].estimate, 3.0, 4 * se_mean(r.outputs[0]));
+  EXPECT_NEAR(r.outputs[1].u, 1 / std::sqrt(12.0), 4 * se_u(r.outputs[1]));
+}
+
+TEST(UncertaintyMcm, AdaptiveStopsByItsRule) {
+  const UncertaintyModel m = load("additive_normal.yaml");
+  McmOptions o;
+  o.seed = 5;
+  o.coverage_probability = 0.95;
+  o.significant_digits = 2;
+  const McmResult r = run_mcm(m, o);
+  ASSERT_TRUE(r.adaptive);
+  ASSERT_TRUE(r.converged);
+  ASSERT_GE(r.blocks, 2);
+  EXPECT_EQ(r.block_size, 10000u);
+  EXPECT_EQ(r.trials, r.block_size * std::uint64_t(r.blocks));
+  EXPECT_EQ(r.outputs[0].sorted.size(), r.trials);  // final results from all trials
+  // 2 s of the average of block values (JCGM 101 §7.9.4 g) for the first h blocks, and δ from
+  // the pooled standard deviation of those h blocks (§7.9.4 h).
+  auto rule_holds = [&](int h) {
+    const double B = double(r.block_size);
+    double mean = 0;
+    for (int b = 0; b < h; ++b) mean += r.block_values[b].estimate[0] / h;
+    double ss = 0;
+    for (int b = 0; b < h; ++b) {
+      const auto& v = r.block_values[b];
+      ss += (B - 1) * v.u[0] * v.u[0] + B * (v.estimate[0] - mean) * (v.estimate[0] - mean);
+    }
+    const double delta = numerical_tolerance(std::sqrt(ss / (h * B - 1)), 2);
+    auto two_s = [&](auto get) {
+      double m1 = 0;
+      for (int b = 0; b < h; ++b) m1 += get(r.block_values[b]) / h;
+      double s2 = 0;
+      for (int b = 0; b < h; ++b) s2 += std::pow(get(r.block_values[b]) - m1, 2);
+      return 2 * std::sqrt(s2 / (h * (h - 1.0)));
+    };
+    return two_s([](const BlockValues& v) { return v.estimate[0]; }) <= delta &&
+           two_s([](const BlockValues& v) { return v.u[0]; }) <= delta &&
+           two_s([](const BlockValues& v) { return v.lo[0]; }) <= delta &&
+           two_s([](const BlockValues& v) { return v.hi[0]; }) <= delta &&
+           two_s([](const BlockValues& v) { return v.short_lo[0]; }) <= delta &&
+           two_s([](const BlockValues& v) { return v.short_hi[0]; }) <= delta;
+  };
+  EXPECT_TRUE(rule_holds(r.blocks));
+  if (r.blocks > 2) {
+    EXPECT_FALSE(rule_holds(r.blocks - 1));
+  }
+  EXPECT_EQ(r.outputs[0].delta, 0.05);
+}
+
+TEST(UncertaintyMcm, BuiltinModelFromTheRegistry) {
+  const UncertaintyModel m = parse_uncertainty_model(R"M(
+inputs:
+  a: {uniform: [0, 1]}
+  b: {constant: 2}
+builtin: {model: sum}
+)M",
+                                                     "t.yaml");
+  ASSERT_EQ(m.outputs.size(), 1u);
+  EXPECT_EQ(m.outputs[0].name, "Y");
+  const McmResult r = fixed_run(m, 20000, 6);
+  EXPECT_NEAR(r.outputs[0].estimate, 2.5, 4 * se_mean(r.outputs[0]));
+  EXPECT_GE(r.outputs[0].sorted.front(), 2.0);
+  EXPECT_LE(r.outputs[0].sorted.back(), 3.0);
+}
+
+}  // namespace
+}  // namespace gearmc::uncertainty

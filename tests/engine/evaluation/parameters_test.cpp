@@ -1,0 +1,210 @@
+// The ISO 1328-1 parameter evaluation (engine/evaluation/gear_parameters.h) against analytic
+// traces, pitch and runout patterns with known answers, and the conformity algebra
+// (engine/statistics/conformity.h) against JCGM 106's example and a closed-form Gaussian case.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "engine/evaluation/gear_parameters.h"
+#include "engine/statistics/conformity.h"
+#include "tests/support/p1_fixtures.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+std::vector<double> linspace(double a, double b, int n) {
+  std::vector<double> x(n);
+  for (int i = 0; i < n; ++i) x[i] = a + (b - a) * i / (n - 1);
+  return x;
+}
+
+TEST(TraceEvaluation, PureSlopeGivesSlopeTimesRangeAndNoForm) {
+  // d = s (x − a): the mean line is the trace itself, f_H = s · (b − a), f_f = 0, F = |f_H|.
+  const double a = 12.0, b = 31.0, s = 0.3;  // mm, mm, µm/mm
+  const auto x = linspace(a, b, 40);
+  std::vector<double> d;
+  for (double v : x) d.push_back(5.0 + s * (v - a));
+  const auto r = evaluate_trace_over(x, d, a, b);
+  ASSERT_TRUE(r);
+  EXPECT_NEAR(r->slope_um, s * (b - a), 1e-12);
+  EXPECT_NEAR(r->form_um, 0.0, 1e-12);
+  EXPECT_NEAR(r->total_um, s * (b - a), 1e-12);
+  EXPECT_NEAR(r->intercept_um, 5.0, 1e-12);
+  EXPECT_EQ(r->samples, 40);
+}
+
+TEST(TraceEvaluation, OnePeriodSineHasTheKnownSlopeAndForm) {
+  // d = A sin(2π t), t = (x − a)/(b − a). The continuous least-squares slope is
+  // ∫(t − ½) A sin 2πt dt / ∫(t − ½)² dt = A(−1/2π)/(1/12) = −6A/π per range, so f_H = −6A/π
+  // (checked independently by a 200001-point trapezoid least-squares fit in Python:
+  // −1.9098593 for A = 1). The residual A sin 2πt + (6A/π)(t − ½) has its extremes at the ends,
+  // ∓3A/π (its interior stationary values, cos 2πt = −3/π², are ±0.569A), so f_f = 6A/π; the
+  // total band is max − min = 2A.
+  const double A = 2.5, a = 20.0, b = 45.0;
+  const auto x = linspace(a, b, 2001);
+  std::vector<double> d;
+  for (double v : x) d.push_back(A * std::sin(2 * kPi * (v - a) / (b - a)));
+  const auto r = evaluate_trace_over(x, d, a, b);
+  ASSERT_TRUE(r);
+  // Trapezoid weights approximate the continuous line to O(h²): h = 1/2000 of the range.
+  EXPECT_NEAR(r->slope_um, -6 * A / kPi, 1e-5);
+  EXPECT_NEAR(r->form_um, 6 * A / kPi, 1e-5);
+  EXPECT_NEAR(r->total_um, 2 * A, 1e-5);
+}
+
+TEST(TraceEvaluation, OnlyTheRangeCountsAndTheSlopeSpansTheWholeRange) {
+  // Samples outside [a, b] carry a large step that must not enter; inside, a pure slope sampled
+  // on [a + 1, b − 1] only: the slope deviation is still s · (b − a) (the mean line's values at
+  // the range ends).
+  const double a = 0.0, b = 10.0, s = -0.4;
+  std::vector<double> x = {-2.0, -1.0}, d = {100.0, 100.0};
+  for (double v : linspace(a + 1, b - 1, 9)) {
+    x.push_back(v);
+    d.push_back(s * v);
+  }
+  x.push_back(11.0);
+  d.push_back(-50.0);
+  const auto r = evaluate_trace_over(x, d, a, b);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->samples, 9);
+  EXPECT_NEAR(r->slope_um, s * (b - a), 1e-12);
+  EXPECT_NEAR(r->form_um, 0.0, 1e-12);
+  EXPECT_FALSE(evaluate_trace_over(x, d, 20.0, 30.0));  // no sample in the range: no value
+}
+
+TEST(Pitch, SinusoidalIndexErrorOf24Teeth) {
+  // u_k = 10 sin(2πk/24) µm: F_p = max − min = 20 µm (k = 6, 18);
+  // f_pt,k = 20 sin(π/24) cos(π(2k + 1)/24), largest at 2k + 1 = ±1: 20 sin(π/24) cos(π/24)
+  // = 10 sin(π/12) = 2.58819 µm (also a direct Python evaluation of the differences).
+  std::vector<double> u;
+  for (int k = 0; k < 24; ++k) u.push_back(10.0 * std::sin(2 * kPi * k / 24));
+  const PitchResult p = evaluate_pitch(u);
+  EXPECT_NEAR(p.cumulative_um, 20.0, 1e-12);
+  EXPECT_NEAR(p.single_max_abs_um, 2.588190451, 1e-9);
+  ASSERT_EQ(p.single_um.size(), 24u);
+  double sum = 0;
+  for (double f : p.single_um) sum += f;
+  EXPECT_NEAR(sum, 0.0, 1e-12);  // the pitches close the circle
+}
+
+TEST(Pitch, ArcPositionOfARotatedFlank) {
+  // Rotating the nominal R flank of tooth 1 counter-clockwise by φ moves its point on the
+  // reference circle along the old normal by (rotated − original)·n; the arc position must give
+  // back r φ (the arc on the reference circle), for R with + and for L with −.
+  const InvoluteGear gear = testing_support::p1_gear();
+  const double r = gear.reference_diameter_mm() / 2, rb = gear.base_diameter_mm() / 2;
+  const double L = std::sqrt(r * r - rb * rb), alpha = gear.pressure_angle_rad();
+  const double phi = 1e-6;  // rad: 67 nm of arc, first order is exact to 1e-12 relative
+  for (FlankSide side : {FlankSide::kRight, FlankSide::kLeft}) {
+    const FlankPoint p = gear.flank_point(1, side, L, 10.0);
+    const Eigen::Vector3d q(std::cos(phi) * p.point.x() - std::sin(phi) * p.point.y(),
+                            std::sin(phi) * p.point.x() + std::cos(phi) * p.point.y(), p.point.z());
+    // The rotated flank's normal deviation at p, to first order: its displacement along n.
+    const double d_um = 1e3 * (q - p.point).dot(p.normal);
+    EXPECT_NEAR(flank_arc_position_um(side, d_um, alpha), 1e3 * r * phi, 1e-6);
+  }
+}
+
+TEST(Runout, EccentricityGivesTwiceItAndRotationOrThicknessNothing) {
+  // A gear moved by e: every flank's normal deviation at a point is e·n, the ball of each
+  // space moves by e, radial displacement e·e_k; with e along the bisector of space 0 and
+  // z = 24 even, space 12 is opposite: F_r = 2|e| (ISO 10064-4: runout ≈ 2 × eccentricity).
+  const InvoluteGear gear = testing_support::p1_gear();
+  const EvaluationRanges ranges = evaluation_ranges(gear);
+  const double Lc = 0.5 * (ranges.profile_start_mm + ranges.profile_end_mm);
+  const double z = gear.face_width_mm() / 2;
+  const auto contacts = ball_contacts(gear, Lc, z);
+  ASSERT_EQ(static_cast<int>(contacts.size()), gear.teeth());
+  const Eigen::Vector2d e = 7.0 * contacts[0].radial;  // µm
+  std::vector<double> dr, dl;
+  for (int k = 1; k <= gear.teeth(); ++k) {
+    dr.push_back(e.dot(gear.flank_point(k, FlankSide::kRight, Lc, z).normal.head<2>()));
+    dl.push_back(e.dot(gear.flank_point(k, FlankSide::kLeft, Lc, z).normal.head<2>()));
+  }
+  EXPECT_NEAR(runout_um(contacts, dr, dl), 14.0, 1e-9);
+  // A rotation: R flanks +d, L flanks −d (the same arc): the balls turn, no radial change.
+  std::vector<double> plus(gear.teeth(), 3.0), minus(gear.teeth(), -3.0);
+  EXPECT_NEAR(runout_um(contacts, plus, minus), 0.0, 1e-9);
+  // Thicker teeth (both flanks +d): every ball moves out alike, no runout.
+  EXPECT_NEAR(runout_um(contacts, plus, plus), 0.0, 1e-9);
+  // One space narrowed by d on both flanks: its ball rises by d / (n·e) with n·e the radial
+  // component of the flank normals; every other ball stays, F_r = that rise.
+  std::vector<double> zero(gear.teeth(), 0.0), dr1 = zero, dl1 = zero;
+  dr1[0] = 2.0;
+  dl1[1] = 2.0;
+  const double ne = contacts[0].normal_right.dot(contacts[0].radial);
+  EXPECT_NEAR(runout_um(contacts, dr1, dl1), 2.0 / ne, 1e-9);
+}
+
+TEST(Conformity, Jcgm106Section7Example) {
+  // y = 13.6, u = 1.8, limits 12.5 and 16.3: Φ(1.5) − Φ(−0.6111) = 0.93319 − 0.27056 = 0.6626
+  // (independent: the Gaussian CDF values from tables / Python's math.erf).
+  EXPECT_NEAR(conformance_probability(13.6, 1.8, 12.5, 16.3), 0.6626, 5e-5);
+  EXPECT_NEAR(conformance_probability(5.0, 0.0, std::nullopt, 6.0), 1.0, 0.0);
+}
+
+TEST(Conformity, SimpleRuleRatesMatchTheClosedFormGaussianCase) {
+  // Population X ~ N(T, σ²) centred on the upper limit T, measured Y = X + E, E ~ N(0, u²),
+  // accept Y <= T. With A = X − T and B = −(Y − T) jointly normal with correlation
+  // ρ = −σ/√(σ² + u²), P(false accept) = P(A > 0, B >= 0) = 1/4 + arcsin(ρ)/(2π) (Sheppard's
+  // orthant formula); σ = u gives 1/4 − 1/8 = 0.125, and false reject the same by symmetry.
+  // 200000 draws, seed 15 (std::mt19937_64): standard error √(p(1 − p)/n) = 7.4e-4; bound 4
+  // standard errors (two-sided significance 6e-5).
+  const double T = 10.0, sigma = 2.0, u = 2.0;
+  const int n = 200000;
+  std::mt19937_64 rng(15);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> x(n), y(n);
+  for (int i = 0; i < n; ++i) {
+    x[i] = T + sigma * g(rng);
+    y[i] = x[i] + u * g(rng);
+  }
+  const ToleranceLimits tol{std::nullopt, T};
+  const DecisionRates r =
+      decision_rates(x, y, tol, acceptance_limits(tol, DecisionRule::kSimple, 0));
+  const double expected = 0.25 - std::asin(sigma / std::hypot(sigma, u)) / (2 * kPi);
+  const double bound = 4 * std::sqrt(expected * (1 - expected) / n);
+  EXPECT_NEAR(r.false_accept_rate(), expected, bound);
+  EXPECT_NEAR(r.false_reject_rate(), expected, bound);
+  // A guard band of U = 2u: accept Y <= T − 2u. Then a false accept needs E <= −(A + 2u) with
+  // A > 0; P = ∫_0^∞ φ_σ(a) Φ(−(a + 2u)/u) da, a one-dimensional integral evaluated below by
+  // the midpoint rule (20000 steps to 8σ; the tail beyond is < 1e-15).
+  const DecisionRates gb =
+      decision_rates(x, y, tol, acceptance_limits(tol, DecisionRule::kGuardBanded, 2 * u));
+  double integral = 0.0;
+  const double h = 8 * sigma / 20000;
+  for (int i = 0; i < 20000; ++i) {
+    const double a = (i + 0.5) * h;
+    const double phi = std::exp(-0.5 * a * a / (sigma * sigma)) / (sigma * std::sqrt(2 * kPi));
+    integral += h * phi * 0.5 * std::erfc((a + 2 * u) / (u * std::numbers::sqrt2));
+  }
+  EXPECT_NEAR(gb.false_accept_rate(), integral, 4 * std::sqrt(integral / n) + 1e-6);
+  EXPECT_LT(gb.false_accept_rate(), r.false_accept_rate());
+  EXPECT_GT(gb.false_reject_rate(), r.false_reject_rate());
+}
+
+TEST(Conformity, ShortestIntervalOfASample) {
+  // JCGM 101 §7.7.2: M = 100 values 0 … 99 equally spaced, p = 0.95, q = 95: every window has
+  // width 95, the first is taken: [0, 95]. A skewed sample (squares) puts it at the low end.
+  std::vector<double> v, sq;
+  for (int i = 0; i < 100; ++i) {
+    v.push_back(i);
+    sq.push_back(i * i);
+  }
+  const auto a = shortest_coverage_interval(v, 0.95);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->lo, 0.0);
+  EXPECT_EQ(a->hi, 95.0);
+  const auto b = shortest_coverage_interval(sq, 0.95);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->hi, 95.0 * 95.0);
+  EXPECT_FALSE(shortest_coverage_interval(std::vector<double>(10, 1.0), 0.95));  // q = M
+}
+
+}  // namespace
+}  // namespace gearmc

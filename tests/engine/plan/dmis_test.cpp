@@ -1,0 +1,179 @@
+// Tests of the DMIS round trip (engine/plan/dmis_plan, engine/readings/dmis_results): the
+// program `gearmc export-plan` writes holds every planned point in probing order with its nominal
+// point, outward normal and approach vector; the results a CMM would write for it (made here
+// from simulated readings: FA = the compensated point E = c − R n) read back into the same
+// readings, and `gearmc diagnose` on them names the hidden effect as it does on the CSV; bad
+// DMIS results are refused with file:line:column.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "core/input_error.h"
+#include "engine/effects/effect_config.h"
+#include "engine/plan/dmis_plan.h"
+#include "engine/readings/dmis_results.h"
+#include "engine/run/simulate.h"
+#include "tests/support/run_gearmc.h"
+#include "tests/support/text_files.h"
+
+namespace gearmc {
+namespace {
+
+using testing_support::read_text;
+using testing_support::write_text;
+
+namespace fs = std::filesystem;
+using testing_support::run_gearmc;
+
+std::string full(const Eigen::Vector3d& v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v.x() << "," << v.y() << "," << v.z();
+  return s.str();
+}
+
+// What a CMM writes after running the plan: nominal and actual feature per measured reading.
+std::string dmis_results_of(const Readings& readings) {
+  std::string out = "DMISMN/'results',05.3\nUNITS/MM,ANGDEC\n";
+  const double R = readings.stylus_radius_mm;
+  for (const ReadingRow& row : readings.rows) {
+    const std::string label = dmis_point_label(row.tooth, row.side, row.i, row.j);
+    out += "F(" + label + ")=FEAT/POINT,CART," + full(row.p) + "," + full(row.n) + "\n";
+    out += "$$ measured\nFA(" + label + ")=FEAT/POINT,CART,$\n  " + full(row.c - R * row.n) + "," +
+           full(row.n) + "\n";
+  }
+  return out + "ENDFIL\n";
+}
+
+TEST(DmisPlan, ExportPlanWritesEveryPlannedPointInProbingOrder) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_plan";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string file = (dir / "plan.dmi").string();
+  const auto r = run_gearmc("export-plan --format dmis --out " + file);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = read_text(file);
+  const Scenario s = reference_scenario();
+  const std::vector<PlannedPoint> plan = probing_sequence(InvoluteGear(s.gear), s.probing);
+  ASSERT_EQ(plan.size(), 2400u);
+  static const std::regex feature(R"(^F\((\w+)\)=FEAT/POINT,CART,(.*)$)");
+  static const std::regex touch(R"(^PTMEAS/CART,(.*)$)");
+  std::istringstream in(text);
+  std::size_t k = 0;
+  std::string line, last;
+  std::vector<double> nominal;
+  while (std::getline(in, line)) {
+    last = line;
+    EXPECT_EQ(line.find(",-0.000"), std::string::npos) << line;
+    std::smatch m;
+    const auto numbers = [](const std::string& list) {
+      std::vector<double> v;
+      std::stringstream fields(list);
+      for (std::string x; std::getline(fields, x, ',');) v.push_back(std::stod(x));
+      return v;
+    };
+    if (std::regex_match(line, m, feature)) {
+      ASSERT_LT(k, plan.size());
+      const PlannedPoint& q = plan[k];
+      EXPECT_EQ(m[1].str(), dmis_point_label(q.tooth, q.side, q.i, q.j));
+      nominal = numbers(m[2].str());
+      ASSERT_EQ(nominal.size(), 6u);
+      // 6 decimals for the point (1 nm), 9 for the normal.
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(nominal[a], q.point[a], 5e-7);
+        EXPECT_NEAR(nominal[3 + a], q.normal[a], 5e-10);
+      }
+    } else if (std::regex_match(line, m, touch)) {
+      // The touch: at the nominal point, approach vector = outward normal (probe travels along
+      // −n, as the stylus approaches in gearmc's model).
+      EXPECT_EQ(numbers(m[1].str()), nominal);
+      ++k;
+    }
+  }
+  EXPECT_EQ(k, plan.size());
+  EXPECT_EQ(last, "ENDFIL");
+  EXPECT_EQ(text.rfind("DMISMN/'gearmc probing plan of p1_reference',05.3", 0), 0u);
+
+  // Bad input: an unknown format, exit 2, nothing written.
+  const auto bad = run_gearmc("export-plan --format iges --out " + (dir / "x.dmi").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--format: got 'iges', expected dmis"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "x.dmi"));
+}
+
+TEST(DmisResults, ResultsOfThePlanReadBackAsTheSameReadingsAndDiagnoseAlike) {
+  // Readings of the diagnose example's truth (lobing 0.75 µm, noise 0.3 µm, nominal master),
+  // written as a CMM's DMIS results (with a `$` continuation and a `$$` comment), read back:
+  // the same p, n and c (to 1e-9 mm: the numbers are written with 17 digits) and order.
+  const std::string scenarios = std::string(GEARMC_SOURCE_DIR) + "/scenarios/diagnose/";
+  SimulateOptions o;
+  o.master = true;
+  const Readings truth =
+      simulate_readings(load_scenario_file(scenarios + "lobing_truth.yaml"), o).readings;
+  const std::string text = dmis_results_of(truth);
+  const Readings back = parse_dmis_results(text, "results.dmo", truth.stylus_radius_mm);
+  ASSERT_EQ(back.rows.size(), truth.rows.size());
+  for (std::size_t k = 0; k < truth.rows.size(); ++k) {
+    const ReadingRow &a = truth.rows[k], &b = back.rows[k];
+    EXPECT_EQ(std::tie(a.tooth, a.side, a.i, a.j), std::tie(b.tooth, b.side, b.i, b.j));
+    EXPECT_EQ(b.order, static_cast<int>(k));
+    EXPECT_LT((a.p - b.p).norm(), 1e-9);
+    EXPECT_LT((a.n - b.n).norm(), 1e-9);
+    EXPECT_LT((a.c - b.c).norm(), 1e-9);
+  }
+  // Diagnosing the DMIS file names the hidden lobing, as the CSV does (README example).
+  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_results";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream out(dir / "results.dmo", std::ios::binary);
+    out << text;
+  }
+  const auto r = run_gearmc("diagnose --model " + scenarios + "lobing_model.yaml --measured " +
+                            (dir / "results.dmo").string() + " --out " + (dir / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(dir / "out" / "diagnosis.json"));
+  EXPECT_EQ(j["named_effect"], "probe_lobing");
+}
+
+TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
+  const std::string head = "DMISMN/'r',05.3\n";
+  const std::string nominal = "F(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n";
+  struct Case {
+    std::string text, expected;
+  };
+  const std::vector<Case> cases = {
+      {head + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n",
+       "results.dmo:2:1: FA(T001L_I00_J00): got 'no nominal'"},
+      {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,abc,3.9,0.2472,-0.969,0\n",
+       "results.dmo:3:40: FEAT/POINT of T001L_I00_J00: got 'abc', expected a finite number"},
+      {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472\n",
+       "got '4 numbers', expected 6 numbers"},
+      {head + "F(P1)=FEAT/POINT,CART,1,2,3,1,0,0\nFA(P1)=FEAT/POINT,CART,1,2,3,1,0,0\n",
+       "results.dmo:3:1: FA label: got 'P1', expected a label of gearmc's plan"},
+      {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n" +
+           "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n",
+       "results.dmo:4:1: FA(T001L_I00_J00): got 'measured again (first at line 3)'"},
+      {head + nominal + "ENDFIL\n", "no measured points"},
+  };
+  for (const Case& c : cases) {
+    try {
+      parse_dmis_results(c.text, "results.dmo", 0.5);
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos)
+          << e.what() << "\nexpected: " << c.expected;
+    }
+  }
+  EXPECT_TRUE(is_dmis_file("a/b.DMO"));
+  EXPECT_TRUE(is_dmis_file("x.dmi"));
+  EXPECT_FALSE(is_dmis_file("x.csv"));
+}
+
+}  // namespace
+}  // namespace gearmc
