@@ -3,7 +3,7 @@
 // principle 4: bad input is an InputError; a broken invariant stops the program): the check
 // prints "<file>:<line>: gearmc internal error: <message> (failed: <condition>)" to stderr and
 // aborts. Use it where continuing would compute a wrong number; the condition should be cheap.
-// In gears/ so that gears/, surfaces/ and engine/ can all use it (gears/ is the lowest library).
+// In core/ so that every library (core, gears, surfaces, engine) can use it.
 #pragma once
 
 #include <cstdio>

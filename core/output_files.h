@@ -1,9 +1,9 @@
 // A set of output files of one command written all-or-nothing (docs/formats.md: nothing is
 // half-written): each file is written as "<name>.partial" in the output folder and all are
 // renamed to their names together by commit(); if the object is destroyed before commit()
-// (an exception), the partial files are removed. Used by `run` and `diagnose`. A single file
-// is written atomically with write_file_atomically (temporary name, then rename). The bottom
-// layer (core): every module that writes an output uses these, none writes its own.
+// (an exception), the partial files are removed. A single file is written atomically with
+// write_file_atomically (temporary name, then rename). In core: every command and module that
+// writes an output uses these, none writes its own.
 #pragma once
 
 #include <filesystem>

@@ -59,10 +59,7 @@ MeasurementModel::MeasurementModel(const Scenario& scenario)
       for (int j = 0; j < static_cast<int>(grid.heights.size()); ++j) {
         for (int i = 0; i < static_cast<int>(grid.roll_lengths.size()); ++i) {
           PlanPoint& q = flank.points.emplace_back();
-          q.tooth = tooth;
-          q.side = side;
-          q.i = i;
-          q.j = j;
+          q.grid_position() = GridPosition{tooth, side, i, j};
           q.roll_length_mm = grid.roll_lengths[i];
           q.z_mm = grid.heights[j];
           q.nominal = gear_->flank_point(tooth, side, q.roll_length_mm, q.z_mm);

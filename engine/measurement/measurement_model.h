@@ -15,6 +15,7 @@
 #include "engine/scenario/scenario.h"
 #include "gears/deviations.h"
 #include "gears/involute_gear.h"
+#include "gears/point_key.h"
 #include "gears/tolerances.h"
 
 namespace gearmc {
@@ -24,10 +25,7 @@ class NormalExpression;
 struct FlankExtent;
 
 // One planned point of the probing plan, with what does not depend on the gear drawn.
-struct PlanPoint {
-  int tooth = 1;
-  FlankSide side = FlankSide::kLeft;
-  int i = 0, j = 0;           // i along the profile (0..N-1), j across the face (0..M-1)
+struct PlanPoint : GridPosition {
   double roll_length_mm = 0;  // ISO roll length L of the nominal point
   double z_mm = 0;            // height above the lower face
   FlankPoint nominal;         // nominal point and outward unit normal (gear frame)

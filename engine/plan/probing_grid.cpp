@@ -48,8 +48,12 @@ std::vector<PlannedPoint> plan_flank(const InvoluteGear& gear, const ProbingGrid
   for (int j = 0; j < static_cast<int>(grid.heights.size()); ++j) {
     for (int i = 0; i < static_cast<int>(grid.roll_lengths.size()); ++i) {
       const FlankPoint fp = gear.flank_point(tooth, side, grid.roll_lengths[i], grid.heights[j]);
-      points.push_back(
-          {tooth, side, i, j, grid.roll_lengths[i], grid.heights[j], fp.point, fp.normal});
+      PlannedPoint& q = points.emplace_back();
+      q.grid_position() = GridPosition{tooth, side, i, j};
+      q.roll_length_mm = grid.roll_lengths[i];
+      q.z_mm = grid.heights[j];
+      q.point = fp.point;
+      q.normal = fp.normal;
     }
   }
   return points;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gears/involute_gear.h"
+#include "gears/point_key.h"
 
 namespace gearmc {
 
@@ -41,13 +42,10 @@ struct ProbingPlanSpec {
 };
 
 // One planned point: nominal position and outward normal, its grid indices (0-based).
-struct PlannedPoint {
-  int tooth;
-  FlankSide side;
-  int i, j;            // i along the profile (0..N-1), j across the face (0..M-1)
-  double roll_length;  // mm
-  double z;            // mm
-  Eigen::Vector3d point, normal;
+struct PlannedPoint : GridPosition {
+  double roll_length_mm = 0.0;    // ISO roll length L of the point
+  double z_mm = 0.0;              // height above the lower face
+  Eigen::Vector3d point, normal;  // the nominal point (mm) and its outward unit normal
 };
 
 // The grid's roll lengths and heights (shared by every flank of the gear).

@@ -17,14 +17,12 @@
 #include <vector>
 
 #include "gears/involute_gear.h"
+#include "gears/point_key.h"
 
 namespace gearmc {
 
-struct ReadingRow {
-  int gear = 0, tooth = 1;
-  FlankSide side = FlankSide::kLeft;
-  int i = 0, j = 0;  // grid indices: along the profile, across the face
-  int order = 0;     // probing sequence, 0-based per file
+struct ReadingRow : PointKey {
+  int order = 0;  // probing sequence, 0-based per file
   Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitX();
   Eigen::Vector3d c = Eigen::Vector3d::Zero();  // recorded stylus centre at trigger, mm
   std::optional<double> ref_dev_um;             // calibrated deviation of the artefact at p along n

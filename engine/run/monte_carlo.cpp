@@ -127,7 +127,11 @@ GearOutcome MonteCarloRun::measure_gear(int k, bool record_points, bool chart_tr
       }
       if (record_points) {
         const PlanPoint& q = *m.plan;
-        out.points.push_back({k, q.tooth, q.side, q.i, q.j, q.nominal.point, q.nominal.normal, r});
+        ProbedPoint& probed = out.points.emplace_back();
+        probed.key() = point_key(k, q);
+        probed.p = q.nominal.point;
+        probed.n = q.nominal.normal;
+        probed.contact = r;
       }
     });
     if (valid > 0) {

@@ -26,6 +26,7 @@
 #include "engine/scenario/scenario.h"
 #include "engine/statistics/relative_histogram.h"
 #include "engine/statistics/running_stats.h"
+#include "gears/point_key.h"
 
 namespace gearmc {
 
@@ -41,11 +42,8 @@ struct ErrorStatistics {
 };
 
 // One probed point (docs/formats.md points.csv): the plan, the contact and its errors.
-struct ProbedPoint {
-  int gear, tooth;
-  FlankSide side;
-  int i, j;
-  Eigen::Vector3d p, n;  // nominal point and outward normal
+struct ProbedPoint : PointKey {
+  Eigen::Vector3d p, n;  // nominal point (mm) and outward unit normal
   ContactResult contact;
 };
 

@@ -71,11 +71,7 @@ SimulatedReadings simulate_readings(const Scenario& input, const SimulateOptions
         continue;
       }
       ReadingRow row;
-      row.gear = k;
-      row.tooth = q.tooth;
-      row.side = q.side;
-      row.i = q.i;
-      row.j = q.j;
+      row.key() = point_key(k, q);
       row.order = this_order;
       row.p = q.nominal.point;
       row.n = q.nominal.normal;

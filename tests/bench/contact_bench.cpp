@@ -122,11 +122,13 @@ struct OneFlank {
     points = plan_flank(f.gear, grid, kTooth, kSide);
     const EvaluationRanges ranges = f.sampler.ranges();
     for (const PlannedPoint& p : points) {
-      exact.push_back(solve_contact(flank, extent, p.point, p.normal, kR, p.roll_length, p.z));
+      exact.push_back(
+          solve_contact(flank, extent, p.point, p.normal, kR, p.roll_length_mm, p.z_mm));
       auto near = [](double a, double b) { return std::abs(a - b) < 0.01; };
-      interior.push_back(!near(p.z, ranges.helix_start_mm) && !near(p.z, ranges.helix_end_mm) &&
-                         !near(p.roll_length, ranges.profile_start_mm) &&
-                         !near(p.roll_length, ranges.profile_end_mm));
+      interior.push_back(!near(p.z_mm, ranges.helix_start_mm) &&
+                         !near(p.z_mm, ranges.helix_end_mm) &&
+                         !near(p.roll_length_mm, ranges.profile_start_mm) &&
+                         !near(p.roll_length_mm, ranges.profile_end_mm));
     }
   }
 };
@@ -142,8 +144,8 @@ void BM_AnalyticContactOneFlank(benchmark::State& state) {
   double sink = 0.0;
   for (auto _ : state) {
     for (const PlannedPoint& p : c.points) {
-      const ContactResult r =
-          solve_contact(c.flank, c.extent, p.point, p.normal, OneFlank::kR, p.roll_length, p.z);
+      const ContactResult r = solve_contact(c.flank, c.extent, p.point, p.normal, OneFlank::kR,
+                                            p.roll_length_mm, p.z_mm);
       sink += r.delta_um;
       ++solves;
     }

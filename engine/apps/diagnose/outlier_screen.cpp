@@ -105,11 +105,7 @@ OutlierScreen screen_outliers(const Residuals& residuals, double family_false_al
     ExcludedReading e;
     e.row = k;
     e.line = p.line;
-    e.gear = p.gear;
-    e.tooth = p.tooth;
-    e.side = p.side;
-    e.i = p.i;
-    e.j = p.j;
+    e.key() = p.key();
     e.residual_um = p.residual_um;
     e.z = prediction_z(scans[s], at, residuals, out.sigma_um);
     excluded.push_back(e);

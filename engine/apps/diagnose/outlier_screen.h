@@ -29,12 +29,9 @@
 
 namespace gearmc {
 
-struct ExcludedReading {
+struct ExcludedReading : PointKey {
   int row = 0;   // index into the residuals (= the readings' data rows)
   int line = 0;  // line in the readings file (0: readings made in memory)
-  int gear = 0, tooth = 1;
-  FlankSide side = FlankSide::kLeft;
-  int i = 0, j = 0;
   double residual_um = 0.0;
   double z = 0.0;  // the standardised prediction error when it was excluded
 };

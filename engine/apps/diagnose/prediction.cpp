@@ -79,11 +79,7 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
   out.points.reserve(readings.rows.size());
   for (const ReadingRow& row : readings.rows) {
     ResidualPoint point;
-    point.gear = row.gear;
-    point.tooth = row.tooth;
-    point.side = row.side;
-    point.i = row.i;
-    point.j = row.j;
+    point.key() = row.key();
     point.order = row.order;
     point.line = row.line;
     const auto [first, last] = gear_orders.at(row.gear);

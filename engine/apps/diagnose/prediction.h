@@ -47,10 +47,7 @@ struct PredictionOptions {
   ArtefactModel artefact = ArtefactModel::kNominalMaster;
 };
 
-struct ResidualPoint {
-  int gear = 0, tooth = 1;
-  FlankSide side = FlankSide::kLeft;
-  int i = 0, j = 0;
+struct ResidualPoint : PointKey {
   int order = 0;              // the file's order column
   int line = 0;               // the reading's line in the readings file (0: made in memory)
   PointContext context;       // as the effects see the point (see the file comment)

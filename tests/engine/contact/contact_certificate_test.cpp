@@ -233,11 +233,11 @@ TEST(Contact, TheAngleOfThePlannedPointGivesTheSameContactBitForBit) {
     for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
       const AnalyticFlank flank(gear, tooth, side, g.flank(tooth, side), g.eccentricity_mm);
       for (const PlannedPoint& pp : plan_flank(gear, ProbingGridSpec{}, tooth, side)) {
-        const FlankPoint fp = gear.flank_point(tooth, side, pp.roll_length, pp.z);
+        const FlankPoint fp = gear.flank_point(tooth, side, pp.roll_length_mm, pp.z_mm);
         const ContactResult a =
-            solve_contact(flank, extent, fp.point, fp.normal, 0.5, pp.roll_length, pp.z);
+            solve_contact(flank, extent, fp.point, fp.normal, 0.5, pp.roll_length_mm, pp.z_mm);
         const ContactResult b = solve_contact(flank, extent, fp.point, fp.normal, 0.5,
-                                              pp.roll_length, pp.z, planned_base_angle(fp));
+                                              pp.roll_length_mm, pp.z_mm, planned_base_angle(fp));
         ASSERT_EQ(a.status, b.status);
         EXPECT_EQ(a.iterations, b.iterations);
         EXPECT_EQ(a.delta_um, b.delta_um);
@@ -260,10 +260,10 @@ TEST(ContactCertificate, ExactStageProvesP1FieldsAndRefusesAWavyOne) {
     const AnalyticFlank flank(gear, 4, side, g.flank(4, side), g.eccentricity_mm);
     for (const PlannedPoint& pp : plan_flank(gear, spec, 4, side)) {
       const double kappa =
-          exact_curvature_bound(flank, pp.point, pp.normal, 0.5, pp.roll_length, pp.z);
+          exact_curvature_bound(flank, pp.point, pp.normal, 0.5, pp.roll_length_mm, pp.z_mm);
       // P1's form deviations (f_f 8 µm over 8 control values) bend the flank by far less than
       // the sphere: kappa << 1/R = 2 /mm (the bound drops the involute's own convexity).
-      EXPECT_LT(kappa, 0.1) << pp.roll_length << " " << pp.z;
+      EXPECT_LT(kappa, 0.1) << pp.roll_length_mm << " " << pp.z_mm;
     }
   }
   // A helix form with 50 µm swings every 0.5 mm: |delta_zz| up to ~1.6 /mm · (0.05 mm) ... well

@@ -115,11 +115,11 @@ TEST(Contact, RandomSmoothFieldsAgreeWithBruteForce) {
         const AnalyticFlank flank(gear, tooth, side, g.flank(tooth, side), g.eccentricity_mm);
         for (const PlannedPoint& pp : plan_flank(gear, spec, tooth, side)) {
           if ((pp.i + pp.j) % 7 != 0) continue;  // a spread-out subset of the grid
-          const ContactResult r =
-              solve_contact(flank, extent_of(gear), pp.point, pp.normal, 0.5, pp.roll_length, pp.z);
+          const ContactResult r = solve_contact(flank, extent_of(gear), pp.point, pp.normal, 0.5,
+                                                pp.roll_length_mm, pp.z_mm);
           ASSERT_EQ(r.status, ContactResult::Status::kOk);
-          const Eigen::Vector2d b = testing_support::brute_force_contact(flank, pp.point, pp.normal,
-                                                                         0.5, pp.roll_length, pp.z);
+          const Eigen::Vector2d b = testing_support::brute_force_contact(
+              flank, pp.point, pp.normal, 0.5, pp.roll_length_mm, pp.z_mm);
           const Eigen::Vector3d C = flank.point(b[0], b[1]);
           const Eigen::Vector3d O = pp.point + testing_support::brute_force_contact_height(
                                                    flank, pp.point, pp.normal, 0.5, b[0], b[1]) *
@@ -200,7 +200,7 @@ TEST(Contact, AStylusTooBigForTheToothSpaceCollides) {
   for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
     for (const PlannedPoint& pp : plan_flank(gear, plan.grid, 6, side)) {
       for (double R : {0.5, 3.0}) {
-        ContactResult r = probe(gear, none, 6, side, pp.roll_length, pp.z, R);
+        ContactResult r = probe(gear, none, 6, side, pp.roll_length_mm, pp.z_mm, R);
         ASSERT_EQ(r.status, ContactResult::Status::kOk);
         check_tooth_space(gear, 6, side, pp.normal, R, 1.0, &r);
         if (r.status == ContactResult::Status::kCollision) {

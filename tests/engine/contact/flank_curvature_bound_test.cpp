@@ -68,11 +68,11 @@ double fd_curvature(const AnalyticFlank& flank, const Eigen::Vector3d& p, const 
 // projected on the flank: |L - L0| <= R r_b / L0, |z - z0| <= R), 9 x 9 samples.
 double sampled_footprint_curvature(const InvoluteGear& gear, const AnalyticFlank& flank,
                                    const PlannedPoint& pp) {
-  const double half_L = kR * 0.5 * gear.base_diameter_mm() / pp.roll_length;
+  const double half_L = kR * 0.5 * gear.base_diameter_mm() / pp.roll_length_mm;
   double worst = -1e300;
   for (int i = -4; i <= 4; ++i) {
     for (int j = -4; j <= 4; ++j) {
-      const double L = pp.roll_length + i * half_L / 4, z = pp.z + j * kR / 4;
+      const double L = pp.roll_length_mm + i * half_L / 4, z = pp.z_mm + j * kR / 4;
       worst = std::max(worst, fd_curvature(flank, pp.point, pp.normal, L, z));
     }
   }
@@ -111,11 +111,11 @@ TEST(FlankCurvatureBound, BoundsAreUpperBoundsOfTheSampledCurvature) {
       ASSERT_LT(fb.kappa, 1e300);
       for (const PlannedPoint& pp : plan_flank(gear, ProbingGridSpec{}, 3, side)) {
         const double point_kappa =
-            exact_curvature_bound(flank, pp.point, pp.normal, kR, pp.roll_length, pp.z,
+            exact_curvature_bound(flank, pp.point, pp.normal, kR, pp.roll_length_mm, pp.z_mm,
                                   extent.roll_length_min, extent.roll_length_max);
         const double real = sampled_footprint_curvature(gear, flank, pp);
-        EXPECT_GE(point_kappa, real - 1e-6) << pp.roll_length << " " << pp.z;
-        EXPECT_GE(fb.kappa, point_kappa) << pp.roll_length << " " << pp.z;
+        EXPECT_GE(point_kappa, real - 1e-6) << pp.roll_length_mm << " " << pp.z_mm;
+        EXPECT_GE(fb.kappa, point_kappa) << pp.roll_length_mm << " " << pp.z_mm;
         largest_true = std::max(largest_true, real);
         ++points;
       }
@@ -193,24 +193,24 @@ TEST(FlankCurvatureBound, SameVerdictsAndResultsAndP1IsProvenPerFlank) {
             flank_curvature_bound(flank, kR, extent.roll_length_min, extent.roll_length_max);
         for (const PlannedPoint& pp : plan_flank(gear, ProbingGridSpec{}, tooth, side)) {
           const ContactResult a =
-              solve_contact(flank, extent, pp.point, pp.normal, kR, pp.roll_length, pp.z);
+              solve_contact(flank, extent, pp.point, pp.normal, kR, pp.roll_length_mm, pp.z_mm);
           const ContactResult b =
-              solve_contact(flank, extent, pp.point, pp.normal, kR, pp.roll_length, pp.z,
-                            base_angle(gear, tooth, side, pp.roll_length), &fb);
+              solve_contact(flank, extent, pp.point, pp.normal, kR, pp.roll_length_mm, pp.z_mm,
+                            base_angle(gear, tooth, side, pp.roll_length_mm), &fb);
           ASSERT_EQ(a.status, ContactResult::Status::kOk);
           ASSERT_EQ(b.status, a.status);
           EXPECT_EQ(b.iterations, a.iterations);
           EXPECT_EQ(b.delta_um, a.delta_um);
           EXPECT_EQ((b.contact - a.contact).norm(), 0.0);
           // The certificate itself at the found contact, with a gradient bound of 1e-6.
-          const FlankSurfacePoint start = flank.evaluate(pp.roll_length, pp.z);
+          const FlankSurfacePoint start = flank.evaluate(pp.roll_length_mm, pp.z_mm);
           const Eigen::Vector2d x(a.roll_length, a.z);
           const double t = (a.centre - pp.point).dot(pp.normal);
           const ContactCertificate with =
-              certify_contact(flank, pp.point, pp.normal, kR, pp.roll_length, start, x, t, 1e-6,
+              certify_contact(flank, pp.point, pp.normal, kR, pp.roll_length_mm, start, x, t, 1e-6,
                               extent.roll_length_min, extent.roll_length_max, &fb);
           const ContactCertificate without =
-              certify_contact(flank, pp.point, pp.normal, kR, pp.roll_length, start, x, t, 1e-6,
+              certify_contact(flank, pp.point, pp.normal, kR, pp.roll_length_mm, start, x, t, 1e-6,
                               extent.roll_length_min, extent.roll_length_max);
           EXPECT_EQ(with.verdict, without.verdict);
           EXPECT_EQ(with.verdict, ContactCertificate::Verdict::kCertified);
