@@ -36,8 +36,8 @@ struct GearStream {
   std::function<void(std::string_view bytes)> consume;
 };
 
-// Runs the gears [options.first_gear, options.end_gear) of the run of options.gears gears of `mc`
-// (by default all; first_gear at a block boundary: a batch of a sequential procedure) over
+// Runs the gears [options.first_gear, mc.end_gear(options)) of `mc` (by default all of the
+// scenario's run.gears; first_gear at a block boundary: a batch of a sequential procedure) over
 // `ranks`: rank r runs a contiguous share of the batch's blocks. options.only_gear runs on rank 0
 // alone; options.progress (with the estimate done × ranks) and options.on_gear are used on rank 0
 // only and on_gear sees only rank 0's own gears: per-gear output of every gear goes through
