@@ -530,7 +530,7 @@ void notes_and_inputs_section(HtmlReport& report, const ReportContext& ctx) {
       << (in.residuals.artefact == ArtefactModel::kModelGears ? "the model's perturbed gears"
                                                               : "the model's nominal master gear")
       << ". Readings: " << in.readings_path << ", " << d.points << " points, stylus radius "
-      << in.residuals.stylus_radius_mm << " mm";
+      << in.model.stylus_radius_mm << " mm";
     if (d.nominal_fallback > 0) s << " (" << d.nominal_fallback << " predicted with p + R n)";
     s << ". Null simulation: " << k << " replicates, seed " << d.seed
       << ", α = " << general(d.alpha) << ".";

@@ -121,7 +121,6 @@ OutlierScreen screen_outliers(const Residuals& residuals, double family_false_al
 Residuals without_excluded(const Residuals& residuals, const OutlierScreen& screen) {
   if (screen.excluded.empty()) return residuals;
   Residuals out;
-  out.stylus_radius_mm = residuals.stylus_radius_mm;
   out.artefact = residuals.artefact;
   std::vector<bool> drop(residuals.points.size(), false);
   for (const ExcludedReading& e : screen.excluded) drop[static_cast<std::size_t>(e.row)] = true;

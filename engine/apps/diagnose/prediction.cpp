@@ -41,11 +41,10 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
   const bool nominal = options.artefact == ArtefactModel::kNominalMaster || readings.has_ref_dev;
   if (nominal) scenario.deviations.random = false;
   if (readings.has_ref_dev) scenario.normal_expression_um.clear();
-  scenario.stylus_radius_mm = readings.stylus_radius_mm;
-  const double R = readings.stylus_radius_mm;
+  // The ball: the model's (check_readings has refused readings compensated with another one).
+  const double R = model.stylus_radius_mm;
 
   Residuals out;
-  out.stylus_radius_mm = R;
   out.artefact = nominal ? ArtefactModel::kNominalMaster : ArtefactModel::kModelGears;
 
   // Each gear's place in the measurement: first and last order of its rows.

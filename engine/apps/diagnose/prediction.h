@@ -58,14 +58,15 @@ struct ResidualPoint : PointKey {
 };
 
 struct Residuals {
-  std::vector<ResidualPoint> points;  // in the readings' row order
-  double stylus_radius_mm = 0.5;
+  std::vector<ResidualPoint> points;  // in the readings' row order (the ball: the model's)
   ArtefactModel artefact = ArtefactModel::kNominalMaster;
   int nominal_fallback = 0;  // rows predicted with the nominal contact
 };
 
 // Predicts every row of `readings` with `model` and returns the residuals (µm along n, CMM frame
-// = gear frame). Throws InputError if the readings have no rows.
+// = gear frame), the measured deviations with the model's stylus radius (stylus.radius_mm, the
+// one place it is held; check_readings refuses readings compensated with another ball). Throws
+// InputError if the readings have no rows.
 Residuals compute_residuals(const Scenario& model, const Readings& readings,
                             const PredictionOptions& options = {});
 

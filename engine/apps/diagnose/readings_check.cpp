@@ -284,7 +284,7 @@ void check_residuals(const Residuals& residuals, const Readings& readings,
                      const std::string& readings_path) {
   for (std::size_t k = 0; k < residuals.points.size() && k < readings.rows.size(); ++k) {
     const ResidualPoint& p = residuals.points[k];
-    const double R = residuals.stylus_radius_mm;
+    const double R = readings.stylus_radius_mm;
     if (!std::isfinite(p.measured_um) || std::abs(p.measured_um) > kMaxDeviationUm) {
       const RowPlace place = locate(readings_path, k, kCx);
       throw InputError(place.where, "cx,cy,cz",
