@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "core/special_functions.h"
 #include "engine/statistics/distribution_fit.h"
 #include "engine/statistics/histogram.h"
 #include "engine/statistics/histogram_bins.h"
@@ -327,29 +326,6 @@ TEST(StatsJson, QuantilesOnceThereAreEnoughValues) {
 
 // ---------------------------------------------------------------------------------------------
 // Distribution fits
-
-TEST(IncompleteGamma, ClosedForms) {
-  for (double x : {0.01, 0.5, 1.0, 3.0, 10.0, 40.0}) {
-    // P(1, x) = 1 - e^-x; P(1/2, x) = erf(sqrt x) (Abramowitz & Stegun 6.5.17 with 7.1.1).
-    EXPECT_NEAR(regularized_gamma_p(1.0, x), -std::expm1(-x), 1e-15);
-    EXPECT_NEAR(regularized_gamma_q(1.0, x) / std::exp(-x), 1.0, 1e-13);
-    EXPECT_NEAR(regularized_gamma_p(0.5, x), std::erf(std::sqrt(x)), 1e-14);
-    EXPECT_NEAR(regularized_gamma_q(0.5, x) / std::erfc(std::sqrt(x)), 1.0, 1e-12);
-  }
-  // Integer a: Q(k, x) = e^-x sum_{j<k} x^j / j! (the Erlang / Poisson identity, A&S 6.5.13).
-  for (int k : {2, 5, 12, 50}) {
-    for (double x : {0.3, 2.0, 5.0, 11.0, 30.0, 70.0}) {
-      double term = 1.0, sum = 1.0;
-      for (int j = 1; j < k; ++j) {
-        term *= x / j;
-        sum += term;
-      }
-      const double q = std::exp(-x) * sum;
-      EXPECT_NEAR(regularized_gamma_q(k, x) / q, 1.0, 1e-12) << "k " << k << " x " << x;
-      EXPECT_NEAR(regularized_gamma_p(k, x) + regularized_gamma_q(k, x), 1.0, 1e-14);
-    }
-  }
-}
 
 std::vector<Distribution> reference_laws() {
   // Parameters in the range of P1's per-flank δRcomp (mean 1-2 µm, sigma 0.4-0.8 µm).

@@ -1,8 +1,5 @@
-// The input laws of `gearmc uncertainty` and their special functions, against independent
-// answers:
-//  * Student t quantiles against closed forms (ν = 1: tan(π(p − 1/2)); ν = 2:
-//    (2p−1)/sqrt(2p(1−p))) and against the printed table of JCGM 100:2008 Table G.2 (k for
-//    95 % and 99.73 %, to the printed digits); the normal quantile against Φ;
+// The input laws of `gearmc uncertainty`, against independent answers (their special functions
+// are tested in tests/core/special_functions_test.cpp):
 //  * each law's mean and variance (closed forms of JCGM 101 §6.4) against ∫_0^1 Q(p) dp and
 //    ∫_0^1 Q(p)^2 dp computed numerically from the law's own quantile function (substituting p =
 //    Φ(z), a fine rectangle rule in z), i.e. moments and CDF checked against each other;
@@ -25,55 +22,6 @@
 
 namespace gearmc::uncertainty {
 namespace {
-
-TEST(UncertaintySpecialFunctions, StudentTQuantileClosedForms) {
-  for (double p : {0.6, 0.9, 0.975, 0.99865, 0.999}) {
-    EXPECT_NEAR(student_t_quantile(p, 1.0), std::tan(std::numbers::pi * (p - 0.5)),
-                1e-10 * std::tan(std::numbers::pi * (p - 0.5)));
-    const double t2 = (2 * p - 1) / std::sqrt(2 * p * (1 - p));
-    EXPECT_NEAR(student_t_quantile(p, 2.0), t2, 1e-10 * t2);
-    EXPECT_NEAR(student_t_quantile(1 - p, 2.0), -t2, 1e-10 * t2);
-  }
-}
-
-TEST(UncertaintySpecialFunctions, StudentTQuantileGumTableG2) {
-  // JCGM 100:2008 Table G.2, t_p(ν) for p = 95 % and 99.73 % (printed to 2 decimals). The
-  // table's 99.73 % is the coverage of k = 3 for the normal law, 2Φ(3) − 1 = 0.9973002 (with
-  // 0.9973 exactly, ν = 1 gives 235.78, not the printed 235.80).
-  const double p3 = 2 * normal_cdf(3.0) - 1;
-  struct Row {
-    double nu, t95, t9973;
-  };
-  const Row rows[] = {{1, 12.71, 235.80}, {2, 4.30, 19.21}, {3, 3.18, 9.22}, {5, 2.57, 5.51},
-                      {10, 2.23, 3.96},   {20, 2.09, 3.42}, {50, 2.01, 3.16}};
-  for (const Row& r : rows) {
-    EXPECT_NEAR(student_t_quantile(0.975, r.nu), r.t95, 0.005) << r.nu;
-    EXPECT_NEAR(student_t_quantile(0.5 + p3 / 2, r.nu), r.t9973, 0.005) << r.nu;
-  }
-  // ν = ∞ row: 1.96 and 3.00; the normal quantile to full precision.
-  EXPECT_NEAR(student_t_quantile(0.975, INFINITY), 1.959963984540054, 1e-13);
-  // Huge ν: t → normal; I_x(ν/2, 1/2) near x = 1 loses digits (lgamma of 5e8), 1e-6 is kept.
-  EXPECT_NEAR(student_t_quantile(0.975, 1e9), 1.959963984540054, 1e-6);
-  // ν = 1e4: Cornish–Fisher, z + (z³ + z)/(4ν) + (5z⁵ + 16z³ + 3z)/(96ν²) (A&S 26.7.5).
-  const double z = 1.959963984540054, nu = 1e4;
-  EXPECT_NEAR(student_t_quantile(0.975, nu),
-              z + (z * z * z + z) / (4 * nu) +
-                  (5 * std::pow(z, 5) + 16 * z * z * z + 3 * z) / (96 * nu * nu),
-              1e-10);
-  for (double p : {1e-10, 0.001, 0.02425, 0.3, 0.5, 0.9, 0.99999}) {
-    EXPECT_NEAR(normal_cdf(normal_quantile(p)), p, 1e-14 * std::max(p, 1e-3));
-  }
-}
-
-TEST(UncertaintySpecialFunctions, IncompleteBetaClosedForms) {
-  // I_x(a, 1) = x^a; I_x(1, b) = 1 − (1−x)^b; I_x(1/2, 1/2) = (2/π) asin(√x).
-  for (double x : {0.01, 0.3, 0.5, 0.77, 0.999}) {
-    EXPECT_NEAR(incomplete_beta(2.5, 1.0, x), std::pow(x, 2.5), 1e-14);
-    EXPECT_NEAR(incomplete_beta(1.0, 3.5, x), 1 - std::pow(1 - x, 3.5), 1e-14);
-    EXPECT_NEAR(incomplete_beta(0.5, 0.5, x), 2 / std::numbers::pi * std::asin(std::sqrt(x)),
-                1e-13);
-  }
-}
 
 struct LawCase {
   const char* what;
