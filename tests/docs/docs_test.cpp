@@ -1,7 +1,7 @@
 // The documentation cannot drift from the code: docs/scenario-keys.md is exactly what the key
 // table the scenario readers take their keys, choices and defaults from and the range tables
-// they check numbers against generate, and every page under docs/ and the README link
-// only to files that exist in the repository.
+// they check numbers against generate, every page under docs/ and the README link only to files
+// that exist in the repository, and every file: function of docs/architecture.md's walk exists.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -69,6 +69,34 @@ TEST(Docs, LocalLinksPointToFilesInTheRepository) {
     }
   }
   EXPECT_GT(links, 20);
+}
+
+}  // namespace
+}  // namespace gearmc
+
+namespace gearmc {
+namespace {
+
+// Every "`path: function`" that docs/architecture.md names (its "Follow one gear" walk) is a file
+// of the repository that defines that function: the file exists and holds the function's last
+// name followed by "(" (a definition or declaration, e.g. "GearSampler::draw" as "draw(" in
+// gears/deviations.cpp). A renamed function or moved file fails here, naming the pair.
+TEST(Docs, ArchitectureWalkNamesFunctionsWhereTheyAre) {
+  const fs::path root(GEARMC_SOURCE_DIR);
+  const std::string text = read_text(root / "docs" / "architecture.md");
+  const std::regex pair(R"(`([a-z0-9_/]+\.(?:cpp|h|in)): ([A-Za-z_][A-Za-z0-9_:]*)`)");
+  int pairs = 0;
+  for (std::sregex_iterator it(text.begin(), text.end(), pair), end; it != end; ++it) {
+    ++pairs;
+    const std::string file = (*it)[1], function = (*it)[2];
+    ASSERT_TRUE(fs::exists(root / file)) << file << " (for " << function << ") does not exist";
+    const std::size_t colon = function.rfind(':');
+    const std::string name = colon == std::string::npos ? function : function.substr(colon + 1);
+    const std::string source = read_text(root / file);
+    EXPECT_TRUE(std::regex_search(source, std::regex("\\b" + name + "\\s*\\(")))
+        << file << " defines no " << function;
+  }
+  EXPECT_GE(pairs, 30) << "the walk names fewer file: function pairs than expected";
 }
 
 }  // namespace
