@@ -6,7 +6,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
-#include <regex>
+#include <string_view>
 #include <vector>
 
 #include "core/input_error.h"
@@ -59,6 +59,76 @@ std::vector<Statement> statements(const std::string& text) {
   return out;
 }
 
+// F(label)=FEAT/POINT,CART,<values> or FA(label)=… (keywords in any case, blanks anywhere
+// between the tokens): its kind, its label (blanks trimmed) and where <values> starts. Scanned
+// by hand in one pass (std::regex recurses once per character and overflowed the stack on long
+// statements).
+struct FeatureStatement {
+  bool is_actual = false;
+  std::string label;
+  std::size_t values = 0;
+};
+
+std::optional<FeatureStatement> point_feature(const std::string& s) {
+  std::size_t i = 0;
+  const auto blanks = [&] {
+    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+  };
+  const auto token = [&](std::string_view word) {  // case-insensitive
+    if (s.size() - i < word.size()) return false;
+    for (std::size_t k = 0; k < word.size(); ++k) {
+      if (std::toupper(static_cast<unsigned char>(s[i + k])) != word[k]) return false;
+    }
+    i += word.size();
+    return true;
+  };
+  FeatureStatement f;
+  blanks();
+  if (!token("F")) return std::nullopt;
+  f.is_actual = token("A");
+  blanks();
+  if (!token("(")) return std::nullopt;
+  const std::size_t close = s.find(')', i);
+  if (close == std::string::npos) return std::nullopt;
+  std::size_t b = i, e = close;
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  f.label = s.substr(b, e - b);
+  i = close + 1;
+  for (std::string_view word : {"=", "FEAT", "/", "POINT", ",", "CART", ","}) {
+    blanks();
+    if (!token(word)) return std::nullopt;
+  }
+  f.values = i;
+  return f;
+}
+
+// The place T<tooth><L|R>_I<i>_J<j> of a label of gearmc's plan (tooth 1–4 digits, i and j 1–3
+// digits), or nothing.
+std::optional<GridPosition> plan_label(const std::string& label) {
+  std::size_t i = 0;
+  const auto digits = [&](std::size_t most, int& value) {
+    const std::size_t first = i;
+    value = 0;
+    while (i < label.size() && i - first < most && label[i] >= '0' && label[i] <= '9') {
+      value = 10 * value + (label[i++] - '0');
+    }
+    return i > first && (i == label.size() || label[i] < '0' || label[i] > '9');
+  };
+  GridPosition at;
+  if (label.empty() || label[i++] != 'T' || !digits(4, at.tooth) || i >= label.size()) {
+    return std::nullopt;
+  }
+  if (label[i] != 'L' && label[i] != 'R') return std::nullopt;
+  at.side = label[i++] == 'R' ? FlankSide::kRight : FlankSide::kLeft;
+  if (label.compare(i, 2, "_I") != 0) return std::nullopt;
+  i += 2;
+  if (!digits(3, at.i) || label.compare(i, 2, "_J") != 0) return std::nullopt;
+  i += 2;
+  if (!digits(3, at.j) || i != label.size()) return std::nullopt;
+  return at;
+}
+
 struct PointFeature {
   Eigen::Vector3d point, vector;
   int line = 0;
@@ -75,23 +145,18 @@ bool is_dmis_file(const std::string& path) {
 
 Readings parse_dmis_results(const std::string& text, const std::string& source,
                             double stylus_radius_mm) {
-  // F(label)=FEAT/POINT,CART,x,y,z,i,j,k and FA(label)=…, with free spaces.
-  static const std::regex feature(
-      R"(^\s*(FA|F)\s*\(\s*([^)]*?)\s*\)\s*=\s*FEAT\s*/\s*POINT\s*,\s*CART\s*,(.*)$)",
-      std::regex::icase);
-  static const std::regex label_form(R"(^T(\d{1,4})([LR])_I(\d{1,3})_J(\d{1,3})$)");
   std::map<std::string, PointFeature> nominal;
   std::vector<std::pair<std::string, PointFeature>> actual;
   for (const Statement& st : statements(text)) {
-    std::smatch m;
-    if (!std::regex_match(st.text, m, feature)) continue;
-    const bool is_actual = upper(m[1].str()) == "FA";
-    const std::string label = m[2].str();
-    const int values_column = static_cast<int>(m.position(3)) + 1;
+    const std::optional<FeatureStatement> m = point_feature(st.text);
+    if (!m) continue;
+    const bool is_actual = m->is_actual;
+    const std::string label = m->label;
+    const int values_column = static_cast<int>(m->values) + 1;
     std::vector<double> v;
     std::string field;
     std::size_t pos = 0;
-    const std::string list = m[3].str();
+    const std::string list = st.text.substr(m->values);
     while (pos <= list.size()) {
       std::size_t comma = list.find(',', pos);
       if (comma == std::string::npos) comma = list.size();
@@ -133,8 +198,8 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
   readings.stylus_radius_mm = stylus_radius_mm;
   std::map<std::string, int> seen;
   for (const auto& [label, f] : actual) {
-    std::smatch m;
-    if (!std::regex_match(label, m, label_form)) {
+    const std::optional<GridPosition> at = plan_label(label);
+    if (!at) {
       throw InputError({source, f.line, 1}, "FA label", label,
                        "a label of gearmc's plan, T<tooth><L|R>_I<i>_J<j> (gearmc export-plan)");
     }
@@ -149,11 +214,7 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
                        "one result per planned point");
     }
     ReadingRow row;
-    row.gear = 0;
-    row.tooth = std::stoi(m[1].str());
-    row.side = m[2].str() == "R" ? FlankSide::kRight : FlankSide::kLeft;
-    row.i = std::stoi(m[3].str());
-    row.j = std::stoi(m[4].str());
+    row.key() = point_key(0, *at);
     row.order = static_cast<int>(readings.rows.size());
     row.p = found->second.point;
     row.n = found->second.vector;

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
 #include <set>
 #include <stdexcept>
 
@@ -19,9 +18,14 @@ const std::vector<std::string> kTopKeys = {"name",    "inputs",  "constants",  "
 const std::vector<std::string> kSettingKeys = {
     "coverage_probability", "trials", "significant_digits", "seed", "second_order", "max_trials"};
 
+// [A-Za-z_][A-Za-z0-9_]* (ASCII), checked by hand: std::regex recurses once per character.
 bool valid_name(const std::string& s) {
-  static const std::regex re("[A-Za-z_][A-Za-z0-9_]*");
-  return std::regex_match(s, re);
+  const auto letter = [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_';
+  };
+  if (s.empty() || !letter(s[0])) return false;
+  return std::all_of(s.begin() + 1, s.end(),
+                     [&](char c) { return letter(c) || (c >= '0' && c <= '9'); });
 }
 
 void check_name(const YamlMap::Entry& e, std::set<std::string>& taken, const std::string& what) {

@@ -160,6 +160,21 @@ TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
            "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n",
        "results.dmo:4:1: FA(T001L_I00_J00): got 'measured again (first at line 3)'"},
       {head + nominal + "ENDFIL\n", "no measured points"},
+      // Labels the plan's form T<1-4 digits><L|R>_I<1-3>_J<1-3> does not allow.
+      {head + "F(T12345L_I0_J0)=FEAT/POINT,CART,1,2,3,1,0,0\n" +
+           "FA(T12345L_I0_J0)=FEAT/POINT,CART,1,2,3,1,0,0\n",
+       "FA label: got 'T12345L_I0_J0'"},
+      {head +
+           "F(T1X_I0_J0)=FEAT/POINT,CART,1,2,3,1,0,0\nFA(T1X_I0_J0)=FEAT/POINT,CART,1,2,3,1,0,0\n",
+       "FA label: got 'T1X_I0_J0'"},
+      {head + "F(T1L_I0_J0x)=FEAT/POINT,CART,1,2,3,1,0,0\n" +
+           "FA(T1L_I0_J0x)=FEAT/POINT,CART,1,2,3,1,0,0\n",
+       "FA label: got 'T1L_I0_J0x'"},
+      // A 4 MB label on one statement (std::regex overflowed the stack on such lines): refused
+      // with its place like any other label.
+      {head + "F(" + std::string(4'000'000, 'Q') + ")=FEAT/POINT,CART,1,2,3,1,0,0\nFA(" +
+           std::string(4'000'000, 'Q') + ") = feat / point , cart ,1,2,3,1,0,0\n",
+       "results.dmo:3:1: FA label: got"},
   };
   for (const Case& c : cases) {
     try {
@@ -170,6 +185,16 @@ TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
           << e.what() << "\nexpected: " << c.expected;
     }
   }
+  // Keywords in any case and blanks between the tokens; labels with leading zeros.
+  const Readings r =
+      parse_dmis_results(head + "f ( T2R_I1_J003 ) = Feat/Point , Cart, 1,2,3,1,0,0\n" +
+                             "Fa(T2R_I1_J003)=FEAT/POINT,CART,1,2,3.002,1,0,0\n",
+                         "results.dmo", 0.5);
+  ASSERT_EQ(r.rows.size(), 1u);
+  EXPECT_EQ(r.rows[0].tooth, 2);
+  EXPECT_EQ(r.rows[0].side, FlankSide::kRight);
+  EXPECT_EQ(r.rows[0].i, 1);
+  EXPECT_EQ(r.rows[0].j, 3);
   EXPECT_TRUE(is_dmis_file("a/b.DMO"));
   EXPECT_TRUE(is_dmis_file("x.dmi"));
   EXPECT_FALSE(is_dmis_file("x.csv"));
