@@ -4,9 +4,10 @@
 // reference scenario and its own gear count). Prints, per side of the teeth, the δRcomp point
 // error's count, mean, standard deviation, maximum and 95 % quantile in µm — the numbers that
 // summary.json's "delta_rcomp_um" "point" holds for the same run (tests/package checks it).
+#include <charconv>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
+#include <system_error>
 
 #include "core/input_error.h"
 #include "engine/run/monte_carlo.h"
@@ -21,7 +22,17 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "warning: %s\n", warning.c_str());
     }
     // 2. Overrides are made on the scenario itself: here the number of gears.
-    if (argc > 2) scenario.gears = std::atoi(argv[2]);
+    if (argc > 2) {
+      const std::string text = argv[2];
+      int gears = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), gears);
+      if (error != std::errc() || end != text.data() + text.size() || gears < 1) {
+        std::fprintf(stderr, "GEARS: got '%s', expected a whole number of gears >= 1\n",
+                     text.c_str());
+        return 2;
+      }
+      scenario.gears = gears;
+    }
 
     // 3. The model (gear, tolerances, probing plan, effects) is built once; run() measures gears
     //    0 .. gears-1 in parallel, each from its own random streams, and merges their statistics
@@ -32,8 +43,8 @@ int main(int argc, char** argv) {
     const gearmc::RunResults results = batch.run(options);
 
     // 4. The statistics: moments and a histogram per quantity and side ([0] left, [1] right).
-    std::printf("%s: %d gears, %llu contacts (%llu failed)\n", scenario.name.c_str(),
-                results.gears, static_cast<unsigned long long>(results.contacts),
+    std::printf("%s: %d gears, %llu contacts (%llu failed)\n", scenario.name.c_str(), results.gears,
+                static_cast<unsigned long long>(results.contacts),
                 static_cast<unsigned long long>(results.failed_contacts));
     const char* side_names[2] = {"left", "right"};
     for (int side = 0; side < 2; ++side) {
