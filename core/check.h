@@ -2,12 +2,22 @@
 // (NDEBUG) included. A broken invariant is a bug in gearmc, not bad input (docs/architecture.md,
 // principle 4: bad input is an InputError; a broken invariant stops the program): the check
 // prints "<file>:<line>: gearmc internal error: <message> (failed: <condition>)" to stderr and
-// aborts. Use it where continuing would compute a wrong number; the condition should be cheap.
+// ends the process with exit code 4, the code of every internal error (an exception that is not
+// an InputError exits with it too, engine/cli/app.cpp). Use it where continuing would compute a
+// wrong number; the condition should be cheap.
 // In core/ so that every library (core, gears, surfaces, engine) can use it.
 #pragma once
 
 #include <cstdio>
 #include <cstdlib>
+
+namespace gearmc {
+
+// The exit code of an internal error (a bug, or an I/O failure), for every command; 2 is bad
+// input, 1 and 3 are verdicts of `check`.
+inline constexpr int kInternalErrorExit = 4;
+
+}  // namespace gearmc
 
 namespace gearmc::detail {
 
@@ -16,7 +26,7 @@ namespace gearmc::detail {
   std::fprintf(stderr, "%s:%d: gearmc internal error: %s (failed: %s)\n", file, line, message,
                condition);
   std::fflush(stderr);
-  std::abort();
+  std::_Exit(kInternalErrorExit);
 }
 
 }  // namespace gearmc::detail

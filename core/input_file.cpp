@@ -24,25 +24,34 @@ std::string mib(std::uintmax_t bytes) {
 
 }  // namespace
 
-std::string read_input_file(const std::string& path, const std::string& what,
-                            std::uintmax_t max_bytes) {
-  const std::string cannot = path + ": cannot read the " + what + ": ";
+std::optional<std::string> unreadable_input_reason(const std::string& path, const std::string& what,
+                                                   std::uintmax_t max_bytes) {
   struct stat info {};
-  if (::stat(path.c_str(), &info) != 0) {
-    throw InputError({path, 0, 0}, cannot + std::strerror(errno));
-  }
-  if (S_ISDIR(info.st_mode)) throw InputError({path, 0, 0}, cannot + "it is a directory");
+  if (::stat(path.c_str(), &info) != 0) return std::string(std::strerror(errno));
+  if (S_ISDIR(info.st_mode)) return std::string("it is a directory");
   if (!S_ISREG(info.st_mode)) {
     const char* kind = S_ISFIFO(info.st_mode)                           ? "a FIFO (named pipe)"
                        : S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode) ? "a device"
                        : S_ISSOCK(info.st_mode)                         ? "a socket"
                                                                         : "not a regular file";
-    throw InputError({path, 0, 0}, cannot + "it is " + kind + ", expected a regular file");
+    return std::string("it is ") + kind + ", expected a regular file";
   }
   if (static_cast<std::uintmax_t>(info.st_size) > max_bytes) {
-    throw InputError({path, 0, 0}, cannot + "it has " + std::to_string(info.st_size) +
-                                       " bytes, more than the " + mib(max_bytes) + " a " + what +
-                                       " may have");
+    return "it has " + std::to_string(info.st_size) + " bytes, more than the " + mib(max_bytes) +
+           " a " + what + " may have";
+  }
+  return std::nullopt;
+}
+
+std::string read_input_file(const std::string& path, const std::string& what,
+                            std::uintmax_t max_bytes) {
+  const std::string cannot = path + ": cannot read the " + what + ": ";
+  if (const auto reason = unreadable_input_reason(path, what, max_bytes)) {
+    throw InputError({path, 0, 0}, cannot + *reason);
+  }
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) {
+    throw InputError({path, 0, 0}, cannot + std::strerror(errno));
   }
   errno = 0;
   std::ifstream in(path, std::ios::binary);

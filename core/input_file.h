@@ -23,6 +23,13 @@ inline constexpr std::uintmax_t kMaxReadingsBytes = 1ull << 30;
 // Longest line of a readings CSV: a row of 16 shortest-round-trip numbers is under 400 bytes.
 inline constexpr std::size_t kMaxReadingsLineBytes = 4096;
 
+// Why `path` cannot be read as an input file of at most `max_bytes` bytes ("it is a FIFO (named
+// pipe), expected a regular file", "No such file or directory", "it has 5000 bytes, more than
+// the 64 MiB a scenario file may have"), or nullopt when it is a regular file within the cap.
+// Only regular files are inputs: a FIFO would block, /dev/zero would never end.
+std::optional<std::string> unreadable_input_reason(const std::string& path, const std::string& what,
+                                                   std::uintmax_t max_bytes);
+
 // The whole file as bytes. `what` names the file's role in messages ("scenario file").
 // Throws InputError: missing or unreadable, not a regular file (directory, FIFO, device),
 // larger than `max_bytes`, or a read error.

@@ -7,10 +7,11 @@
 #include <numbers>
 #include <utility>
 
+#include "core/constants.h"
+
 namespace gearmc {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kMachineEpsilon = std::numeric_limits<double>::epsilon();
 
 // --- Incomplete gamma (Press et al., Numerical Recipes 3rd ed., §6.2) -------------------------

@@ -32,6 +32,9 @@ struct NumberRange {
   static NumberRange non_negative() { return {0.0, kInf, true, true}; }  // >= 0
   static NumberRange closed(double lo, double hi) { return {lo, hi, true, true}; }
   static NumberRange open(double lo, double hi) { return {lo, hi, false, false}; }
+  // A probability p that a computation can use with its complement: p and 1 − p both at least
+  // 1e-9 (1 − 1e-300 is 1 in a double, where a test of level 1 − p has nothing left).
+  static NumberRange probability() { return closed(1e-9, 1.0 - 1e-9); }
 
   bool contains(double value) const;
   // "a number", "a number > 0", "a number >= 0", "a number from -1.5 to 3",

@@ -31,13 +31,13 @@
 #include <numbers>
 
 #include "core/check.h"
+#include "core/constants.h"
 #include "core/random_stream.h"
 #include "gears/cubic_range.h"
 
 namespace gearmc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kSafety = 1e-3;  // relative margin kept below each tolerance
 
 }  // namespace

@@ -3,6 +3,7 @@
 // Table 1 (docs/sources.md) checks d, d_a, d_f, d_b and s.
 #include "gears/involute_gear.h"
 
+#include "core/constants.h"
 #include "gears/base_angle.h"
 
 #include <cmath>
@@ -11,8 +12,6 @@
 
 namespace gearmc {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double deg_to_rad(double deg) { return deg * kPi / 180.0; }
 

@@ -20,22 +20,14 @@
 #include <system_error>
 
 #include "core/check.h"
+#include "core/constants.h"
+#include "core/input_file.h"
 
 namespace gearmc {
 
 std::size_t triangle_count(const TriangleMesh& mesh) { return mesh.n_faces(); }
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-
-// Broken invariant of this file's own construction: abort (docs/architecture.md, error tier 2).
-void require(bool condition, const char* what) {
-  if (!condition) {
-    std::fprintf(stderr, "gearmc: internal error in flank_mesh.cpp: %s\n", what);
-    std::abort();
-  }
-}
 
 // The i-th of n equally spaced values from a to b, ends exact (so flank meshes and gear meshes
 // with the same sampling have bit-identical vertices).
@@ -50,7 +42,7 @@ TriangleMesh::Point to_point(const Eigen::Vector3d& x) { return {x.x(), x.y(), x
 void add_triangle(TriangleMesh& mesh, const std::vector<TriangleMesh::VertexHandle>& v, int a,
                   int b, int c) {
   const TriangleMesh::FaceHandle f = mesh.add_face(v[a], v[b], v[c]);
-  require(f.is_valid(), "OpenMesh rejected a triangle (non-manifold construction)");
+  GEARMC_CHECK(f.is_valid(), "OpenMesh rejected a triangle (non-manifold construction)");
 }
 
 // Disables OpenMesh's informational log (e.g. "[STLWriter] : write binary file") for one call;
@@ -205,7 +197,7 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
       edge_label[i++] = {GearMeshFace::Region::kFlank, k, FlankSide::kRight};
     for (int s = 0; s <= nr; ++s)
       edge_label[i++] = {GearMeshFace::Region::kRoot, k, FlankSide::kLeft};
-    require(i == base + per_tooth, "section edge count");
+    GEARMC_CHECK(i == base + per_tooth, "section edge count");
   }
 
   // Polar coordinates about the gear centre (which carries the eccentricity).
@@ -216,13 +208,23 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
   };
   // Interior points of the arc from a to b (counter-clockwise), radius given per u in (0, 1);
   // a and b by value: they may live in *out.
+  int tooth_now = 0;  // the tooth whose section is being built, for messages
   auto arc = [&](const Eigen::Vector3d a, const Eigen::Vector3d bpt, int count, double z,
                  auto radius_at, std::vector<Eigen::Vector3d>* out) {
     double phi_a, rho_a, phi_b, rho_b;
     polar(a, &phi_a, &rho_a);
     polar(bpt, &phi_b, &rho_b);
     double sweep = std::remainder(phi_b - phi_a, 2.0 * kPi);
-    require(sweep > 0.0, "a tip land or root turns clockwise (section not star-shaped)");
+    if (!(sweep > 0.0)) {
+      // Not a bug: a real gear whose perturbed flanks cross before the tip circle (a nearly
+      // pointed tooth) has no closed section to mesh.
+      throw MeshIoError(
+          "tooth " + std::to_string(tooth_now) + " of this gear has flanks that " +
+          "cross before its tip or root arc at z = " + std::to_string(z) +
+          " mm (nominal tip thickness s_a = " + std::to_string(gear.tip_thickness_mm()) +
+          " mm, less than its drawn deviations): a section that is not "
+          "star-shaped has no closed mesh");
+    }
     for (int m = 1; m <= count; ++m) {
       const double u = static_cast<double>(m) / (count + 1);
       const double phi = phi_a + u * sweep;
@@ -248,6 +250,7 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
     const double z = grid_value(0.0, b, j, nz);
     section.clear();
     for (int k = 1; k <= teeth; ++k) {
+      tooth_now = k;
       const AnalyticFlank& left = flanks[2 * (k - 1)];
       const AnalyticFlank& right = flanks[2 * (k - 1) + 1];
       const AnalyticFlank& next_left = flanks[2 * (k % teeth)];
@@ -261,7 +264,7 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
       }
       arc(section.back(), next_left.point(L_form, z), nr, z, root_radius, &section);
     }
-    require(static_cast<int>(section.size()) == M, "section vertex count");
+    GEARMC_CHECK(static_cast<int>(section.size()) == M, "section vertex count");
     for (const Eigen::Vector3d& x : section) v.push_back(mesh.add_vertex(to_point(x)));
   }
   const int bottom = nz * M, top = bottom + 1;
@@ -292,7 +295,7 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
     add_triangle(mesh, v, top, a, bb);
     out.faces.push_back(end_face);
   }
-  require(out.faces.size() == mesh.n_faces(), "face labels");
+  GEARMC_CHECK(out.faces.size() == mesh.n_faces(), "face labels");
   return out;
 }
 
@@ -340,9 +343,8 @@ void write_mesh_file(const TriangleMesh& mesh, const std::string& path,
 
 TriangleMesh read_mesh_file(const std::string& path) {
   const MeshFormat format = mesh_format_of(path);
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw MeshIoError("cannot read mesh file '" + path + "': it is a directory");
+  if (const auto reason = unreadable_input_reason(path, "mesh file", kMaxMeshFileBytes)) {
+    throw MeshIoError("cannot read mesh file '" + path + "': " + *reason);
   }
   if (!std::ifstream(path, std::ios::binary).is_open()) {
     throw MeshIoError("cannot open mesh file '" + path + "' (missing or unreadable)");

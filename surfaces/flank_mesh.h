@@ -123,9 +123,13 @@ struct MeshWriteOptions {
 void write_mesh_file(const TriangleMesh& mesh, const std::string& path,
                      const MeshWriteOptions& options = {});
 
+// Largest mesh file read: 512 MiB (a binary STL of 10 million triangles; a measured flank of
+// 10^6 points is about a tenth of it).
+inline constexpr std::uintmax_t kMaxMeshFileBytes = 512ull << 20;
+
 // Reads a triangle mesh (polygons are triangulated; STL vertices are merged). MeshIoError when
-// the file cannot be opened, its extension is unknown, OpenMesh cannot parse it, or it holds no
-// triangle.
+// the file is not a regular file of at most kMaxMeshFileBytes, cannot be opened, its extension is
+// unknown, OpenMesh cannot parse it, or it holds no triangle.
 TriangleMesh read_mesh_file(const std::string& path);
 
 }  // namespace gearmc

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/check.h"
 #include "core/input_error.h"
 #include "core/provenance.h"
 #include "core/ranks.h"
@@ -319,7 +320,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return 2;
   } catch (const std::exception& e) {  // a bug or an I/O failure, not bad input
     err << "gearmc: internal error: " << e.what() << "\n";
-    return 1;
+    return kInternalErrorExit;
   }
   return 0;
 }

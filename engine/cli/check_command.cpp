@@ -123,7 +123,7 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   out << run.gears << " gears in " << std::fixed << std::setprecision(1) << run.wall_s
       << " s; check.json and report.html in " << folder.dir.string() << "\n"
       << std::defaultfloat;
-  return all_claims_hold(run) ? 0 : 1;
+  return check_exit_code(run);
 }
 
 }  // namespace gearmc

@@ -25,13 +25,38 @@ int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostr
   if (o.gear < 0) {
     throw InputError({}, "--gear", std::to_string(o.gear), "a gear index >= 0");
   }
-  // Gear K as every command draws it (the measurement model, engine/measurement).
-  const MeasurementModel model(scenario);
-  const PerturbedGear perturbed = model.draw_gear(o.gear);
   GearMeshSpec spec;
   spec.profile_samples = o.profile_samples;
   spec.face_samples = o.face_samples;
-  const GearMesh mesh = mesh_gear(model.gear(), perturbed, spec, model.expression());
+  // The mesh's size before any work: vertices per section M = z (2 P + tip + root), the end
+  // faces are fans of M triangles around one centre vertex (OpenMesh's time there grows as M²),
+  // and the whole mesh has F M + 2 vertices.
+  const std::uint64_t per_section =
+      static_cast<std::uint64_t>(scenario.gear.teeth) *
+      (2 * static_cast<std::uint64_t>(spec.profile_samples) + spec.tip_samples + spec.root_samples);
+  const std::uint64_t vertices = static_cast<std::uint64_t>(spec.face_samples) * per_section + 2;
+  if (per_section > kMaxMeshSectionVertices || vertices > kMaxMeshVertices) {
+    throw InputError(
+        {}, "--profile-samples, --face-samples",
+        std::to_string(spec.profile_samples) + ", " + std::to_string(spec.face_samples),
+        "a mesh of at most " + std::to_string(kMaxMeshSectionVertices) +
+            " vertices per section and " + std::to_string(kMaxMeshVertices) +
+            " in all; these give " + std::to_string(per_section) + " per section (" +
+            std::to_string(scenario.gear.teeth) + " teeth × (2 × " +
+            std::to_string(spec.profile_samples) + " + " +
+            std::to_string(spec.tip_samples + spec.root_samples) + ")) and " +
+            std::to_string(vertices) + " in all");
+  }
+  // Gear K as every command draws it (the measurement model, engine/measurement).
+  const MeasurementModel model(scenario);
+  const PerturbedGear perturbed = model.draw_gear(o.gear);
+  GearMesh mesh;
+  try {
+    mesh = mesh_gear(model.gear(), perturbed, spec, model.expression());
+  } catch (const MeshIoError& e) {
+    throw InputError({scenario.source_path, 0, 0},
+                     scenario.source_path + ": gear " + std::to_string(o.gear) + ": " + e.what());
+  }
   try {
     write_mesh_file(mesh.mesh, o.out);
   } catch (const MeshIoError& e) {

@@ -3,10 +3,17 @@
 // closed triangle mesh, in the datum frame, mm, for MeshLab or ParaView.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 
 namespace gearmc {
+
+// The largest mesh written: 20 000 vertices per section (each end face is a fan of that many
+// triangles around one vertex, whose cost in OpenMesh grows with its square: about 3 s here) and
+// 2 000 000 in all (about 4 million triangles: a 200 MB binary STL, about 1 GB in memory).
+inline constexpr std::uint64_t kMaxMeshSectionVertices = 20000;
+inline constexpr std::uint64_t kMaxMeshVertices = 2000000;
 
 struct ExportMeshOptions {
   std::string scenario_path;  // empty: the built-in reference scenario
@@ -15,7 +22,8 @@ struct ExportMeshOptions {
   int profile_samples = 25, face_samples = 40;
 };
 
-// Throws InputError for bad input (unknown extension, unwritable file, bad gear index).
+// Throws InputError for bad input (unknown extension, unwritable file, bad gear index, a mesh
+// beyond the bounds above).
 int export_mesh_command(const ExportMeshOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace gearmc

@@ -49,7 +49,7 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
     prepare_output_folder(folder.dir, &folder.created);
   });
   out << "gearmc sweep: " << base.name << ", " << s.points.size() << " variants of "
-      << s.points.front().scenario.gears << " gears, statistic " << s.statistic.text << ", "
+      << sweep_runs_text(s.points, true) << ", statistic " << s.statistic.text << ", "
       << ranks.size() << " rank(s)\n"
       << std::flush;
 
@@ -86,7 +86,8 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
     }
     out << "  " << s.statistic.text << " (both flanks) = ";
     if (values[i][2].value) {
-      out << std::setprecision(4) << *values[i][2].value << std::defaultfloat << " µm\n";
+      out << std::setprecision(4) << *values[i][2].value << std::defaultfloat
+          << (*s.statistic.unit() ? " µm" : "") << "\n";
     } else {
       out << "— (" << values[i][2].note << ")\n";
     }

@@ -3,6 +3,7 @@
 // sampled branch-and-bound over the footprint otherwise (stage 2, here).
 #include "engine/contact/contact_certificate.h"
 
+#include "core/constants.h"
 #include "engine/contact/curvature_bound.h"
 
 #include <Eigen/Geometry>
@@ -15,7 +16,6 @@
 namespace gearmc {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kSampledCellsAcross = 64;  // stage 2's grid: cells across the footprint's 2R
 
 // Stage 2: one sample of the flank in the footprint frame (value only).

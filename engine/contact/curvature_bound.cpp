@@ -7,10 +7,10 @@
 #include <cmath>
 #include <limits>
 
+#include "core/constants.h"
+
 namespace gearmc {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A closed interval [lo, hi].
 struct Interval {

@@ -4,18 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/constants.h"
+
 namespace gearmc {
-namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-EffectParameter named(EffectParameter p, const char* name, const char* unit) {
-  p.name = name;
-  p.unit = unit;
-  return p;
-}
-
-}  // namespace
 
 EccentricityEffect::EccentricityEffect(EffectParameter x_um, EffectParameter y_um)
     : MeasurementEffect(

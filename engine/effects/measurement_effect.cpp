@@ -21,6 +21,12 @@ double EffectParameter::draw(RandomStream& rng) const {
 
 double EffectParameter::nominal() const { return law == Law::kUniform ? 0.5 * (lo + hi) : value; }
 
+EffectParameter named(EffectParameter p, const char* name, const char* unit) {
+  p.name = name;
+  p.unit = unit;
+  return p;
+}
+
 void MeasurementEffect::signature(const PointContext& point, std::span<const double> values,
                                   std::span<double> out) const {
   const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;

@@ -67,6 +67,9 @@ struct EffectParameter {
   double nominal() const;
 };
 
+// `p` labelled with its scenario name and unit (the effects' constructors use it).
+EffectParameter named(EffectParameter p, const char* name, const char* unit);
+
 // The law of the random part an effect adds to one reading along n (µm), drawn afresh at every
 // point: N(0, gaussian_variance) plus, for each uniform width w, −U(0, w) (a latch delay that
 // only ever lengthens the travel). Laws of independent parts add (+=).

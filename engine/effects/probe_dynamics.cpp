@@ -19,10 +19,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/constants.h"
+
 namespace gearmc {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // ---------------------------------------------------------------------------------------------
 // Parameter checks: one std::invalid_argument naming the parameter, the value and the range.

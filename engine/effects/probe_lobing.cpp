@@ -5,11 +5,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/constants.h"
+
 namespace gearmc {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 double wrap_2pi(double a) {
   a = std::fmod(a, 2.0 * kPi);

@@ -5,15 +5,6 @@
 #include <cmath>
 
 namespace gearmc {
-namespace {
-
-EffectParameter named(EffectParameter p, const char* name) {
-  p.name = name;
-  p.unit = "µm";
-  return p;
-}
-
-}  // namespace
 
 double latch_to_grid_mm(double coordinate_mm, double step_um) {
   if (!(step_um > 0.0)) return coordinate_mm;
@@ -23,8 +14,8 @@ double latch_to_grid_mm(double coordinate_mm, double step_um) {
 
 ScaleResolutionEffect::ScaleResolutionEffect(EffectParameter x_um, EffectParameter y_um,
                                              EffectParameter z_um)
-    : MeasurementEffect({named(std::move(x_um), "x_um"), named(std::move(y_um), "y_um"),
-                         named(std::move(z_um), "z_um")}) {}
+    : MeasurementEffect({named(std::move(x_um), "x_um", "µm"), named(std::move(y_um), "y_um", "µm"),
+                         named(std::move(z_um), "z_um", "µm")}) {}
 
 void ScaleResolutionEffect::apply(const PointContext&, std::span<const double> v,
                                   Eigen::Vector3d& c, RandomStream&) const {

@@ -4,15 +4,6 @@
 #include <cmath>
 
 namespace gearmc {
-namespace {
-
-EffectParameter named(EffectParameter p, const char* name, const char* unit) {
-  p.name = name;
-  p.unit = unit;
-  return p;
-}
-
-}  // namespace
 
 ProbeWarmupEffect::ProbeWarmupEffect(EffectParameter change_um, double time_constant)
     : MeasurementEffect({named(std::move(change_um), "change_um", "µm")}),

@@ -5,14 +5,13 @@
 #include <cmath>
 #include <limits>
 
+#include "core/constants.h"
 #include "engine/contact/contact.h"
 #include "engine/effects/measurement_effect.h"
 #include "surfaces/analytic_flank.h"
 
 namespace gearmc {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The grid coordinate nearest `target` (first on ties).
 int nearest(const std::vector<double>& values, double target) {

@@ -11,6 +11,8 @@
 
 #include "core/input_error.h"
 #include "core/input_file.h"
+#include "core/number_text.h"
+#include "engine/schema/parameter_ranges.h"
 
 namespace gearmc {
 namespace {
@@ -25,8 +27,10 @@ struct Statement {
   int line = 0;      // where it starts
 };
 
-// The file's statements: `$$` comments removed, lines ending in `$` joined to the next.
-std::vector<Statement> statements(const std::string& text) {
+// The file's statements: `$$` comments removed, lines ending in `$` joined to the next. A
+// statement longer than kMaxDmisStatementBytes is an InputError at its first line (a binary file,
+// or not DMIS).
+std::vector<Statement> statements(const std::string& text, const std::string& source) {
   std::vector<Statement> out;
   std::string current;
   int start = 0, line_no = 0;
@@ -45,6 +49,12 @@ std::vector<Statement> statements(const std::string& text) {
     }
     while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
     if (current.empty()) start = line_no;
+    if (current.size() + line.size() > kMaxDmisStatementBytes) {
+      throw InputError({source, start, 1},
+                       "a DMIS statement of at most " + std::to_string(kMaxDmisStatementBytes) +
+                           " bytes, but the statement starting here is longer (is it a DMIS "
+                           "file?)");
+    }
     if (!line.empty() && line.back() == '$') {
       line.pop_back();
       current += line;
@@ -66,6 +76,7 @@ std::vector<Statement> statements(const std::string& text) {
 struct FeatureStatement {
   bool is_actual = false;
   std::string label;
+  std::size_t label_at = 0;  // where the label starts
   std::size_t values = 0;
 };
 
@@ -94,6 +105,7 @@ std::optional<FeatureStatement> point_feature(const std::string& s) {
   while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
   while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
   f.label = s.substr(b, e - b);
+  f.label_at = b;
   i = close + 1;
   for (std::string_view word : {"=", "FEAT", "/", "POINT", ",", "CART", ","}) {
     blanks();
@@ -130,9 +142,30 @@ std::optional<GridPosition> plan_label(const std::string& label) {
 }
 
 struct PointFeature {
-  Eigen::Vector3d point, vector;
+  Eigen::Vector3d point, vector;  // mm (converted from the file's UNITS), unit vector
   int line = 0;
+  int label_column = 0, values_column = 0;
 };
+
+// The length unit of a UNITS/<length>,<angle> statement, in mm, or nothing when `s` is another
+// statement. DMIS 5.3 (ANSI/DMIS 105.2) §6.2: MM, CM, METER, INCH, FEET; any case.
+std::optional<double> units_statement(const std::string& s, const InputLocation& where) {
+  std::size_t i = s.find_first_not_of(" \t");
+  if (i == std::string::npos || upper(s.substr(i, 5)) != "UNITS") return std::nullopt;
+  i = s.find_first_not_of(" \t", i + 5);
+  if (i == std::string::npos || s[i] != '/') return std::nullopt;
+  const std::size_t end = s.find(',', i + 1);
+  std::string unit = s.substr(i + 1, end == std::string::npos ? std::string::npos : end - i - 1);
+  const std::size_t b = unit.find_first_not_of(" \t"), e = unit.find_last_not_of(" \t");
+  unit = b == std::string::npos ? "" : upper(unit.substr(b, e - b + 1));
+  if (unit == "MM") return 1.0;
+  if (unit == "CM") return 10.0;
+  if (unit == "METER") return 1000.0;
+  if (unit == "INCH") return 25.4;
+  if (unit == "FEET") return 304.8;
+  throw InputError({where.file, where.line, where.column + static_cast<int>(i) + 2}, "UNITS", unit,
+                   "a DMIS length unit: MM, CM, METER, INCH or FEET");
+}
 
 }  // namespace
 
@@ -147,7 +180,19 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
                             double stylus_radius_mm) {
   std::map<std::string, PointFeature> nominal;
   std::vector<std::pair<std::string, PointFeature>> actual;
-  for (const Statement& st : statements(text)) {
+  const RangeTable& ranges = readings_ranges();
+  double mm_per_unit = 1.0;  // DMIS's default unit is MM until a UNITS statement says otherwise
+  std::string unit_name = "mm";
+  for (const Statement& st : statements(text, source)) {
+    if (const auto unit = units_statement(st.text, {source, st.line, 0})) {
+      mm_per_unit = *unit;
+      unit_name = *unit == 1.0     ? "mm"
+                  : *unit == 10.0  ? "cm"
+                  : *unit == 25.4  ? "inch"
+                  : *unit == 304.8 ? "feet"
+                                   : "m";
+      continue;
+    }
     const std::optional<FeatureStatement> m = point_feature(st.text);
     if (!m) continue;
     const bool is_actual = m->is_actual;
@@ -170,9 +215,16 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
       } catch (const std::exception&) {
         used = 0;
       }
+      const InputLocation at{source, st.line, values_column + static_cast<int>(pos)};
       if (used != field.size() || field.empty() || !std::isfinite(x)) {
-        throw InputError({source, st.line, values_column + static_cast<int>(pos)},
-                         "FEAT/POINT of " + label, field, "a finite number (x,y,z,i,j,k in mm)");
+        throw InputError(at, "FEAT/POINT of " + label, field,
+                         "a finite number (x,y,z in " + unit_name + ", then i,j,k)");
+      }
+      if (v.size() < 3) {  // a coordinate: in mm, within a CMM's volume
+        x *= mm_per_unit;
+        ParameterRange named = ranges.at("coordinate_mm");
+        named.key = std::string("FEAT/POINT of ") + label + " " + "xyz"[v.size()];
+        check_ranged(x, named, at, field + (unit_name == "mm" ? "" : " " + unit_name), nullptr);
       }
       v.push_back(x);
       pos = comma + 1;
@@ -182,7 +234,11 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
       throw InputError({source, st.line, values_column}, "FEAT/POINT of " + label,
                        std::to_string(v.size()) + " numbers", "6 numbers: x,y,z,i,j,k");
     }
-    PointFeature f{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, st.line};
+    PointFeature f{{v[0], v[1], v[2]},
+                   {v[3], v[4], v[5]},
+                   st.line,
+                   static_cast<int>(m->label_at) + 1,
+                   values_column};
     if (!(f.vector.norm() > 0.5 && f.vector.norm() < 1.5)) {
       throw InputError({source, st.line, values_column}, "FEAT/POINT of " + label,
                        "|i,j,k| = " + std::to_string(f.vector.norm()), "a unit vector");
@@ -199,17 +255,18 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
   std::map<std::string, int> seen;
   for (const auto& [label, f] : actual) {
     const std::optional<GridPosition> at = plan_label(label);
+    const InputLocation label_at{source, f.line, f.label_column};
     if (!at) {
-      throw InputError({source, f.line, 1}, "FA label", label,
+      throw InputError(label_at, "FA label", label,
                        "a label of gearmc's plan, T<tooth><L|R>_I<i>_J<j> (gearmc export-plan)");
     }
     const auto found = nominal.find(label);
     if (found == nominal.end()) {
-      throw InputError({source, f.line, 1}, "FA(" + label + ")", "no nominal",
+      throw InputError(label_at, "FA(" + label + ")", "no nominal",
                        "the nominal feature F(" + label + ")=FEAT/POINT,… in the file");
     }
     if (const auto [it, inserted] = seen.emplace(label, f.line); !inserted) {
-      throw InputError({source, f.line, 1}, "FA(" + label + ")",
+      throw InputError(label_at, "FA(" + label + ")",
                        "measured again (first at line " + std::to_string(it->second) + ")",
                        "one result per planned point");
     }
@@ -220,6 +277,14 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
     row.n = found->second.vector;
     row.c = f.point + stylus_radius_mm * row.n;
     row.line = f.line;
+    row.key_column = f.label_column;
+    row.measured_column = f.values_column;
+    row.nominal_line = found->second.line;
+    row.nominal_column = found->second.values_column;
+    // The reading itself, as the CSV reader checks it: far off means another unit or gear.
+    const double e_um = measured_deviation_um(row, stylus_radius_mm);
+    check_ranged(e_um, ranges.at("reading_um"), {source, f.line, f.values_column},
+                 "(FA - F)·n = " + shortest_text(e_um) + " µm", nullptr);
     readings.rows.push_back(row);
   }
   if (readings.rows.empty()) {

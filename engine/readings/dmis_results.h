@@ -11,14 +11,22 @@
 // Keywords are case-insensitive; `$$` starts a comment; a line ending in `$` continues on the
 // next. Other statements are skipped. Bad input — a malformed FEAT/POINT, a number that is not
 // finite, a label not of the plan's form, an actual without its nominal, a point measured twice,
-// no results — is one InputError with file:line:column (exit 2). Lengths in mm.
+// no results, a statement longer than kMaxDmisStatementBytes, a coordinate or a reading beyond
+// the readings ranges (engine/schema/parameter_ranges.cpp, as for the CSV) — is one InputError
+// with file:line:column (exit 2). Lengths are in the unit of the last UNITS statement before
+// them (MM, CM, METER, INCH, FEET; MM when none), converted to mm; another unit is refused.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "engine/readings/readings_csv.h"
 
 namespace gearmc {
+
+// Longest DMIS statement read (continuation lines joined): a FEAT/POINT of 6 numbers is under
+// 200 bytes; the longest statements of real programs are a few kB.
+inline constexpr std::size_t kMaxDmisStatementBytes = 16384;
 
 // True when `path` names a DMIS file by its extension (.dmo, .dmi, .dms, .dmis; any case).
 bool is_dmis_file(const std::string& path);

@@ -11,6 +11,7 @@
 
 #include "core/input_file.h"
 #include "core/number_text.h"
+#include "core/text_lines.h"
 #include "core/yaml_reader.h"
 #include "engine/schema/parameter_ranges.h"
 
@@ -54,39 +55,6 @@ std::vector<Field> split(const std::string& line, char separator) {
   }
   return out;
 }
-
-// The lines of a text, one at a time (a table may be 1 GiB), with their 1-based numbers; ends
-// are "\n", "\r\n" or a lone "\r"; a UTF-8 byte order mark (Windows exports) is skipped.
-struct Line {
-  std::string text;
-  int number = 0;
-};
-
-class LineReader {
- public:
-  LineReader(const std::string& text, const std::string& source) : text_(text), source_(source) {
-    if (text_.rfind("\xEF\xBB\xBF", 0) == 0) pos_ = 3;
-  }
-  bool next(Line* line) {
-    if (pos_ >= text_.size()) return false;
-    ++line->number;
-    std::size_t end = text_.find_first_of("\r\n", pos_);
-    if (end == std::string::npos) end = text_.size();
-    if (end - pos_ > kMaxTableLineBytes) {
-      throw InputError({source_, line->number, static_cast<int>(kMaxTableLineBytes) + 1},
-                       "a line of at most " + std::to_string(kMaxTableLineBytes) +
-                           " bytes, but this line is longer (is it a point table?)");
-    }
-    line->text.assign(text_, pos_, end - pos_);
-    pos_ = end + (end + 1 < text_.size() && text_[end] == '\r' && text_[end + 1] == '\n' ? 2 : 1);
-    return true;
-  }
-
- private:
-  const std::string& text_;
-  const std::string& source_;
-  std::size_t pos_ = 0;
-};
 
 bool skipped(const std::string& line) {
   const std::size_t b = line.find_first_not_of(" \t");
@@ -193,8 +161,8 @@ PointTableColumns read_point_table_columns(const std::string& path) {
 
 Readings parse_point_table(const std::string& text, const std::string& source,
                            const PointTableColumns& columns, double stylus_radius_mm) {
-  LineReader in(text, source);
-  Line header_line;
+  TextLines in(text, source, kMaxTableLineBytes, "a point table");
+  TextLine header_line;
   bool found_header = false;
   while (in.next(&header_line)) {
     if (!skipped(header_line.text)) {
@@ -277,7 +245,7 @@ Readings parse_point_table(const std::string& text, const std::string& source,
   Readings readings;
   readings.stylus_radius_mm = stylus_radius_mm;
   std::set<int> orders;
-  Line line = header_line;
+  TextLine line = header_line;
   while (in.next(&line)) {
     if (skipped(line.text)) continue;
     const std::vector<Field> f = split(line.text, separator);
@@ -375,7 +343,10 @@ Readings parse_point_table(const std::string& text, const std::string& source,
     const double e_um = measured_deviation_um(r, stylus_radius_mm);
     check_ranged(e_um, ranges.at("reading_um"), reading_at,
                  "(E - p)·n = " + shortest_text(e_um) + " µm", nullptr);
-    r.line = line.number;
+    r.line = r.nominal_line = line.number;
+    r.key_column = field(columns.tooth).column;
+    r.measured_column = reading_at.column;
+    r.nominal_column = field(columns.nominal_x).column;
     readings.rows.push_back(r);
   }
   if (readings.rows.empty()) {

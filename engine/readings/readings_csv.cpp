@@ -11,6 +11,7 @@
 #include "core/input_file.h"
 #include "core/number_text.h"
 #include "core/output_files.h"
+#include "core/text_lines.h"
 #include "engine/schema/parameter_ranges.h"
 
 namespace gearmc {
@@ -38,44 +39,13 @@ std::vector<std::string> split(const std::string& line, std::vector<int>* column
   return fields;
 }
 
-// The lines of a text: ends are "\n", "\r\n" or a lone "\r" (old Mac exports); a line longer
-// than kMaxReadingsLineBytes is an InputError (a binary file, or a file without line ends).
-class LineReader {
- public:
-  LineReader(const std::string& text, const std::string& source) : text_(text), source_(source) {}
-  bool next(std::string* line, int* line_no) {
-    if (pos_ >= text_.size()) return false;
-    ++*line_no;
-    std::size_t end = text_.find_first_of("\r\n", pos_);
-    if (end == std::string::npos) end = text_.size();
-    if (end - pos_ > kMaxReadingsLineBytes) {
-      throw InputError({source_, *line_no, static_cast<int>(kMaxReadingsLineBytes) + 1},
-                       "a line of at most " + std::to_string(kMaxReadingsLineBytes) +
-                           " bytes, but this line is longer (is it a readings CSV?)");
-    }
-    line->assign(text_, pos_, end - pos_);
-    pos_ = end;
-    if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
-    if (pos_ < text_.size() && text_[pos_] == '\n' && (pos_ == end || text_[pos_ - 1] == '\r')) {
-      ++pos_;
-    }
-    return true;
-  }
-
- private:
-  const std::string& text_;
-  const std::string& source_;
-  std::size_t pos_ = 0;
-};
-
 }  // namespace
 
 double measured_deviation_um(const ReadingRow& row, double stylus_radius_mm) {
   return ((row.c - row.p).dot(row.n) - stylus_radius_mm) * 1000.0 - row.ref_dev_um.value_or(0.0);
 }
 
-std::string format_readings(const Readings& readings) {
-  std::ostringstream out;
+void write_readings_header(std::ostream& out, const Readings& readings) {
   out << "# gearmc readings v1\n# stylus_radius_mm=" << shortest_text(readings.stylus_radius_mm)
       << "\n";
   for (const std::string& comment : readings.comments) {
@@ -90,15 +60,22 @@ std::string format_readings(const Readings& readings) {
   for (std::size_t k = 0; k < kColumns.size(); ++k) out << (k ? "," : "") << kColumns[k];
   if (readings.has_ref_dev) out << ",ref_dev_um";
   out << "\n";
-  for (const ReadingRow& r : readings.rows) {
-    out << r.gear << ',' << r.tooth << ',' << (r.side == FlankSide::kRight ? 'R' : 'L') << ','
-        << r.i << ',' << r.j << ',' << r.order;
-    for (const Eigen::Vector3d* v : {&r.p, &r.n, &r.c}) {
-      for (int a = 0; a < 3; ++a) out << ',' << shortest_text((*v)[a]);
-    }
-    if (readings.has_ref_dev) out << ',' << shortest_text(r.ref_dev_um.value_or(0.0));
-    out << "\n";
+}
+
+void write_reading_row(std::ostream& out, const ReadingRow& r, bool has_ref_dev) {
+  out << r.gear << ',' << r.tooth << ',' << (r.side == FlankSide::kRight ? 'R' : 'L') << ',' << r.i
+      << ',' << r.j << ',' << r.order;
+  for (const Eigen::Vector3d* v : {&r.p, &r.n, &r.c}) {
+    for (int a = 0; a < 3; ++a) out << ',' << shortest_text((*v)[a]);
   }
+  if (has_ref_dev) out << ',' << shortest_text(r.ref_dev_um.value_or(0.0));
+  out << "\n";
+}
+
+std::string format_readings(const Readings& readings) {
+  std::ostringstream out;
+  write_readings_header(out, readings);
+  for (const ReadingRow& r : readings.rows) write_reading_row(out, r, readings.has_ref_dev);
   return out.str();
 }
 
@@ -112,9 +89,11 @@ Readings read_readings(const std::string& path) {
 
 Readings parse_readings(const std::string& text, const std::string& source) {
   Readings readings;
-  LineReader in(text, source);
-  std::string line;
-  int line_no = 0;
+  readings.is_readings_csv = true;
+  TextLines in(text, source, kMaxReadingsLineBytes, "a readings CSV");
+  TextLine next;
+  const std::string& line = next.text;
+  const int& line_no = next.number;
   auto error = [&](int column, const std::string& key, const std::string& value,
                    const std::string& expected) {
     return InputError({source, line_no, column}, key, value, expected);
@@ -124,7 +103,7 @@ Readings parse_readings(const std::string& text, const std::string& source) {
   bool version = false, radius = false;
   std::vector<std::string> header;
   int header_line = 0;
-  while (in.next(&line, &line_no)) {
+  while (in.next(&next)) {
     if (line.empty()) continue;
     if (line[0] == '#') {
       const std::string body = line.substr(line.find_first_not_of("# ") == std::string::npos
@@ -189,7 +168,7 @@ Readings parse_readings(const std::string& text, const std::string& source) {
   }
   const std::size_t width = header.size();
   std::set<int> orders;
-  while (in.next(&line, &line_no)) {
+  while (in.next(&next)) {
     if (line.empty() || line[0] == '#') continue;
     std::vector<int> cols;
     const std::vector<std::string> f = split(line, &cols);
@@ -247,7 +226,10 @@ Readings parse_readings(const std::string& text, const std::string& source) {
     const double e = measured_deviation_um(r, readings.stylus_radius_mm);
     check_ranged(e, ranges.at("reading_um"), {source, line_no, cols[12]},
                  "(c - p)·n - R = " + shortest_text(e) + " µm", nullptr);
-    r.line = line_no;
+    r.line = r.nominal_line = line_no;
+    r.key_column = cols[0];
+    r.measured_column = cols[12];
+    r.nominal_column = cols[6];
     readings.rows.push_back(r);
   }
   if (readings.rows.empty()) {

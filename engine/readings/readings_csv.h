@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -26,12 +27,23 @@ struct ReadingRow : PointKey {
   Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitX();
   Eigen::Vector3d c = Eigen::Vector3d::Zero();  // recorded stylus centre at trigger, mm
   std::optional<double> ref_dev_um;             // calibrated deviation of the artefact at p along n
-  int line = 0;  // its line in the file (1-based; 0 for readings made in memory)
+  // Where the row is in its file, for messages (1-based; 0 for readings made in memory): `line`
+  // holds the measured values (DMIS: the FA(…) statement), `key_column` its point's identity
+  // (DMIS: the label; a point table: the tooth column), `measured_column` the measured value;
+  // the nominal point and normal are at nominal_line:nominal_column (DMIS: the F(…)
+  // statement; otherwise the same line).
+  int line = 0;
+  int key_column = 0;
+  int measured_column = 0;
+  int nominal_line = 0;
+  int nominal_column = 0;
 };
 
 struct Readings {
   double stylus_radius_mm = 0.5;
   bool has_ref_dev = false;  // the ref_dev_um column is present (then every row has it)
+  // The file is gearmc's readings CSV (field k of a row is its k-th comma-separated field).
+  bool is_readings_csv = false;
   std::vector<ReadingRow> rows;
   // Values valid but outside their usual range (parameter_ranges.h), whole located messages.
   std::vector<std::string> warnings;
@@ -46,6 +58,10 @@ double measured_deviation_um(const ReadingRow& row, double stylus_radius_mm);
 
 // The file's text (shortest round-trip decimal for every real number).
 std::string format_readings(const Readings& readings);
+// The same text piece by piece, for a file written while its rows are made (`gearmc simulate`
+// streams its rows to disk): the header of `readings` (its rows are ignored), then each row.
+void write_readings_header(std::ostream& out, const Readings& readings);
+void write_reading_row(std::ostream& out, const ReadingRow& row, bool has_ref_dev);
 // Writes the file atomically (temp name, then rename); throws std::runtime_error on I/O errors.
 void write_readings(const std::string& path, const Readings& readings);
 

@@ -15,13 +15,6 @@
 namespace gearmc {
 namespace {
 
-std::string fixed(double v, int decimals) {
-  if (!std::isfinite(v)) return "–";
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
-
 const char* flank_letter(FlankSide s) { return s == FlankSide::kRight ? "R" : "L"; }
 
 // Up to four teeth spread over the gear among those with traces: 1, 1 + z/4, 1 + z/2, 1 + 3z/4.
@@ -66,7 +59,7 @@ std::string trace_chart(const FlankTrace& t, bool profile, std::optional<double>
       }
       const double mid = 0.5 * (lo + hi);
       o.bands.push_back({mid - *tolerance / 2, mid + *tolerance / 2,
-                         total_symbol + "T = " + fixed(*tolerance, 1) + " µm", "#56B4E9"});
+                         total_symbol + "T = " + parameter_text(*tolerance, 1) + " µm", "#56B4E9"});
     }
   }
   o.title =
@@ -195,8 +188,9 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
   report.paragraph(
       "Each simulated measurement is evaluated like gear-measuring software: profile and helix "
       "traces, least-squares mean line over the evaluation range (profile L " +
-      fixed(e.profile_start_mm(), 2) + " … " + fixed(e.profile_end_mm(), 2) + " mm, helix z " +
-      fixed(e.helix_start_mm(), 2) + " … " + fixed(e.helix_end_mm(), 2) +
+      parameter_text(e.profile_start_mm(), 2) + " … " + parameter_text(e.profile_end_mm(), 2) +
+      " mm, helix z " + parameter_text(e.helix_start_mm(), 2) + " … " +
+      parameter_text(e.helix_end_mm(), 2) +
       " mm), pitch at the reference circle, runout with a ball in every space. error = measured "
       "− true, true = the same evaluation of the real surface on a dense trace; U = 2·√(u² + "
       "bias²). Measurement error: measured − true at the same points; sampling error: true at "
@@ -210,14 +204,17 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       const bool any = side.error_moments.count() > 0;
       t.rows.push_back(
           {{parameter_symbol(s.parameter), side.side, std::to_string(side.error_moments.count()),
-            any ? fixed(side.true_moments.mean(), 2) : "–",
-            any ? fixed(side.measured_moments.mean(), 2) : "–", any ? fixed(side.bias_um, 3) : "–",
-            any ? fixed(side.u_um, 3) : "–", any ? fixed(side.U95_um, 2) : "–",
-            side.interval95
-                ? "[" + fixed(side.interval95->lo, 2) + ", " + fixed(side.interval95->hi, 2) + "]"
-                : "–",
-            side.measurement_error.count() > 1 ? fixed(side.measurement_error.stddev(), 3) : "–",
-            side.sampling_error.count() > 1 ? fixed(side.sampling_error.stddev(), 3) : "–"}});
+            any ? parameter_text(side.true_moments.mean(), 2) : "–",
+            any ? parameter_text(side.measured_moments.mean(), 2) : "–",
+            any ? parameter_text(side.bias_um, 3) : "–", any ? parameter_text(side.u_um, 3) : "–",
+            any ? parameter_text(side.U95_um, 2) : "–",
+            side.interval95 ? "[" + parameter_text(side.interval95->lo, 2) + ", " +
+                                  parameter_text(side.interval95->hi, 2) + "]"
+                            : "–",
+            side.measurement_error.count() > 1 ? parameter_text(side.measurement_error.stddev(), 3)
+                                               : "–",
+            side.sampling_error.count() > 1 ? parameter_text(side.sampling_error.stddev(), 3)
+                                            : "–"}});
     }
   }
   report.table(t);
@@ -243,13 +240,14 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
           {{parameter_symbol(s.parameter), "–", "no tolerance in the set", "", "", "", "", ""}});
       continue;
     }
-    c.rows.push_back(
-        {{parameter_symbol(s.parameter), k.tolerance_symbol,
-          (k.two_sided ? "±" : "") + fixed(*k.tolerance_um, 1), fixed(*k.acceptance.upper, 2),
-          fixed(100 * k.chosen().false_accept_rate(), 2) + " %",
-          fixed(100 * k.chosen().false_reject_rate(), 2) + " %",
-          fixed(100 * k.guard_banded.false_reject_rate(), 2) + " %",
-          fixed(k.worst_measured_um, 2) + ": " + fixed(k.conformance_probability_of_worst, 3)}});
+    c.rows.push_back({{parameter_symbol(s.parameter), k.tolerance_symbol,
+                       (k.two_sided ? "±" : "") + parameter_text(*k.tolerance_um, 1),
+                       parameter_text(*k.acceptance.upper, 2),
+                       parameter_text(100 * k.chosen().false_accept_rate(), 2) + " %",
+                       parameter_text(100 * k.chosen().false_reject_rate(), 2) + " %",
+                       parameter_text(100 * k.guard_banded.false_reject_rate(), 2) + " %",
+                       parameter_text(k.worst_measured_um, 2) + " (" + k.worst_side +
+                           "): " + parameter_text(k.conformance_probability_of_worst, 3)}});
   }
   report.table(c);
   for (const std::string& note : p.notes) report.paragraph("Note: " + note);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/constants.h"
 #include "engine/effects/measurement_effect.h"
 #include "engine/reports/svg_plot.h"
 #include "engine/statistics/histogram_bins.h"
@@ -17,19 +18,13 @@ namespace {
 
 constexpr double kCoverageFactor = 2.0;  // U = k u_c, k = 2 (about 95 % for a normal law)
 
-std::string fixed(double v, int decimals) {
-  if (!std::isfinite(v)) return "–";
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
 std::string signed_fixed(double v, int decimals) {
   if (!std::isfinite(v)) return "–";
   char b[64];
   std::snprintf(b, sizeof b, "%+.*f", decimals, v);
   return b;
 }
-std::string percent(double fraction) { return fixed(100.0 * fraction, 2) + " %"; }
+std::string percent(double fraction) { return parameter_text(100.0 * fraction, 2) + " %"; }
 
 nlohmann::ordered_json number_or_null(double v) {
   return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
@@ -64,6 +59,13 @@ nlohmann::ordered_json rates_json(const DecisionRates& r) {
 
 }  // namespace
 
+std::string parameter_text(double v, int decimals) {
+  if (!std::isfinite(v)) return "–";
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
+  return b;
+}
+
 std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
                                                         const RunResults& r) {
   const ParameterEvaluator* evaluator = mc.parameter_evaluator();
@@ -89,6 +91,10 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
                                                                : DecisionRule::kSimple;
     std::vector<double> all_true, all_measured;
     RunningStats all_error;
+    // The worst measured value (largest |y| for a signed parameter) and the side it is on: its
+    // conformance probability takes that side's bias and u (docs/parameters.md).
+    double worst = kNaN;
+    std::size_t worst_side = 0;
     for (int s = 0; s < 2; ++s) {
       if (values[s].empty()) continue;
       ParameterSideSummary side;
@@ -113,6 +119,11 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
         side.sampling_error.add(v.true_points - v.true_dense);
         for (std::size_t b = 0; b < v.budget.size() && b < side.budget.size(); ++b) {
           if (std::isfinite(v.budget[b])) side.budget[b].add(v.budget[b] - v.true_points);
+        }
+        if (all_measured.empty() ||
+            (c.two_sided ? std::abs(v.measured) > std::abs(worst) : v.measured > worst)) {
+          worst = v.measured;
+          worst_side = summary.sides.size();  // the index this side gets below
         }
         all_true.push_back(v.true_dense);
         all_measured.push_back(v.measured);
@@ -144,14 +155,12 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
       c.acceptance = c.rule == DecisionRule::kSimple ? simple : guarded;
       c.simple = decision_rates(all_true, all_measured, c.tolerance, simple);
       c.guard_banded = decision_rates(all_true, all_measured, c.tolerance, guarded);
-      if (all_error.count() > 1) {
-        double worst = all_measured.front();
-        for (double y : all_measured) {
-          if (c.two_sided ? std::abs(y) > std::abs(worst) : y > worst) worst = y;
-        }
+      if (!all_measured.empty() && summary.sides[worst_side].error_moments.count() > 1) {
+        const ParameterSideSummary& side = summary.sides[worst_side];
         c.worst_measured_um = worst;
+        c.worst_side = side.side;
         c.conformance_probability_of_worst = conformance_probability(
-            worst - all_error.mean(), all_error.stddev(), c.tolerance.lower, c.tolerance.upper);
+            worst - side.bias_um, side.u_um, c.tolerance.lower, c.tolerance.upper);
       }
     }
     view.parameters.push_back(std::move(summary));
@@ -236,6 +245,7 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
       k["false_reject"] = c.chosen().false_reject_rate();
       k["rates"] = {{"simple", rates_json(c.simple)}, {"guard_banded", rates_json(c.guard_banded)}};
       k["worst_measured_um"] = c.worst_measured_um;
+      k["worst_side"] = c.worst_side;
       k["conformance_probability_of_worst"] = c.conformance_probability_of_worst;
     }
     conformity[symbol] = k;
@@ -261,18 +271,20 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
                                        ? "[" + signed_fixed(side.interval95->lo, 2) + ", " +
                                              signed_fixed(side.interval95->hi, 2) + "]"
                                        : "–";
-      std::snprintf(
-          line, sizeof line, "%-9s %-5s %6llu %9s %9s %8s %7s %7s %19s %8s %8s\n",
-          parameter_symbol(s.parameter).c_str(), side.side.c_str(),
-          static_cast<unsigned long long>(side.error_moments.count()),
-          any ? fixed(side.true_moments.mean(), 2).c_str() : "–",
-          any ? fixed(side.measured_moments.mean(), 2).c_str() : "–",
-          any ? signed_fixed(side.bias_um, 3).c_str() : "–",
-          any ? fixed(side.u_um, 3).c_str() : "–", any ? fixed(side.U95_um, 2).c_str() : "–",
-          interval.c_str(),
-          side.measurement_error.count() > 1 ? fixed(side.measurement_error.stddev(), 3).c_str()
-                                             : "–",
-          side.sampling_error.count() > 1 ? fixed(side.sampling_error.stddev(), 3).c_str() : "–");
+      std::snprintf(line, sizeof line, "%-9s %-5s %6llu %9s %9s %8s %7s %7s %19s %8s %8s\n",
+                    parameter_symbol(s.parameter).c_str(), side.side.c_str(),
+                    static_cast<unsigned long long>(side.error_moments.count()),
+                    any ? parameter_text(side.true_moments.mean(), 2).c_str() : "–",
+                    any ? parameter_text(side.measured_moments.mean(), 2).c_str() : "–",
+                    any ? signed_fixed(side.bias_um, 3).c_str() : "–",
+                    any ? parameter_text(side.u_um, 3).c_str() : "–",
+                    any ? parameter_text(side.U95_um, 2).c_str() : "–", interval.c_str(),
+                    side.measurement_error.count() > 1
+                        ? parameter_text(side.measurement_error.stddev(), 3).c_str()
+                        : "–",
+                    side.sampling_error.count() > 1
+                        ? parameter_text(side.sampling_error.stddev(), 3).c_str()
+                        : "–");
       out << line;
     }
   }
@@ -292,19 +304,20 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
       out << line;
       continue;
     }
-    const std::string accept = (c.two_sided ? "|y| ≤ " : "y ≤ ") + fixed(*c.acceptance.upper, 2);
+    const std::string accept =
+        (c.two_sided ? "|y| ≤ " : "y ≤ ") + parameter_text(*c.acceptance.upper, 2);
     const DecisionRates& other = c.rule == DecisionRule::kSimple ? c.guard_banded : c.simple;
-    std::snprintf(
-        line, sizeof line, "%-9s %-10s %8s %13s %11s %11s %12s %16s\n",
-        parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
-        ((c.two_sided ? "±" : "") + fixed(*c.tolerance_um, 1)).c_str(), accept.c_str(),
-        percent(c.chosen().false_accept_rate()).c_str(),
-        percent(c.chosen().false_reject_rate()).c_str(),
-        percent(1.0 - static_cast<double>(other.accepted) /
-                          static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
-            .c_str(),
-        (fixed(c.worst_measured_um, 2) + ": " + fixed(c.conformance_probability_of_worst, 3))
-            .c_str());
+    std::snprintf(line, sizeof line, "%-9s %-10s %8s %13s %11s %11s %12s %16s\n",
+                  parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
+                  ((c.two_sided ? "±" : "") + parameter_text(*c.tolerance_um, 1)).c_str(),
+                  accept.c_str(), percent(c.chosen().false_accept_rate()).c_str(),
+                  percent(c.chosen().false_reject_rate()).c_str(),
+                  percent(1.0 - static_cast<double>(other.accepted) /
+                                    static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
+                      .c_str(),
+                  (parameter_text(c.worst_measured_um, 2) + ": " +
+                   parameter_text(c.conformance_probability_of_worst, 3))
+                      .c_str());
     out << line;
   }
   out << "  (rej. (other): the share rejected under the other rule; p_c(worst): the run's "
@@ -327,7 +340,7 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
         for (const RunningStats& b : side.budget) {
           char cell[64];
           std::snprintf(cell, sizeof cell, " %14s",
-                        b.count() > 1 ? fixed(b.stddev(), 3).c_str() : "–");
+                        b.count() > 1 ? parameter_text(b.stddev(), 3).c_str() : "–");
           row += cell;
         }
         out << row << "\n";

@@ -50,9 +50,10 @@ struct ParameterConformity {
   }
   // JCGM 106 §7.6 for one measured value: the run's worst measured item (largest value, or
   // largest |value| for ±T), corrected by the bias, with u: the probability that its true value
-  // conforms, p_c = Φ((T_U − y + b)/u) − Φ((T_L − y + b)/u) (bias b and u of the parameter's
-  // errors over both sides).
+  // conforms, p_c = Φ((T_U − y + b)/u) − Φ((T_L − y + b)/u) (bias b and u of the errors of the
+  // side the worst item is on: "left", "right", or "both" for F_r).
   double worst_measured_um = 0.0, conformance_probability_of_worst = 0.0;
+  std::string worst_side;
 };
 
 struct ParameterSummary {
@@ -90,5 +91,8 @@ class HtmlReport;
 // figures (parameter_figures) and how the parameters were evaluated.
 void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
                            const ParameterPresentation& p, const std::vector<RunFigure>& figures);
+
+// A value of the parameter tables and figures with `decimals` decimals; "–" when not finite.
+std::string parameter_text(double v, int decimals);
 
 }  // namespace gearmc

@@ -1,10 +1,12 @@
 // `gearmc simulate`: readings of the scenario's gears with its effects (see simulate.h).
 #include "engine/run/simulate.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "core/input_error.h"
+#include "core/input_file.h"
 #include "engine/effects/measurement_effect.h"
 #include "engine/measurement/gear_measurement.h"
 #include "engine/scenario/scenario.h"
@@ -30,7 +32,8 @@ const char* status_reason(const ContactResult& r) {
 
 }  // namespace
 
-SimulatedReadings simulate_readings(const Scenario& input, const SimulateOptions& options) {
+SimulatedReadings simulate_readings(const Scenario& input, const SimulateOptions& options,
+                                    const std::function<void(const ReadingRow&)>& each_row) {
   Scenario scenario = input;
   if (options.master) scenario.deviations.random = false;
   if (options.reference_deviations && !scenario.surfaces.empty()) {
@@ -40,6 +43,19 @@ SimulatedReadings simulate_readings(const Scenario& input, const SimulateOptions
   }
   const MeasurementModel model(scenario);
   const std::vector<const PlanPoint*>& sequence = model.sequence();
+  const double bytes = static_cast<double>(options.gears) * static_cast<double>(sequence.size()) *
+                       static_cast<double>(kMaxReadingsRowBytes);
+  if (bytes > static_cast<double>(kMaxReadingsBytes)) {
+    const std::uint64_t fit =
+        kMaxReadingsBytes / (std::max<std::size_t>(sequence.size(), 1) * kMaxReadingsRowBytes);
+    throw InputError({}, "--gears", std::to_string(options.gears),
+                     "at most " + std::to_string(fit) + " gears of this plan (" +
+                         std::to_string(sequence.size()) + " points each, up to " +
+                         std::to_string(kMaxReadingsRowBytes) + " bytes a row): the file would " +
+                         "reach " + std::to_string(static_cast<std::uint64_t>(bytes / 1048576.0)) +
+                         " MiB, more than the 1024 MiB of the largest readings file diagnose "
+                         "reads");
+  }
 
   SimulatedReadings out;
   out.readings.stylus_radius_mm = scenario.stylus_radius_mm;
@@ -77,7 +93,12 @@ SimulatedReadings simulate_readings(const Scenario& input, const SimulateOptions
       row.n = q.nominal.normal;
       row.c = m.recorded_centre;
       if (options.reference_deviations) row.ref_dev_um = measurement.surface_deviation_um(q);
-      out.readings.rows.push_back(row);
+      ++out.rows;
+      if (each_row) {
+        each_row(row);
+      } else {
+        out.readings.rows.push_back(row);
+      }
     }
   }
   return out;

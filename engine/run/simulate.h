@@ -6,7 +6,9 @@
 // are reproducible for any thread count.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "engine/readings/readings_csv.h"
@@ -22,8 +24,13 @@ struct SimulateOptions {
   bool reference_deviations = false;
 };
 
+// The longest text of one readings row: 6 integers and 9 (10 with ref_dev_um) shortest
+// round-trip doubles of at most 24 characters, commas and the line end.
+inline constexpr std::size_t kMaxReadingsRowBytes = 6 * 11 + 10 * 24 + 16 + 1;
+
 struct SimulatedReadings {
-  Readings readings;
+  Readings readings;     // the rows too, unless they were handed to a row sink
+  std::size_t rows = 0;  // rows made (kept or handed on)
   // Planned points not written because the stylus could not measure them (edge, collision,
   // no convergence), with the reason of the first one.
   int skipped = 0;
@@ -34,6 +41,12 @@ struct SimulatedReadings {
 // column runs over the whole file. Each gear is one measurement: the effects see the point's
 // position in that gear's sequence (drift runs over one gear, as in `gearmc run`), and gear k's
 // readings equal the run's for gear k.
-SimulatedReadings simulate_readings(const Scenario& scenario, const SimulateOptions& options);
+// The file is bounded before any work: gears × planned points × kMaxReadingsRowBytes must not
+// exceed kMaxReadingsBytes, the largest readings file `diagnose` reads (else InputError naming
+// --gears, the most gears that fit and the size).
+// With `each_row`, every row is handed to it as it is made (gear by gear, in file order) and
+// not kept: memory then holds one gear's points whatever the number of gears.
+SimulatedReadings simulate_readings(const Scenario& scenario, const SimulateOptions& options,
+                                    const std::function<void(const ReadingRow&)>& each_row = {});
 
 }  // namespace gearmc

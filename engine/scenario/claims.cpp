@@ -44,10 +44,11 @@ ClaimQuantity read_quantity(const YamlValue& value, bool has_effects) {
 }
 
 void read_statistic(const YamlValue& value, ClaimSpec& claim, InputWarnings* warnings) {
-  const std::string expected = "mean, std, max or {quantile: p} with 0 < p < 1";
+  const std::string expected = "mean, std, max or {quantile: p} with 1e-9 <= p <= 1 - 1e-9";
   if (value.is_map()) {
     const YamlMap map = value.as_map(child_keys("claims.statistic"));
-    const YamlValue p = map.require("quantile", "the quantile p, 0 < p < 1 (e.g. 0.9973)");
+    const YamlValue p =
+        map.require("quantile", "the quantile p, 1e-9 <= p <= 1 - 1e-9 (e.g. 0.9973)");
     claim.statistic = ClaimStatistic::kQuantile;
     claim.quantile = read_ranged(p, claim_ranges().at("claims.statistic.quantile"), warnings);
     return;
@@ -89,7 +90,7 @@ std::string statistic_text(const ClaimSpec& claim) {
 
 // claims: a list of {name (required, unique), quantity (required), side (left | right | both,
 // default both), statistic (required: mean | std | max | {quantile: p}), exactly one of
-// at_most_um / at_least_um, confidence (0 < c < 1, default 0.95)}.
+// at_most_um / at_least_um, confidence (1e-9 <= c <= 1 - 1e-9, default 0.95)}.
 std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
                                    std::vector<std::string>* warnings) {
   const std::string expected =

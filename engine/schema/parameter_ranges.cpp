@@ -10,12 +10,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/constants.h"
 #include "core/number_text.h"
 
 namespace gearmc {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 NumberRange closed(double lo, double hi) { return NumberRange::closed(lo, hi); }
 NumberRange above(double lo, double hi) { return {lo, hi, false, true}; }  // (lo, hi]
@@ -112,7 +111,7 @@ const RangeTable& probing_ranges() {
 const RangeTable& claim_ranges() {
   static const RangeTable table{
       "claims",
-      {{"claims.statistic.quantile", "", NumberRange::open(0, 1), 0.5, 0.99999,
+      {{"claims.statistic.quantile", "", NumberRange::probability(), 0.5, 0.99999,
         "a quantile's probability p; P1's claim is at 0.9973 (3σ of a normal law); above "
         "0.99999 the check needs millions of gears",
         "a percentage? (99.73 % is 0.9973)"},
@@ -122,7 +121,7 @@ const RangeTable& claim_ranges() {
         "mm? (4 µm is 4, not 0.004)"},
        {"claims.at_least_um", "µm", closed(-10000, 10000), -100, 100,
         "a limit on a measurement error; CMM errors on gears are a few µm", "mm?"},
-       {"claims.confidence", "", NumberRange::open(0, 1), 0.8, 0.9999,
+       {"claims.confidence", "", NumberRange::probability(), 0.8, 0.9999,
         "the probability that a verdict is right; 0.95 is usual, above 0.9999 needs many gears",
         "a percentage? (95 % is 0.95)"}}};
   return table;

@@ -2,6 +2,7 @@
 // gamma law's tails from core/special_functions.h).
 #include "engine/statistics/distribution.h"
 
+#include "core/constants.h"
 #include "core/special_functions.h"
 
 #include <algorithm>
@@ -14,10 +15,7 @@
 namespace gearmc {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr double kEulerGamma = std::numbers::egamma;
 constexpr double kLogSqrt2Pi = 0.91893853320467274178;  // ln sqrt(2 pi)
 
 DistributionTails normal_tails(double z) {

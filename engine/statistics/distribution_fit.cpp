@@ -1,6 +1,7 @@
 // Binned maximum-likelihood fits of five two-parameter laws to a Histogram, with AIC ranking and
 // binned goodness-of-fit figures (see distribution_fit.h for the method and its sources).
 #include "engine/statistics/distribution_fit.h"
+#include "core/constants.h"
 #include "core/special_functions.h"
 
 #include <algorithm>
@@ -12,10 +13,6 @@
 
 namespace gearmc {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kEulerGamma = std::numbers::egamma;
 
 // --- The binned data ---------------------------------------------------------------------------
 

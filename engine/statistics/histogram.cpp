@@ -8,14 +8,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/constants.h"
 #include "core/number_text.h"
 
 namespace gearmc {
-namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-}  // namespace
+namespace {}  // namespace
 
 std::uint64_t quantile_rank(double p, std::uint64_t n) {
   if (n == 0 || !(p >= 0.0 && p <= 1.0)) {

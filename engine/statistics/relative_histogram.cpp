@@ -10,11 +10,11 @@
 #include <memory>
 #include <stdexcept>
 
+#include "core/constants.h"
+
 namespace gearmc {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kShift = 52 - RelativeHistogram::kMantissaBits;  // bits below the bucket key
 constexpr std::size_t kBucketsPerBlock = std::size_t{1} << RelativeHistogram::kMantissaBits;
 constexpr std::size_t kBlocks = 2047;  // biased exponents of finite doubles, 0 .. 2046

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include "core/constants.h"
+
 namespace gearmc {
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}  // namespace
+namespace {}  // namespace
 
 void RunningStats::add(double x) {
   if (n_ == 0) {

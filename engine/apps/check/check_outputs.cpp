@@ -31,25 +31,48 @@ nlohmann::ordered_json number_or_null(double v) {
 }
 
 std::string quantity_words(const ClaimSpec& c) {
-  const std::string q = c.quantity == ClaimQuantity::kDeltaRcompPoint ? "δRcomp per point"
-                        : c.quantity == ClaimQuantity::kDeltaRcompFlankMax
-                            ? "max δRcomp per flank"
-                            : "|total error| per point";
+  std::string q;
+  switch (c.quantity) {
+    case ClaimQuantity::kDeltaRcompPoint:
+      q = "δRcomp per point";
+      break;
+    case ClaimQuantity::kDeltaRcompFlankMax:
+      q = "max δRcomp per flank";
+      break;
+    case ClaimQuantity::kTotalErrorPoint:
+      q = "|total error| per point";
+      break;
+    case ClaimQuantity::kParameterError:
+      q = c.parameter + " error (measured − true) per item";
+      break;
+  }
   return q + " (" +
          (c.side == ClaimSide::kBoth ? std::string("both sides") : side_text(c.side) + " flanks") +
          ")";
 }
 
-std::string bound_text(const ClaimResult& r) {
-  return "[" + fixed(r.lower_um) + ", " + fixed(r.upper_um) + "] µm";
+// A bound to 3 decimals rounded outward (down for the lower, up for the upper bound), so the
+// printed bound is still a bound; a bound at the limit is printed as the limit is.
+std::string bound_number(double v, bool upper, double limit) {
+  if (!std::isfinite(v)) return "—";
+  if (v == limit) return general(limit);
+  const double thousandths = upper ? std::ceil(v * 1000.0) : std::floor(v * 1000.0);
+  return fixed(thousandths / 1000.0);
+}
+
+std::string bound_text(const ClaimSpec& c, const ClaimResult& r) {
+  return "[" + bound_number(r.lower_um, false, c.limit_um) + ", " +
+         bound_number(r.upper_um, true, c.limit_um) + "] µm";
 }
 
 // What the verdict says in one sentence, for the report and the JUnit failure message.
 std::string verdict_sentence(const ClaimSpec& c, const ClaimResult& r) {
   std::string s = std::string(verdict_text(r.verdict)) + " after " + std::to_string(r.gears) +
                   " gears: estimate " + fixed(r.estimate_um) + " µm, " +
-                  general(100.0 * c.confidence) + " % confidence bounds " + bound_text(r) +
-                  ", limit " + (c.at_most ? "≤ " : "≥ ") + general(c.limit_um) + " µm";
+                  "lower and upper confidence bounds " + bound_text(c, r) + " (each one-sided at " +
+                  general(100.0 * c.confidence) + " %; together at least " +
+                  general(100.0 * (2.0 * c.confidence - 1.0)) + " %)" + ", limit " +
+                  (c.at_most ? "≤ " : "≥ ") + general(c.limit_um) + " µm";
   if (r.exceedance && r.exceedance_allowed && c.statistic == ClaimStatistic::kQuantile) {
     s += "; probability of a value beyond the limit " + general(*r.exceedance, 3) + " (bounds " +
          general(r.exceedance_lower.value_or(NAN), 3) + " … " +
@@ -67,6 +90,15 @@ bool all_claims_hold(const CheckRun& run) {
     if (r.verdict != Verdict::kHolds) return false;
   }
   return !run.results.empty();
+}
+
+int check_exit_code(const CheckRun& run) {
+  bool undecided = run.results.empty();
+  for (const ClaimResult& r : run.results) {
+    if (r.verdict == Verdict::kFails) return 1;
+    if (r.verdict == Verdict::kUndecided) undecided = true;
+  }
+  return undecided ? 3 : 0;
 }
 
 std::string claim_statement(const ClaimSpec& c) {
@@ -171,7 +203,7 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
     const ClaimSpec& c = run.trackers[i].claim();
     const ClaimResult& r = run.results[i];
     summary.rows.push_back({{c.name, claim_statement(c), verdict_text(r.verdict),
-                             fixed(r.estimate_um), bound_text(r), std::to_string(r.gears)},
+                             fixed(r.estimate_um), bound_text(c, r), std::to_string(r.gears)},
                             r.verdict != Verdict::kHolds});
   }
   report.heading("Verdicts");
@@ -205,10 +237,14 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
     plot.markers.push_back(
         {c.limit_um, std::string("limit ") + general(c.limit_um) + " µm", "#D55E00", false});
     if (std::isfinite(r.lower_um)) {
-      plot.markers.push_back({r.lower_um, "lower bound " + fixed(r.lower_um), "#0072B2", true});
+      plot.markers.push_back({r.lower_um,
+                              "lower bound " + bound_number(r.lower_um, false, c.limit_um),
+                              "#0072B2", true});
     }
     if (std::isfinite(r.upper_um)) {
-      plot.markers.push_back({r.upper_um, "upper bound " + fixed(r.upper_um), "#0072B2", true});
+      plot.markers.push_back({r.upper_um,
+                              "upper bound " + bound_number(r.upper_um, true, c.limit_um),
+                              "#0072B2", true});
     }
     if (std::isfinite(r.estimate_um)) {
       plot.markers.push_back({r.estimate_um, "estimate " + fixed(r.estimate_um), "#009E73", true});
@@ -229,7 +265,7 @@ std::string claim_terminal_line(const ClaimSpec& c, const ClaimResult& r, std::s
   char verdict[16];
   std::snprintf(verdict, sizeof verdict, "%-9s", verdict_text(r.verdict));
   return name + "  " + verdict + "  " + statistic_text(c) + " estimate " + fixed(r.estimate_um) +
-         " µm  bound " + bound_text(r) + "  (limit " + (c.at_most ? "≤ " : "≥ ") +
+         " µm  bounds " + bound_text(c, r) + "  (limit " + (c.at_most ? "≤ " : "≥ ") +
          general(c.limit_um) + " µm)  " + std::to_string(r.gears) + " gears  " +
          fixed(r.time_s, 1) + " s";
 }

@@ -26,6 +26,10 @@ struct CheckContext {
 // True when every claim holds.
 bool all_claims_hold(const CheckRun& run);
 
+// The exit code of `check`: 0 every claim holds, 1 a claim fails, 3 no claim fails but one is
+// undecided at the gear budget (docs/check.md, "Exit codes").
+int check_exit_code(const CheckRun& run);
+
 // "max δRcomp per flank (both sides) quantile 0.9973 ≤ 4 µm at 95 % confidence".
 std::string claim_statement(const ClaimSpec& claim);
 

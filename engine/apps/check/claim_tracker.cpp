@@ -191,10 +191,19 @@ ClaimResult ClaimTracker::quantile_look(bool with_um_bounds) const {
   }
   if (upper_edge >= 0) r.upper_um = pooled_->edge(upper_edge);
   if (lower_edge >= 0) r.lower_um = pooled_->edge(lower_edge);
-  if (upper_edge < 0 || lower_edge < 0) {
-    r.note = std::string("no ") + (upper_edge < 0 ? "upper" : "lower") +
+  // The verdict is the same test at the limit itself, exactly (each gear's fraction beyond L, not
+  // at bin resolution): a decided claim puts the limit on its side of the bound, so the bound
+  // never contradicts the verdict ("holds" with an upper bound a bin above L).
+  const double limit = claim_.limit_um;
+  const bool below = claim_.at_most ? r.verdict == Verdict::kHolds : r.verdict == Verdict::kFails;
+  const bool above = claim_.at_most ? r.verdict == Verdict::kFails : r.verdict == Verdict::kHolds;
+  if (below && !(r.upper_um <= limit)) r.upper_um = limit;  // q_p ≤ L shown
+  if (above && !(r.lower_um >= limit)) r.lower_um = limit;  // q_p ≥ L shown
+  const bool no_upper = !std::isfinite(r.upper_um), no_lower = !std::isfinite(r.lower_um);
+  if (no_upper || no_lower) {
+    r.note = std::string("no ") + (no_upper ? "upper" : "lower") +
              " bound in µm: at no value of the grid (" + std::to_string(t) +
-             " gears) is the quantile shown to be " + (upper_edge < 0 ? "below" : "above") +
+             " gears) is the quantile shown to be " + (no_upper ? "below" : "above") +
              " it; more gears would give one";
   }
   return r;

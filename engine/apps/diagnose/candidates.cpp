@@ -18,7 +18,7 @@
 namespace gearmc {
 namespace {
 
-EffectParameter fixed(double value) {
+EffectParameter fixed_parameter(double value) {
   EffectParameter p;
   p.value = value;
   return p;
@@ -106,8 +106,9 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
     bool first = true;
     for (int k : options.lobing_orders) {
       for (int part = 0; part < 2; ++part) {  // 0: phase 0 → −cos kφ; 1: phase 90°/k → −sin kφ
-        const ProbeLobingEffect effect(fixed(0.0), {k}, {fixed(0.0), fixed(part * 90.0 / k)},
-                                       fixed(0.0), ProbeQualificationSpec{});
+        const ProbeLobingEffect effect(fixed_parameter(0.0), {k},
+                                       {fixed_parameter(0.0), fixed_parameter(part * 90.0 / k)},
+                                       fixed_parameter(0.0), ProbeQualificationSpec{});
         std::vector<Pick> picks;
         if (first) picks.push_back({0, "pretravel_um", "µm"});
         first = false;
@@ -116,64 +117,73 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
       }
     }
     if (first) {  // no orders: the pre-travel alone
-      const ProbeLobingEffect effect(fixed(0.0), {}, {}, fixed(0.0), ProbeQualificationSpec{});
+      const ProbeLobingEffect effect(fixed_parameter(0.0), {}, {}, fixed_parameter(0.0),
+                                     ProbeQualificationSpec{});
       add_columns(d, effect, {0.0, 0.0}, {{0, "pretravel_um", "µm"}}, points);
     }
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("stylus_radius");
-    add_columns(d, StylusRadiusEffect(fixed(0.0)), {0.0}, {{0, "error_um", "µm"}}, points);
+    add_columns(d, StylusRadiusEffect(fixed_parameter(0.0)), {0.0}, {{0, "error_um", "µm"}},
+                points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("scale");
-    add_columns(d, ScaleEffect(fixed(0.0), fixed(0.0), fixed(0.0)), {0.0, 0.0, 0.0},
-                {{0, "x_ppm", "ppm"}, {1, "y_ppm", "ppm"}, {2, "z_ppm", "ppm"}}, points);
+    add_columns(d, ScaleEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0)),
+                {0.0, 0.0, 0.0}, {{0, "x_ppm", "ppm"}, {1, "y_ppm", "ppm"}, {2, "z_ppm", "ppm"}},
+                points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("thermal_expansion");
-    add_columns(d, ThermalExpansionEffect(fixed(0.0), fixed(0.0), fixed(11.5), fixed(0.0)),
+    add_columns(d,
+                ThermalExpansionEffect(fixed_parameter(0.0), fixed_parameter(0.0),
+                                       fixed_parameter(11.5), fixed_parameter(0.0)),
                 {0.0, 0.0, 11.5, 0.0}, {{0, "workpiece_delta_t_k", "K"}}, points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("drift");
-    add_columns(d, DriftEffect(fixed(0.0), fixed(0.0), fixed(0.0)), {0.0, 0.0, 0.0},
-                {{0, "x_um", "µm"}, {1, "y_um", "µm"}, {2, "z_um", "µm"}}, points);
+    add_columns(d, DriftEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0)),
+                {0.0, 0.0, 0.0}, {{0, "x_um", "µm"}, {1, "y_um", "µm"}, {2, "z_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("squareness");
-    add_columns(d, SquarenessEffect(fixed(0.0), fixed(0.0), fixed(0.0)), {0.0, 0.0, 0.0},
+    add_columns(d,
+                SquarenessEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0)),
+                {0.0, 0.0, 0.0},
                 {{0, "xy_urad", "µrad"}, {1, "xz_urad", "µrad"}, {2, "yz_urad", "µrad"}}, points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("eccentricity");
-    add_columns(d, EccentricityEffect(fixed(0.0), fixed(0.0)), {0.0, 0.0},
+    add_columns(d, EccentricityEffect(fixed_parameter(0.0), fixed_parameter(0.0)), {0.0, 0.0},
                 {{0, "x_um", "µm"}, {1, "y_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("step_quantization");
-    add_columns(d, StepQuantizationEffect(fixed(0.0), 2.0), {0.0}, {{0, "step_um", "µm"}}, points);
+    add_columns(d, StepQuantizationEffect(fixed_parameter(0.0), 2.0), {0.0}, {{0, "step_um", "µm"}},
+                points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("probe_warmup");
-    add_columns(d, ProbeWarmupEffect(fixed(0.0), kWarmupTimeConstant), {0.0},
+    add_columns(d, ProbeWarmupEffect(fixed_parameter(0.0), kWarmupTimeConstant), {0.0},
                 {{0, "change_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
   {
     CandidateDesign d = start("straightness");
-    add_columns(
-        d,
-        StraightnessEffect(fixed(0.0), fixed(0.0), fixed(0.0), fixed(0.0), kStraightnessLengthMm),
-        {0.0, 0.0, 0.0, 0.0},
-        {{0, "xy_um", "µm"}, {1, "xz_um", "µm"}, {2, "yx_um", "µm"}, {3, "yz_um", "µm"}}, points);
+    add_columns(d,
+                StraightnessEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0),
+                                   fixed_parameter(0.0), kStraightnessLengthMm),
+                {0.0, 0.0, 0.0, 0.0},
+                {{0, "xy_um", "µm"}, {1, "xz_um", "µm"}, {2, "yx_um", "µm"}, {3, "yz_um", "µm"}},
+                points);
     out.push_back(std::move(d));
   }
   {  // rotary_table: every parameter is linear; the axial pair vanishes on a spur gear (n_z = 0)
@@ -183,13 +193,13 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
       picks.push_back(
           {static_cast<int>(i), RotaryTableEffect::parameter_names()[i], i < 4 ? "µm" : "arcsec"});
     }
-    add_columns(d, RotaryTableEffect(std::vector<EffectParameter>(8, fixed(0.0))),
+    add_columns(d, RotaryTableEffect(std::vector<EffectParameter>(8, fixed_parameter(0.0))),
                 std::vector<double>(8, 0.0), picks, points);
     out.push_back(std::move(d));
   }
   {  // stylus_bending with a vertical stylus (the default)
     CandidateDesign d = start("stylus_bending");
-    add_columns(d, StylusBendingEffect(fixed(0.0), Eigen::Vector3d::UnitZ()), {0.0},
+    add_columns(d, StylusBendingEffect(fixed_parameter(0.0), Eigen::Vector3d::UnitZ()), {0.0},
                 {{0, "deflection_um", "µm"}}, points);
     out.push_back(std::move(d));
   }

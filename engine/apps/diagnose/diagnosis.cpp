@@ -10,6 +10,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "core/constants.h"
 #include "engine/apps/diagnose/cluster_tests.h"
 #include "engine/apps/diagnose/diagnosis_stages.h"
 #include "engine/apps/diagnose/linear_model.h"
@@ -39,8 +40,6 @@ namespace {
 
 using diagnosis_stages::floor_law;
 using diagnosis_stages::State;
-
-constexpr double kPi = std::numbers::pi;
 
 // Fitted coefficients of candidate `c` from a joint fit whose columns start at `offset`.
 std::vector<FittedValue> coefficients_of(const CandidateDesign& c, const LeastSquaresFit& fit,

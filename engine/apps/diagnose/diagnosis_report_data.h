@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "core/constants.h"
 #include "engine/apps/diagnose/diagnosis_report.h"
 
 namespace gearmc::diagnose_report {
 
-inline constexpr double kPi = std::numbers::pi;
 // Okabe-Ito colours, the same meaning in every plot.
 inline const char* const kRawColour = "#c8c8c8";
 inline const char* const kBefore = "#D55E00";      // vermillion

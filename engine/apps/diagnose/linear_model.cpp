@@ -2,6 +2,7 @@
 // correlations, robust scale, harmonic spectrum (see linear_model.h for the sources).
 #include "engine/apps/diagnose/linear_model.h"
 
+#include "core/constants.h"
 #include "core/special_functions.h"
 
 #include <Eigen/Dense>
@@ -12,12 +13,7 @@
 #include <utility>
 
 namespace gearmc {
-namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-}  // namespace
+namespace {}  // namespace
 
 ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, const Eigen::MatrixXd& against,
                               double relative_tolerance) {

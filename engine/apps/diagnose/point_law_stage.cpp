@@ -3,6 +3,7 @@
 // point_law_stage.h).
 #include "engine/apps/diagnose/point_law_stage.h"
 
+#include "core/constants.h"
 #include "core/special_functions.h"
 
 #include <algorithm>
@@ -16,7 +17,6 @@
 namespace gearmc {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInvSqrt2 = 0.70710678118654752440;
 // Stream sub-index of the white-variance null simulation (selection steps use 0, 1, 2; the gap
 // null 1000).

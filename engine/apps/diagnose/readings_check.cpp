@@ -11,6 +11,9 @@
 #include <vector>
 
 #include "core/input_error.h"
+#include "core/input_file.h"
+#include "core/number_text.h"
+#include "core/text_lines.h"
 
 namespace gearmc {
 namespace {
@@ -20,53 +23,41 @@ enum Field { kGear = 0, kTooth = 1, kI = 3, kJ = 4, kPx = 6, kCx = 12 };
 const char* const kFieldNames[] = {"gear", "tooth", "flank", "i",  "j",  "order", "px", "py",
                                    "pz",   "nx",    "ny",    "nz", "cx", "cy",    "cz"};
 
-struct RowPlace {
-  InputLocation where;
-  std::string text;  // the row's line ("" when unknown)
-};
-
-// File, line and column of field `field` of data row `row` (0-based), by reading the file again.
-RowPlace locate(const std::string& path, std::size_t row, int field) {
-  RowPlace out;
-  out.where = {path.empty() ? "<readings>" : path, 0, 0};
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    out.where.file = "<readings> row " + std::to_string(row + 1);
-    return out;
+// File, line and column of field `field` of row `k`, from the places the reader kept: the
+// nominal point's fields (px…nz) where the nominal is, the stylus centre where the measured value
+// is, the key fields where the point's identity is (for gearmc's CSV, the field's own column).
+InputLocation locate(const Readings& readings, const std::string& path, std::size_t k, int field) {
+  const ReadingRow& row = readings.rows[k];
+  const std::string file = path.empty() ? "<readings>" : path;
+  if (row.line == 0) return {file + " row " + std::to_string(k + 1), 0, 0};
+  if (field >= kPx && field < kCx) return {file, row.nominal_line, row.nominal_column};
+  if (field >= kCx) return {file, row.line, row.measured_column};
+  if (!readings.is_readings_csv) return {file, row.line, row.key_column};
+  // gearmc's CSV: the field's column on the row's line (fields are comma-separated, in order).
+  std::string text;
+  try {
+    text = read_input_file(path, "readings file", kMaxReadingsBytes);
+  } catch (const InputError&) {
+    return {file, row.line, row.key_column};
   }
-  std::string line;
-  int line_no = 0;
-  bool columns_seen = false;
-  std::size_t data = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    if (!columns_seen) {
-      columns_seen = true;
-      continue;
-    }
-    if (data++ != row) continue;
-    out.where.line = line_no;
-    std::size_t start = 0;
-    for (int f = 0; f < field && start != std::string::npos; ++f) {
-      start = line.find(',', start);
-      if (start != std::string::npos) ++start;
-    }
-    out.where.column = start == std::string::npos ? 0 : static_cast<int>(start) + 1;
-    out.text = line;
-    return out;
+  TextLines lines(text, path, kMaxReadingsLineBytes, "a readings CSV");
+  TextLine at;
+  while (at.number < row.line && lines.next(&at)) {
   }
-  out.where.file = path + " row " + std::to_string(row + 1);
-  return out;
+  if (at.number != row.line) return {file, row.line, row.key_column};
+  const std::string& line = at.text;
+  std::size_t start = 0;
+  for (int f = 0; f < field && start != std::string::npos; ++f) {
+    start = line.find(',', start);
+    if (start != std::string::npos) ++start;
+  }
+  return {file, row.line,
+          start == std::string::npos ? row.key_column : static_cast<int>(start) + 1};
 }
 
-std::string number_text(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
+// A number from the file echoed as it reads back (shortest round trip: 3.9, not
+// 3.8999999999999999).
+std::string number_text(double v) { return shortest_text(v); }
 
 // A derived number in a message, to 4 significant digits.
 std::string short_text(double v) {
@@ -205,7 +196,7 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
   for (std::size_t k = 0; k < readings.rows.size(); ++k) {
     const ReadingRow& row = readings.rows[k];
     auto refuse = [&](int field, int value, const std::string& expected) {
-      throw InputError(locate(readings_path, k, field).where, kFieldNames[field],
+      throw InputError(locate(readings, readings_path, k, field), kFieldNames[field],
                        std::to_string(value), expected);
     };
     if (row.gear < 0 || row.gear > kMaxGearIndex) {
@@ -227,7 +218,7 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
     if (!(radial <= tip_radius + module) || !(row.p.z() >= -module) ||
         !(row.p.z() <= face + module)) {
       throw InputError(
-          locate(readings_path, k, kPx).where, "px,py,pz",
+          locate(readings, readings_path, k, kPx), "px,py,pz",
           number_text(row.p.x()) + "," + number_text(row.p.y()) + "," + number_text(row.p.z()),
           "a nominal point on the model's gear: radius √(px² + py²) ≤ " +
               number_text(tip_radius + module) + " mm (tip radius + one module) and " +
@@ -266,7 +257,7 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
     const ReadingRow& row = readings.rows[worst];
     const std::string fit = describe_gear_of_points(readings.rows, gear.pressure_angle_rad());
     throw InputError(
-        locate(readings_path, worst, kPx).where, "px,py,pz",
+        locate(readings, readings_path, worst, kPx), "px,py,pz",
         number_text(row.p.x()) + "," + number_text(row.p.y()) + "," + number_text(row.p.z()),
         "nominal points on the model's gear: " + std::to_string(off) + " of " +
             std::to_string(readings.rows.size()) +
@@ -286,8 +277,8 @@ void check_residuals(const Residuals& residuals, const Readings& readings,
     const ResidualPoint& p = residuals.points[k];
     const double R = readings.stylus_radius_mm;
     if (!std::isfinite(p.measured_um) || std::abs(p.measured_um) > kMaxDeviationUm) {
-      const RowPlace place = locate(readings_path, k, kCx);
-      throw InputError(place.where, "cx,cy,cz",
+      const InputLocation place = locate(readings, readings_path, k, kCx);
+      throw InputError(place, "cx,cy,cz",
                        number_text(readings.rows[k].c.x()) + "," +
                            number_text(readings.rows[k].c.y()) + "," +
                            number_text(readings.rows[k].c.z()),
@@ -297,8 +288,8 @@ void check_residuals(const Residuals& residuals, const Readings& readings,
                            " mm) is finite and within ±1e+09 µm (1 km)");
     }
     if (!std::isfinite(p.predicted_um) || !std::isfinite(p.residual_um)) {
-      const RowPlace place = locate(readings_path, k, kCx);
-      throw InputError(place.where,
+      const InputLocation place = locate(readings, readings_path, k, kCx);
+      throw InputError(place,
                        "the model's prediction for this reading is not a finite number (" +
                            number_text(p.predicted_um) + " µm) with the header's stylus radius " +
                            number_text(R) +

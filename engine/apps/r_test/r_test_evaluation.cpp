@@ -11,14 +11,13 @@
 #include <limits>
 #include <optional>
 
+#include "core/constants.h"
 #include "core/thread_arena.h"
 #include "engine/apps/uncertainty/gum.h"
 #include "engine/apps/uncertainty/mcm.h"
 
 namespace gearmc::rtest {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Runs body(t) for t in [0, n) in parallel chunks; stops early (returns false) when cancelled.
 template <typename Body>

@@ -3,12 +3,12 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/constants.h"
+
 #include "engine/apps/r_test/r_test_output.h"
 
 namespace gearmc::rtest {
 namespace {
-
-constexpr double kUm = 1000.0;  // µm per mm
 
 nlohmann::ordered_json num(double v) {
   if (!std::isfinite(v)) return nullptr;
@@ -21,11 +21,11 @@ nlohmann::ordered_json vec(const Vector3d& v, double scale = 1.0) {
 
 nlohmann::ordered_json axis_json(const AxisResult& a, bool error) {
   nlohmann::ordered_json j;
-  j[error ? "mean_error_um" : "estimate_mm"] = error ? a.estimate * kUm : a.estimate;
-  j["u_um"] = a.u * kUm;
+  j[error ? "mean_error_um" : "estimate_mm"] = error ? a.estimate * kUmPerMm : a.estimate;
+  j["u_um"] = a.u * kUmPerMm;
   j["nu_eff"] = num(a.nu_eff);
   j["k"] = a.k;
-  j["U_um"] = a.U * kUm;
+  j["U_um"] = a.U * kUmPerMm;
   return j;
 }
 
@@ -51,7 +51,7 @@ nlohmann::ordered_json r_test_json(const uncertainty::UncertaintyModel& model, c
   nlohmann::ordered_json inputs = nlohmann::ordered_json::object();
   for (int c = 0; c < kClasses; ++c) {
     inputs[input_class_names()[c]] = {
-        {"law", m.laws[c].text}, {"u_um", m.laws[c].u * kUm}, {"dof", num(m.laws[c].dof)}};
+        {"law", m.laws[c].text}, {"u_um", m.laws[c].u * kUmPerMm}, {"dof", num(m.laws[c].dof)}};
   }
   j["inputs"] = inputs;
   nlohmann::ordered_json rt;
@@ -74,7 +74,7 @@ nlohmann::ordered_json r_test_json(const uncertainty::UncertaintyModel& model, c
     sj["converged"] = r.observed.fit[i].ok;
     sj["iterations"] = r.observed.fit[i].iterations;
     nlohmann::ordered_json res = nlohmann::ordered_json::array();
-    for (double g_j : r.observed.fit[i].residuals) res.push_back(g_j * kUm);
+    for (double g_j : r.observed.fit[i].residuals) res.push_back(g_j * kUmPerMm);
     sj["residuals_um"] = res;
     nlohmann::ordered_json coords = nlohmann::ordered_json::object();
     for (int k = 0; k < 3; ++k) {
@@ -82,13 +82,13 @@ nlohmann::ordered_json r_test_json(const uncertainty::UncertaintyModel& model, c
       nlohmann::ordered_json bj;
       bj["estimate_mm"] = b.estimate;
       bj["true_mm"] = b.true_value;
-      bj["u_um"] = b.u_exact * kUm;
-      bj["u_varied_parameter_um"] = b.u_varied * kUm;
+      bj["u_um"] = b.u_exact * kUmPerMm;
+      bj["u_varied_parameter_um"] = b.u_varied * kUmPerMm;
       bj["nu_eff"] = num(b.nu_eff);
       bj["k"] = b.k;
-      bj["U_um"] = b.U * kUm;
+      bj["U_um"] = b.U * kUmPerMm;
       nlohmann::ordered_json budget = nlohmann::ordered_json::object();
-      for (int c = 0; c < kClasses; ++c) budget[input_class_names()[c]] = b.budget[c] * kUm;
+      for (int c = 0; c < kClasses; ++c) budget[input_class_names()[c]] = b.budget[c] * kUmPerMm;
       bj["budget_um"] = budget;
       coords[std::string(1, "xyz"[k])] = bj;
     }
@@ -120,7 +120,7 @@ nlohmann::ordered_json r_test_json(const uncertainty::UncertaintyModel& model, c
     }
     if (!p.budget.empty()) {
       nlohmann::ordered_json b = nlohmann::ordered_json::object();
-      for (const BudgetItem& item : p.budget) b[item.name] = vec(item.contribution, kUm);
+      for (const BudgetItem& item : p.budget) b[item.name] = vec(item.contribution, kUmPerMm);
       pj["budget_um"] = b;
     }
     preds[p.id] = pj;
@@ -133,10 +133,10 @@ nlohmann::ordered_json r_test_json(const uncertainty::UncertaintyModel& model, c
   vj["range_mm"] = s.verification_range;
   vj["measurements"] = v.measurements;
   vj["failed"] = v.failed;
-  vj["actual_U_um"] = vec(v.pooled95, kUm);
-  vj["actual_U_at_measured_position_um"] = vec(v.at_measured95, kUm);
-  vj["mean_error_um"] = vec(v.mean, kUm);
-  vj["rms_error_um"] = vec(v.rms, kUm);
+  vj["actual_U_um"] = vec(v.pooled95, kUmPerMm);
+  vj["actual_U_at_measured_position_um"] = vec(v.at_measured95, kUmPerMm);
+  vj["mean_error_um"] = vec(v.mean, kUmPerMm);
+  vj["rms_error_um"] = vec(v.rms, kUmPerMm);
   nlohmann::ordered_json dev = nlohmann::ordered_json::object();
   nlohmann::ordered_json dev_m = nlohmann::ordered_json::object();
   for (const Prediction& p : r.predictions) {
@@ -175,7 +175,7 @@ void print_r_test(std::ostream& out, const RTestModel& m, const RTestResult& r) 
       ++n;
     }
   }
-  out << fixed(std::sqrt(ss / n) * kUm, 3) << " um, fits "
+  out << fixed(std::sqrt(ss / n) * kUmPerMm, 3) << " um, fits "
       << (r.observed.ok ? "converged" : "NOT converged") << "\n\n";
   out << "P3's GUM of the base points C_i1 (um; u by exact / varied-parameter sensitivities, "
          "nu = 50 per Type-B input)\n";
@@ -184,10 +184,10 @@ void print_r_test(std::ostream& out, const RTestModel& m, const RTestResult& r) 
     for (int k = 0; k < 3; ++k) {
       const BaseCoordinate& b = r.base[i][k];
       out << "  C" << i + 1 << "1_"
-          << "xyz"[k] << std::setw(16) << fixed((b.estimate - b.true_value) * kUm, 3)
-          << std::setw(14) << fixed(b.u_exact * kUm, 3) << std::setw(10)
-          << fixed(b.u_varied * kUm, 3) << std::setw(10) << fixed(b.nu_eff, 0) << std::setw(6)
-          << fixed(b.k, 3) << std::setw(9) << fixed(b.U * kUm, 3) << "\n";
+          << "xyz"[k] << std::setw(16) << fixed((b.estimate - b.true_value) * kUmPerMm, 3)
+          << std::setw(14) << fixed(b.u_exact * kUmPerMm, 3) << std::setw(10)
+          << fixed(b.u_varied * kUmPerMm, 3) << std::setw(10) << fixed(b.nu_eff, 0) << std::setw(6)
+          << fixed(b.k, 3) << std::setw(9) << fixed(b.U * kUmPerMm, 3) << "\n";
     }
   }
   out << "  varied-parameter vs exact sensitivities: largest relative difference "
@@ -204,7 +204,7 @@ void print_r_test(std::ostream& out, const RTestModel& m, const RTestResult& r) 
     std::string label = p.label;
     label.resize(52, ' ');
     out << "  " << label;
-    for (int k = 0; k < 3; ++k) out << std::setw(8) << fixed(p.axis[k].U * kUm, 3);
+    for (int k = 0; k < 3; ++k) out << std::setw(8) << fixed(p.axis[k].U * kUmPerMm, 3);
     out << "   ";
     for (int k = 0; k < 3; ++k) {
       const double d = 100.0 * (p.axis[k].U / v.pooled95[k] - 1.0);
@@ -215,11 +215,11 @@ void print_r_test(std::ostream& out, const RTestModel& m, const RTestResult& r) 
   std::string label = "verification: actual 95 % |error|, all positions";
   label.resize(52, ' ');
   out << "  " << label;
-  for (int k = 0; k < 3; ++k) out << std::setw(8) << fixed(v.pooled95[k] * kUm, 3);
+  for (int k = 0; k < 3; ++k) out << std::setw(8) << fixed(v.pooled95[k] * kUmPerMm, 3);
   label = "verification: actual 95 % |error| at P_m";
   label.resize(52, ' ');
   out << "\n  " << label;
-  for (int k = 0; k < 3; ++k) out << std::setw(8) << fixed(v.at_measured95[k] * kUm, 3);
+  for (int k = 0; k < 3; ++k) out << std::setw(8) << fixed(v.at_measured95[k] * kUmPerMm, 3);
   out << "   ";
   const Prediction& full = r.predictions.back();
   for (int k = 0; k < 3; ++k) {

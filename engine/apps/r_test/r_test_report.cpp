@@ -7,14 +7,13 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/constants.h"
 #include "engine/apps/r_test/r_test_output.h"
 #include "engine/reports/html_report.h"
 #include "engine/reports/svg_plot.h"
 
 namespace gearmc::rtest {
 namespace {
-
-constexpr double kUm = 1000.0;
 
 std::string fx(double v, int d) {
   std::ostringstream s;
@@ -87,7 +86,7 @@ std::string residuals_svg(const RTestResult& r) {
     s.colour = colours[i];
     for (int j = 0; j < kCalibrationPoints; ++j) {
       s.x.push_back(i * kCalibrationPoints + j + 1);
-      s.y.push_back(r.observed.fit[i].residuals[j] * kUm);
+      s.y.push_back(r.observed.fit[i].residuals[j] * kUmPerMm);
     }
     series.push_back(s);
   }
@@ -117,11 +116,11 @@ std::string fig5_svg(const RTestResult& r, int k, bool zoom) {
   for (std::size_t q = 0; q < v.positions.size(); ++q) {
     const double x = static_cast<double>(q) + 1.0;
     actual.x.push_back(x);
-    actual.y.push_back(v.actual95[q][k] * kUm);
+    actual.y.push_back(v.actual95[q][k] * kUmPerMm);
     chain.x.push_back(x);
-    chain.y.push_back(v.gum_chain_U[q][k] * kUm);
+    chain.y.push_back(v.gum_chain_U[q][k] * kUmPerMm);
     p3.x.push_back(x);
-    p3.y.push_back(v.gum_p3_U[q][k] * kUm);
+    p3.y.push_back(v.gum_p3_U[q][k] * kUmPerMm);
   }
   series.push_back(actual);
   series.push_back(chain);
@@ -132,7 +131,7 @@ std::string fig5_svg(const RTestResult& r, int k, bool zoom) {
     s.label = p.id == "full_mcm" ? "full MCM at P_m" : "P3 GUM+MCM at P_m";
     s.colour = p.id == "full_mcm" ? "#0072B2" : "#D55E00";
     s.x = {1.0, n};
-    s.y = {p.axis[k].U * kUm, p.axis[k].U * kUm};
+    s.y = {p.axis[k].U * kUmPerMm, p.axis[k].U * kUmPerMm};
     series.push_back(s);
   }
   XYPlotOptions o;
@@ -143,7 +142,7 @@ std::string fig5_svg(const RTestResult& r, int k, bool zoom) {
   o.y_from_zero = true;
   if (zoom) {
     o.y_min = 0.0;
-    o.y_max = 2.0 * v.pooled95[k] * kUm;
+    o.y_max = 2.0 * v.pooled95[k] * kUmPerMm;
   }
   o.width_px = 600;
   o.height_px = 420;
@@ -178,7 +177,7 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
   inputs.caption = "Type-B inputs (model file)";
   inputs.header = {"input", "law (mm)", "u, µm", "ν"};
   for (int c = 0; c < kClasses; ++c) {
-    inputs.rows.push_back({{input_class_names()[c], m.laws[c].text, fx(m.laws[c].u * kUm, 4),
+    inputs.rows.push_back({{input_class_names()[c], m.laws[c].text, fx(m.laws[c].u * kUmPerMm, 4),
                             std::isfinite(m.laws[c].dof) ? fx(m.laws[c].dof, 0) : "∞"},
                            false});
   }
@@ -195,13 +194,13 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
       const BaseCoordinate& b = r.base[i][k];
       HtmlTable::Row row;
       row.cells = {"C" + std::to_string(i + 1) + "1 " + "xyz"[k],
-                   fx((b.estimate - b.true_value) * kUm, 3),
-                   fx(b.u_exact * kUm, 3),
-                   fx(b.u_varied * kUm, 3),
+                   fx((b.estimate - b.true_value) * kUmPerMm, 3),
+                   fx(b.u_exact * kUmPerMm, 3),
+                   fx(b.u_varied * kUmPerMm, 3),
                    fx(b.nu_eff, 0),
                    fx(b.k, 3),
-                   fx(b.U * kUm, 3)};
-      for (double c : b.budget) row.cells.push_back(fx(c * kUm, 3));
+                   fx(b.U * kUmPerMm, 3)};
+      for (double c : b.budget) row.cells.push_back(fx(c * kUmPerMm, 3));
       base.rows.push_back(row);
     }
   }
@@ -222,8 +221,8 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
     t.caption = p.label + ": |c| u per input, µm";
     t.header = {"input", "x", "y", "z"};
     for (const BudgetItem& b : p.budget) {
-      t.rows.push_back({{b.name, fx(b.contribution[0] * kUm, 3), fx(b.contribution[1] * kUm, 3),
-                         fx(b.contribution[2] * kUm, 3)},
+      t.rows.push_back({{b.name, fx(b.contribution[0] * kUmPerMm, 3),
+                         fx(b.contribution[1] * kUmPerMm, 3), fx(b.contribution[2] * kUmPerMm, 3)},
                         false});
     }
     page.table(t);
@@ -234,7 +233,7 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
         std::vector<double> values;
         for (const BudgetItem& b : p.budget) {
           labels.push_back(b.name);
-          values.push_back(b.contribution[k] * kUm);
+          values.push_back(b.contribution[k] * kUmPerMm);
         }
         BarChartOptions bo;
         bo.title = std::string("whole chain, ") + "xyz"[k];
@@ -258,7 +257,7 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
   for (const Prediction& p : r.predictions) {
     HtmlTable::Row row;
     row.cells = {p.label};
-    for (int k = 0; k < 3; ++k) row.cells.push_back(fx(p.axis[k].U * kUm, 3));
+    for (int k = 0; k < 3; ++k) row.cells.push_back(fx(p.axis[k].U * kUmPerMm, 3));
     for (int k = 0; k < 3; ++k) {
       row.cells.push_back(fx(100.0 * (p.axis[k].U / v.pooled95[k] - 1.0), 1) + " %");
     }
@@ -268,14 +267,14 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
   actual.highlight = true;
   actual.cells = {"verification: actual 95 % |error| (" + std::to_string(v.positions.size()) +
                   " positions × " + std::to_string(m.settings.repetitions) + ")"};
-  for (int k = 0; k < 3; ++k) actual.cells.push_back(fx(v.pooled95[k] * kUm, 3));
+  for (int k = 0; k < 3; ++k) actual.cells.push_back(fx(v.pooled95[k] * kUmPerMm, 3));
   actual.cells.insert(actual.cells.end(), {"", "", ""});
   t.rows.push_back(actual);
   HtmlTable::Row at_m;
   at_m.highlight = true;
   at_m.cells = {"verification: actual 95 % |error| at P_m (" +
                 std::to_string(m.settings.repetitions) + " repetitions)"};
-  for (int k = 0; k < 3; ++k) at_m.cells.push_back(fx(v.at_measured95[k] * kUm, 3));
+  for (int k = 0; k < 3; ++k) at_m.cells.push_back(fx(v.at_measured95[k] * kUmPerMm, 3));
   at_m.cells.insert(at_m.cells.end(), {"", "", ""});
   t.rows.push_back(at_m);
   page.table(t);

@@ -100,6 +100,34 @@ SweepStatistic parse_sweep_statistic(const std::string& text) {
   return {text, parts[1], parts[2]};
 }
 
+std::string sweep_runs_text(const std::vector<SweepPoint>& points, bool brief) {
+  if (points.empty()) return "no gears";
+  int gears_lo = points[0].scenario.gears, gears_hi = gears_lo;
+  std::uint64_t seed_lo = points[0].scenario.seed, seed_hi = seed_lo;
+  for (const SweepPoint& p : points) {
+    gears_lo = std::min(gears_lo, p.scenario.gears);
+    gears_hi = std::max(gears_hi, p.scenario.gears);
+    seed_lo = std::min(seed_lo, p.scenario.seed);
+    seed_hi = std::max(seed_hi, p.scenario.seed);
+  }
+  if (brief) {
+    return (gears_lo == gears_hi ? std::to_string(gears_lo)
+                                 : std::to_string(gears_lo) + "–" + std::to_string(gears_hi)) +
+           " gears";
+  }
+  std::string text = gears_lo == gears_hi
+                         ? std::to_string(gears_lo) + " gears each"
+                         : std::to_string(gears_lo) + "–" + std::to_string(gears_hi) + " gears";
+  if (seed_lo == seed_hi) {
+    text += " (seed " + std::to_string(seed_lo) + ", the same perturbed gears at every point" +
+            (gears_lo == gears_hi ? ")" : ", the first gears of the larger runs)");
+  } else {
+    text += " (seeds " + std::to_string(seed_lo) + "–" + std::to_string(seed_hi) +
+            ": other perturbed gears for each seed)";
+  }
+  return text;
+}
+
 ErrorStatistics sweep_quantity(const SweepStatistic& s, const RunResults& r, int side) {
   const auto pick = [&](int k) -> const ErrorStatistics& {
     if (s.quantity == "point") return r.point[k];
@@ -137,6 +165,17 @@ std::optional<double> sweep_statistic_value(const SweepStatistic& s, const Error
 std::vector<SweepPoint> sweep_grid(const std::string& base_text, const std::string& base_path,
                                    const std::vector<SweepAxis>& axes,
                                    const ScenarioOverrides& overrides) {
+  // A key that the command line also sets would be silently overridden in every variant.
+  for (const SweepAxis& a : axes) {
+    if (overrides.gears && (a.key == "run.gears" || a.key == "run")) {
+      throw InputError({}, "--vary", a.key,
+                       "a key --gears does not override (both set the gear count: give one)");
+    }
+    if (overrides.seed && a.key == "seed") {
+      throw InputError({}, "--vary", a.key,
+                       "a key --seed does not override (both set the seed: give one)");
+    }
+  }
   std::size_t total = 1;
   for (const SweepAxis& a : axes) total *= a.values.size();
   std::vector<SweepPoint> points;

@@ -32,8 +32,11 @@ SweepAxis parse_vary(const std::string& text);
 // p99_73>", over the left flanks, the right flanks and both together.
 struct SweepStatistic {
   std::string text, quantity, statistic;
+  // The statistic's unit: "" for the count n, "µm" for the others.
+  const char* unit() const { return statistic == "n" ? "" : "µm"; }
 };
 SweepStatistic parse_sweep_statistic(const std::string& text);
+
 // The statistic of `values`; nullopt when it does not exist (no values, a quantile with too few
 // values: stats_json.h) with the reason in *note.
 std::optional<double> sweep_statistic_value(const SweepStatistic& s, const ErrorStatistics& values,
@@ -45,6 +48,12 @@ struct SweepPoint {
   std::vector<std::string> values;  // one per axis
   Scenario scenario;
 };
+
+// "50 gears each (seed 1, the same perturbed gears at every point)" when every point runs the
+// same gears; otherwise what varies ("50–200 gears", "seeds 1–3: other perturbed gears for each
+// seed"). `brief`: the gear count alone ("50 gears", "50–200 gears").
+std::string sweep_runs_text(const std::vector<SweepPoint>& points, bool brief = false);
+
 // Every combination of the axes' values, the last axis fastest, each a variant of the scenario
 // text `base_text` read from `base_path` (the variant's messages and relative paths use it),
 // with `overrides` (--gears, --seed) applied. Throws the scenario reader's InputError, prefixed

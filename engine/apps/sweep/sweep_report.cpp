@@ -50,7 +50,8 @@ std::string sweep_csv(const SweepOutcome& s) {
   csv << "# " << provenance_line(s.provenance) << "\n";
   for (const SweepAxis& a : s.axes) csv << csv_field(a.key) << ",";
   csv << "gears,contacts,failed_contacts";
-  for (const char* side : kSides) csv << "," << s.statistic.text << "_" << side << "_um";
+  const std::string unit = *s.statistic.unit() ? "_um" : "";
+  for (const char* side : kSides) csv << "," << s.statistic.text << "_" << side << unit;
   csv << "\n";
   const auto values = sweep_values(s);
   for (std::size_t i = 0; i < s.points.size(); ++i) {
@@ -169,7 +170,7 @@ std::vector<std::string> sweep_figures(const SweepOutcome& s) {
     XYPlotOptions options;
     options.title = s.statistic.text + " (both flanks) against " + xa.key;
     options.x_label = numeric ? xa.key : xa.key + " (index of its values)";
-    options.y_label = s.statistic.text + ", µm";
+    options.y_label = s.statistic.text + (*s.statistic.unit() ? ", µm" : "");
     options.y_from_zero = true;
     options.width_px = 760;
     options.height_px = 460;
@@ -186,12 +187,10 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
     for (std::size_t k = 0; k < a.values.size(); ++k) grid += (k ? ", " : "") + a.values[k];
     grid += "}";
   }
-  report.paragraph(
-      "Scenario " + s.source_path + ", grid " + grid + ": " + std::to_string(s.points.size()) +
-      " runs of " + std::to_string(s.points.empty() ? 0 : s.points[0].scenario.gears) +
-      " gears each (seed " + std::to_string(s.points.empty() ? 0 : s.points[0].scenario.seed) +
-      ", the same perturbed gears at every point). Statistic: " + s.statistic.text +
-      " in µm, of the left flanks, the right flanks and both together.");
+  report.paragraph("Scenario " + s.source_path + ", grid " + grid + ": " +
+                   std::to_string(s.points.size()) + " runs of " + sweep_runs_text(s.points) +
+                   ". Statistic: " + s.statistic.text + (*s.statistic.unit() ? " in µm" : "") +
+                   ", of the left flanks, the right flanks and both together.");
   for (std::size_t a = 0; a < figures.size(); ++a) {
     report.figure(figures[a],
                   s.statistic.text + " of both flanks against " + s.axes[a].key +
@@ -200,9 +199,9 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
   HtmlTable table;
   table.caption = "Every grid point";
   for (const SweepAxis& a : s.axes) table.header.push_back(a.key);
-  for (const char* h : {"gears", "contacts", "failed", "left, µm", "right, µm", "both, µm"}) {
-    table.header.push_back(h);
-  }
+  const std::string unit = *s.statistic.unit() ? ", µm" : "";
+  for (const std::string h : {"gears", "contacts", "failed"}) table.header.push_back(h);
+  for (const std::string side : {"left", "right", "both"}) table.header.push_back(side + unit);
   const auto values = sweep_values(s);
   for (std::size_t i = 0; i < s.points.size(); ++i) {
     HtmlTable::Row row;

@@ -1,6 +1,5 @@
 // uncertainty.json and the terminal table (evaluation.h); the HTML report is in report.cpp.
 #include "engine/apps/uncertainty/evaluation.h"
-#include "core/special_functions.h"
 
 #include <tbb/task_arena.h>
 
@@ -8,6 +7,10 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+
+#include "core/constants.h"
+#include "core/number_text.h"
+#include "core/special_functions.h"
 
 namespace gearmc::uncertainty {
 namespace {
@@ -57,6 +60,7 @@ Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
     }
     e.conformity.push_back(c);
   }
+  for (const std::string& w : e.gum.warnings) e.warnings.push_back(w);
   if (e.mcm.adaptive && !e.mcm.converged) {
     e.warnings.push_back("the adaptive procedure reached max_trials (" +
                          std::to_string(options.max_trials) +
@@ -65,6 +69,18 @@ Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
                          " significant digits (uncertainty.json: \"converged\": false)");
   }
   for (const ModelInput& in : model.inputs) {
+    // A draw is the mean plus a deviation of about u, rounded to the doubles near the mean: with
+    // u under 1000 of their spacings the Monte-Carlo values of the input are coarse steps (an
+    // input N(1e20, 1) is drawn as exactly 1e20).
+    const double mean = std::fabs(in.law.mean()), u = in.law.gum_u();
+    const double spacing = std::nextafter(mean, kInf) - mean;
+    if (u > 0.0 && u < 1e3 * spacing) {
+      e.warnings.push_back("input " + in.name + ": its u (" + shortest_text(u) +
+                           ") is under 1000 steps of a double at its mean (" +
+                           shortest_text(in.law.mean()) + ", steps of " + shortest_text(spacing) +
+                           "): its Monte-Carlo draws are rounded to those steps; subtract a "
+                           "constant from it (measure the deviation from a nominal) instead");
+    }
     if (in.law.kind() == LawKind::kStudentT && in.law.parameters()[2] <= 2.0) {
       e.warnings.push_back("input " + in.name +
                            " is a t law with ν <= 2: it has no variance, so the MCM u(y) does "

@@ -1,16 +1,18 @@
 // Implementation of gum.h; formulas cited there.
 #include "engine/apps/uncertainty/gum.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "core/constants.h"
+#include "core/input_error.h"
+#include "core/number_text.h"
 #include "core/special_functions.h"
 #include "engine/apps/uncertainty/model_function.h"
 
 namespace gearmc::uncertainty {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // h with x + h and x − h representable as written: h is rounded to (x + h) − x.
 double exact_step(double x, double h) {
@@ -66,13 +68,55 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
     r.x.push_back(law.mean());
     r.u.push_back(law.gum_u());
     dof[i] = model.inputs[i].dof;
-    const double h =
+    const double wanted =
         r.u[i] > 0 ? kSensitivityStepFraction * r.u[i] : 1e-6 * std::max(1.0, std::fabs(r.x[i]));
+    const double h = std::max(wanted, kMinRelativeStep * std::fabs(r.x[i]));
     steps[i] = exact_step(r.x[i], h);
+    if (h > wanted && r.u[i] > 0) {
+      r.warnings.push_back("the sensitivity to " + model.inputs[i].name +
+                           " is a central difference over ±" + shortest_text(steps[i]) +
+                           ", wider than 1e-3 u = " + shortest_text(wanted) + ": its estimate " +
+                           shortest_text(r.x[i]) +
+                           " leaves no finer step in double precision (a non-linear model is "
+                           "linearised over that width)");
+    }
   }
+  r.steps = steps;
   std::vector<double> y(m);
   f.evaluate(r.x.data(), y.data());
   const auto c = sensitivities(f, r.x, steps);
+  // A sensitivity hidden by the output's resolution: y = 1e20 + X2 moves in steps of 16384, so
+  // X2 ± h leaves it unchanged and c = 0 although Y depends on X2. Told apart from a true zero
+  // by a probe a million steps (or a thousand of y's resolutions) wide; said, not hidden (the
+  // GUM u(y) misses that input).
+  {
+    std::vector<double> xp = r.x, yp(m), ym(m);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(r.u[i] > 0)) continue;
+      for (std::size_t k = 0; k < m; ++k) {
+        const double resolution = std::nextafter(std::fabs(y[k]), kInf) - std::fabs(y[k]);
+        if (!(std::fabs(c[k][i]) * 2.0 * steps[i] < 1e3 * resolution)) continue;
+        // wide enough to move y by a thousand of its steps if c is of order 1
+        const double probe = std::max(1e6 * steps[i], 1e3 * resolution);
+        xp[i] = r.x[i] + probe;
+        f.evaluate(xp.data(), yp.data());
+        xp[i] = r.x[i] - probe;
+        f.evaluate(xp.data(), ym.data());
+        xp[i] = r.x[i];
+        if (yp[k] != ym[k]) {
+          r.warnings.push_back(
+              "the sensitivity of " + model.outputs[k].name + " to " + model.inputs[i].name +
+              " is lost in the output's resolution: " + model.outputs[k].name + " = " +
+              shortest_text(y[k]) + " moves in steps of " + shortest_text(resolution) +
+              " in double precision, more than " + model.inputs[i].name + " ± " +
+              shortest_text(steps[i]) +
+              " changes it, so its c and its part of u(y) are not "
+              "known; subtract a constant in the output's expression (e.g. compute the deviation "
+              "from a nominal)");
+        }
+      }
+    }
+  }
 
   // Higher-order terms (JCGM 100 5.1.2 note) with steps h_i = 1e-2 u_i.
   std::vector<double> second(m, 0.0);
@@ -134,6 +178,23 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
     o.u_first_order = std::sqrt(std::max(0.0, var));
     o.second_order_variance = second[k];
     o.u = std::sqrt(std::max(0.0, var + second[k]));
+    if (!std::isfinite(o.estimate) || !std::isfinite(o.u)) {
+      std::string inputs;
+      for (std::size_t i = 0; i < n; ++i) {
+        inputs += (i ? ", " : "") + model.inputs[i].name + " = " + shortest_text(r.x[i]);
+      }
+      std::string which = std::isfinite(o.estimate) ? "u(y) = " + shortest_text(o.u)
+                                                    : "y = " + shortest_text(o.estimate);
+      for (std::size_t i = 0; i < n && std::isfinite(o.estimate); ++i) {
+        if (!std::isfinite(c[k][i])) {
+          which = "d" + o.name + "/d" + model.inputs[i].name + " = " + shortest_text(c[k][i]);
+          break;
+        }
+      }
+      throw InputError(model.outputs[k].where, "outputs." + model.outputs[k].name, which,
+                       "a model with a finite value, sensitivities and u at the input estimates (" +
+                           inputs + ") for the GUM's linearisation");
+    }
     o.nu_eff = welch_satterthwaite(o.u, o.contributions, dof);
     o.k = coverage_factor(p, o.nu_eff);
     o.U = o.k * o.u;

@@ -15,9 +15,13 @@
 namespace gearmc::uncertainty {
 
 // The step of the central difference for input i: h_i = 1e-3 u(x_i) (u = 0, a constant:
-// 1e-6 max(1, |x_i|)), adjusted so that x_i ± h_i are exactly x_i ± h_i in double. Truncation
-// error of the derivative about h²|f'''|/6, i.e. 1.7e-7 u²|f'''|, far below what u(y) can show.
+// 1e-6 max(1, |x_i|)), at least kMinRelativeStep |x_i| (a step below the resolution of x_i in
+// double would give x_i ± h_i = x_i: an input of mean 1e20 and u 1 once got c_i = 0), adjusted
+// so that x_i ± h_i are exactly x_i ± h_i in double. Truncation error of the derivative about
+// h²|f'''|/6, i.e. 1.7e-7 u²|f'''|, far below what u(y) can show; a step widened beyond 1e-3 u
+// is stated in GumResult::warnings.
 inline constexpr double kSensitivityStepFraction = 1e-3;
+inline constexpr double kMinRelativeStep = 1.4901161193847656e-08;  // 2^-26 = √ε of a double
 inline constexpr const char* kSensitivityMethod =
     "central differences, step h_i = 1e-3 u(x_i) (JCGM 100 5.1.3; error about h^2 |f'''| / 6)";
 // The higher-order terms use steps h_i = 1e-2 u(x_i) (second and third difference quotients;
@@ -41,12 +45,17 @@ struct GumOutput {
 };
 
 struct GumResult {
-  std::vector<double> x, u;  // input estimates and standard uncertainties
+  std::vector<double> x, u;   // input estimates and standard uncertainties
+  std::vector<double> steps;  // the central differences' steps h_i
   std::vector<GumOutput> outputs;
   bool second_order = false;
+  std::vector<std::string> warnings;  // steps widened beyond 1e-3 u(x_i)
 };
 
 // Evaluates every output of `model` at coverage probability model.settings.coverage_probability.
+// InputError (at the output's place) when an output, a sensitivity or u is not a finite number
+// at the input estimates: the model has no GUM linearisation there (a pole, a log of 0, an
+// overflow), and a table of nan would say nothing.
 GumResult evaluate_gum(const UncertaintyModel& model);
 
 // Welch–Satterthwaite: u_c⁴ / Σ (c_i u_i)⁴ / ν_i (JCGM 100 G.2b); terms with ν_i = inf or

@@ -9,13 +9,12 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "core/constants.h"
 #include "core/special_functions.h"
 #include "engine/statistics/distribution_fit.h"
 
 namespace gearmc::uncertainty {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 [[noreturn]] void bad(const std::string& why) { throw std::invalid_argument(why); }
 

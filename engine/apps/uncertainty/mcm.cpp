@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/check.h"
+#include "core/number_text.h"
 #include "core/random_stream.h"
 #include "core/thread_arena.h"
 #include "engine/apps/uncertainty/model_function.h"
@@ -62,12 +63,29 @@ struct MeanSd {
   double mean = 0.0, sd = 0.0;
 };
 // Two-pass mean and sample standard deviation (divisor n − 1, JCGM 101 §7.6), in index order.
+// When a sum overflows (values near 1e308: their sum is inf though every value is finite), the
+// same passes run on the values divided by the largest |value| and the results are scaled back.
 MeanSd mean_sd(const double* v, std::size_t n) {
   double s = 0.0;
   for (std::size_t i = 0; i < n; ++i) s += v[i];
-  const double mean = s / static_cast<double>(n);
+  double mean = s / static_cast<double>(n);
   double ss = 0.0;
   for (std::size_t i = 0; i < n; ++i) ss += (v[i] - mean) * (v[i] - mean);
+  if (!std::isfinite(mean) || !std::isfinite(ss)) {
+    double scale = 0.0;
+    for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, std::fabs(v[i]));
+    if (scale > 0.0 && std::isfinite(scale)) {
+      s = 0.0;
+      for (std::size_t i = 0; i < n; ++i) s += v[i] / scale;
+      const double scaled_mean = s / static_cast<double>(n);
+      ss = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        ss += (v[i] / scale - scaled_mean) * (v[i] / scale - scaled_mean);
+      }
+      mean = scaled_mean * scale;
+      return {mean, n > 1 ? std::sqrt(ss / static_cast<double>(n - 1)) * scale : 0.0};
+    }
+  }
   return {mean, n > 1 ? std::sqrt(ss / static_cast<double>(n - 1)) : 0.0};
 }
 
@@ -150,14 +168,27 @@ std::uint64_t adaptive_block_size(double p) {
   return std::max<std::uint64_t>(j, 10000);
 }
 
+std::uint64_t smallest_trials(double p) {
+  // q = round(pM) must satisfy 1 ≤ q ≤ M − 1: pM ≥ 1/2 and (1 − p)M > 1/2, so the smallest M is
+  // near max(1/(2p), 1/(2(1 − p))); counted up from just below it with coverage_count itself.
+  const double estimate = std::max(0.5 / p, 0.5 / (1.0 - p));
+  std::uint64_t M = estimate > 3.0 ? static_cast<std::uint64_t>(estimate) - 2 : 1;
+  while (true) {
+    const std::uint64_t q = coverage_count(M, p);
+    if (q >= 1 && q < M) return M;
+    ++M;
+  }
+}
+
 void check_trials(std::uint64_t M, std::size_t outputs, double p, const InputLocation& where,
                   const std::string& key) {
   const std::uint64_t q = coverage_count(M, p);
   if (q >= M || q == 0) {
-    const auto need = static_cast<std::uint64_t>(std::ceil(1.0 / (1.0 - p))) + 1;
     throw InputError(where, key, std::to_string(M),
-                     "at least " + std::to_string(need) + " trials for a coverage probability of " +
-                         std::to_string(p) + " (JCGM 101 recommends at least " +
+                     "at least " + std::to_string(smallest_trials(p)) +
+                         " trials for a coverage probability of " + shortest_text(p) +
+                         " (the smallest number whose coverage interval exists; JCGM 101 "
+                         "recommends at least " +
                          std::to_string(adaptive_block_size(p)) + ")");
   }
   const double bytes =
@@ -366,6 +397,14 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
     const MeanSd ms = mean_sd(values[j].data(), r.trials);
     out.estimate = ms.mean;
     out.u = ms.sd;
+    if (!std::isfinite(out.estimate) || !std::isfinite(out.u)) {
+      const ModelOutput& mo = model.outputs[j];
+      throw InputError(mo.where, "outputs." + mo.name,
+                       "a Monte-Carlo estimate " + shortest_text(out.estimate) + " and u(y) " +
+                           shortest_text(out.u),
+                       "an output whose values and spread a double can hold (they reach the "
+                       "largest double, 1.8e308): rescale the output");
+    }
     out.sorted = std::move(values[j]);
     sort_values(out.sorted);
     out.symmetric = symmetric_interval(out.sorted, p);

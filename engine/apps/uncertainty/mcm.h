@@ -91,8 +91,12 @@ struct McmResult {
   int ranks = 1;
 };
 
-// Checks a planned fixed M against the coverage probability (q < M) and the memory cap; throws
-// InputError naming `where`.
+// The smallest M whose coverage interval exists at probability p: q = coverage_count(M, p) with
+// 1 ≤ q ≤ M − 1 (11 for p = 0.95, 2 for p = 0.5).
+std::uint64_t smallest_trials(double p);
+
+// Checks a planned fixed M against the coverage probability (1 ≤ q < M: smallest_trials) and
+// the memory cap; throws InputError naming `where`.
 void check_trials(std::uint64_t M, std::size_t outputs, double p, const InputLocation& where,
                   const std::string& key);
 

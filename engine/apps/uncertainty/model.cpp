@@ -265,7 +265,7 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
     model.settings_where = sv->location();
     if (!sv->is_map()) throw sv->error("a map of settings");
     const YamlMap m = sv->as_map(kSettingKeys);
-    if (const auto p = m.get_number("coverage_probability", NumberRange::open(0.0, 1.0))) {
+    if (const auto p = m.get_number("coverage_probability", NumberRange::probability())) {
       s.coverage_probability = *p;
     }
     if (const auto t = m.find("trials")) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include "core/input_error.h"
@@ -81,6 +82,25 @@ struct ModelFunction::Impl {
   std::shared_ptr<const BuiltinModel> builtin;
 };
 
+namespace {
+
+// The position of an assignment operator in a muParser expression ('=' that is not part of
+// ==, !=, <= or >=; +=, -=, *= and /= are assignments too), or nothing.
+std::optional<std::size_t> assignment_at(const std::string& e) {
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    if (e[i] != '=') continue;
+    if (i + 1 < e.size() && e[i + 1] == '=') {  // ==
+      ++i;
+      continue;
+    }
+    if (i > 0 && (e[i - 1] == '<' || e[i - 1] == '>' || e[i - 1] == '!')) continue;
+    return i;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 ModelFunction::ModelFunction(const UncertaintyModel& model) : impl_(std::make_unique<Impl>()) {
   n_inputs_ = model.inputs.size();
   n_outputs_ = model.outputs.size();
@@ -108,6 +128,14 @@ ModelFunction::ModelFunction(const UncertaintyModel& model) : impl_(std::make_un
       for (std::size_t k = 0; k < j; ++k) {
         p.DefineVar(model.outputs[k].name, &impl_->values[n_inputs_ + k]);
         known.push_back(model.outputs[k].name);
+      }
+      // muParser takes `X1 = 3` (and +=, -=, *=, /=) as an assignment to the input's storage: the
+      // output would be the constant 3 and X1 overwritten. Refused before the parser sees it.
+      if (const auto at = assignment_at(model.outputs[j].expression)) {
+        const ModelOutput& out = model.outputs[j];
+        throw InputError(out.where, "outputs." + out.name, out.expression,
+                         "an expression, not an assignment ('=' at character " +
+                             std::to_string(*at + 1) + "; comparisons are ==, !=, <= and >=)");
       }
       p.SetExpr(model.outputs[j].expression);
       (void)p.Eval();  // compiles now: unknown names and syntax errors are found here

@@ -132,6 +132,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     const GumOutput& g = e.gum.outputs[k];
     const McmOutput& m = e.mcm.outputs[k];
     const Validation& v = e.validation[k];
+    const ModelOutput& limits = model.outputs[k];  // its tolerance limits (JCGM 106)
     const int d = display_decimals(std::min(g.u, m.u), o.significant_digits);
     page.heading("Output " + g.name);
     // Shown range: the MCM 0.05 % to 99.95 % quantiles and both intervals, 100 bars.
@@ -149,64 +150,73 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     lo -= pad;
     hi += pad;
     const std::size_t bins = 100;
-    Histogram hist(lo, (hi - lo) / double(bins), bins);
-    for (double x : s) hist.add(x);
-    HistogramPlotOptions ho;
-    ho.title = g.name + ": " + std::to_string(M) + " MCM values and the GUM density";
-    ho.x_label = g.name;
-    ho.bars_label = "MCM";
-    if (g.u > 0) ho.overlay_pdf = [&g](double x) { return gum_pdf(g, x); };
-    ho.overlay_label = std::isfinite(g.nu_eff) ? "GUM: y + u t_ν" : "GUM: N(y, u²)";
-    ho.markers = {{g.lo, "GUM " + fmt(g.lo, d), "#D55E00", true},
-                  {g.hi, "GUM " + fmt(g.hi, d), "#D55E00", true},
-                  {m.symmetric.lo, "MCM " + fmt(m.symmetric.lo, d), "#0072B2", false},
-                  {m.symmetric.hi, "MCM " + fmt(m.symmetric.hi, d), "#0072B2", false},
-                  {m.shortest.lo, "", "#009E73", true},
-                  {m.shortest.hi, "", "#009E73", true}};
-    // Tolerance limits (JCGM 106), inside the plotted range.
-    const ModelOutput& limits = model.outputs[k];
-    bool limits_shown = false;
-    for (const std::optional<double>& t : {limits.lower, limits.upper}) {
-      if (t && *t >= lo && *t <= hi) {
-        ho.markers.push_back({*t, "T " + fmt(*t, d), "#000000", false});
-        limits_shown = true;
+    const bool drawable =
+        std::isfinite(lo) && std::isfinite(hi) && std::isfinite((hi - lo) / double(bins));
+    if (!drawable) {  // tails so heavy (1/X for X near 0) that the range overflows a double
+      page.paragraph("No histogram of " + g.name + ": its MCM values from the 0.05 % to the " +
+                     "99.95 % quantile span more than a double can hold (" + fmt(lo, d) + " … " +
+                     fmt(hi, d) + "); the tables above give its estimate and intervals.");
+    } else {
+      Histogram hist(lo, (hi - lo) / double(bins), bins);
+      for (double x : s) hist.add(x);
+      HistogramPlotOptions ho;
+      ho.title = g.name + ": " + std::to_string(M) + " MCM values and the GUM density";
+      ho.x_label = g.name;
+      ho.bars_label = "MCM";
+      if (g.u > 0) ho.overlay_pdf = [&g](double x) { return gum_pdf(g, x); };
+      ho.overlay_label = std::isfinite(g.nu_eff) ? "GUM: y + u t_ν" : "GUM: N(y, u²)";
+      ho.markers = {{g.lo, "GUM " + fmt(g.lo, d), "#D55E00", true},
+                    {g.hi, "GUM " + fmt(g.hi, d), "#D55E00", true},
+                    {m.symmetric.lo, "MCM " + fmt(m.symmetric.lo, d), "#0072B2", false},
+                    {m.symmetric.hi, "MCM " + fmt(m.symmetric.hi, d), "#0072B2", false},
+                    {m.shortest.lo, "", "#009E73", true},
+                    {m.shortest.hi, "", "#009E73", true}};
+      // Tolerance limits (JCGM 106), inside the plotted range.
+      bool limits_shown = false;
+      for (const std::optional<double>& t : {limits.lower, limits.upper}) {
+        if (t && *t >= lo && *t <= hi) {
+          ho.markers.push_back({*t, "T " + fmt(*t, d), "#000000", false});
+          limits_shown = true;
+        }
       }
-    }
-    ho.x_min = lo;
-    ho.x_max = hi;
-    ho.width_px = 900;
-    ho.height_px = 420;
-    page.figure(histogram_svg(hist, ho),
-                std::string("Histogram of the MCM values with the GUM density (expected count per "
-                            "bar); dashed: the GUM interval y ± U (orange), solid blue: the MCM "
-                            "probabilistically symmetric interval, dashed green: the MCM shortest "
-                            "interval") +
-                    (limits_shown ? "; solid black: the tolerance limits." : "."));
+      ho.x_min = lo;
+      ho.x_max = hi;
+      ho.width_px = 900;
+      ho.height_px = 420;
+      page.figure(
+          histogram_svg(hist, ho),
+          std::string("Histogram of the MCM values with the GUM density (expected count per "
+                      "bar); dashed: the GUM interval y ± U (orange), solid blue: the MCM "
+                      "probabilistically symmetric interval, dashed green: the MCM shortest "
+                      "interval") +
+              (limits_shown ? "; solid black: the tolerance limits." : "."));
 
-    Series mc{"MCM (empirical CDF)", {}, {}, SeriesStyle::kLine, "#0072B2"};
-    const std::size_t points = std::min<std::size_t>(M, 500);
-    for (std::size_t i = 0; i < points; ++i) {
-      const std::size_t idx = (2 * i + 1) * M / (2 * points);
-      mc.x.push_back(s[idx]);
-      mc.y.push_back((double(idx) + 0.5) / double(M));
+      Series mc{"MCM (empirical CDF)", {}, {}, SeriesStyle::kLine, "#0072B2"};
+      const std::size_t points = std::min<std::size_t>(M, 500);
+      for (std::size_t i = 0; i < points; ++i) {
+        const std::size_t idx = (2 * i + 1) * M / (2 * points);
+        mc.x.push_back(s[idx]);
+        mc.y.push_back((double(idx) + 0.5) / double(M));
+      }
+      Series gu{"GUM", {}, {}, SeriesStyle::kLine, "#D55E00"};
+      for (int i = 0; i <= 200; ++i) {
+        const double x = lo + (hi - lo) * i / 200.0;
+        gu.x.push_back(x);
+        gu.y.push_back(gum_cdf(g, x));
+      }
+      XYPlotOptions co;
+      co.title = g.name + ": distribution functions";
+      co.x_label = g.name;
+      co.y_label = "probability";
+      co.x_min = lo;
+      co.x_max = hi;
+      co.y_min = 0;
+      co.y_max = 1;
+      co.width_px = 900;
+      co.height_px = 360;
+      page.figure(xy_plot_svg({mc, gu}, co),
+                  "MCM and GUM distribution functions of " + g.name + ".");
     }
-    Series gu{"GUM", {}, {}, SeriesStyle::kLine, "#D55E00"};
-    for (int i = 0; i <= 200; ++i) {
-      const double x = lo + (hi - lo) * i / 200.0;
-      gu.x.push_back(x);
-      gu.y.push_back(gum_cdf(g, x));
-    }
-    XYPlotOptions co;
-    co.title = g.name + ": distribution functions";
-    co.x_label = g.name;
-    co.y_label = "probability";
-    co.x_min = lo;
-    co.x_max = hi;
-    co.y_min = 0;
-    co.y_max = 1;
-    co.width_px = 900;
-    co.height_px = 360;
-    page.figure(xy_plot_svg({mc, gu}, co), "MCM and GUM distribution functions of " + g.name + ".");
 
     std::vector<std::string> labels;
     for (const ModelInput& in : model.inputs) labels.push_back(in.name);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -130,6 +131,49 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--out: got"), std::string::npos) << bad.err;
   EXPECT_EQ(run("export-mesh --gear 2").exit_code, 2);  // --out is required
+  // The mesh's size is bounded before any work (the allowed option maxima, 2000 × 20000, once
+  // ran out of memory under 4 GB): P1's 24 teeth × (2 × 2000 + 6 + 12) = 96 432 vertices per
+  // section, beyond 20 000; 200 × 1000 gives 24 × 418 = 10 032 per section and 10 032 002 in
+  // all, beyond 2 000 000.
+  const std::string mesh = testing::TempDir() + "big.stl";
+  const Result wide =
+      run("export-mesh --gear 0 --profile-samples 2000 --face-samples 20000 --out " + mesh);
+  EXPECT_EQ(wide.exit_code, 2);
+  EXPECT_NE(wide.err.find("these give 96432 per section"), std::string::npos) << wide.err;
+  const Result long_mesh =
+      run("export-mesh --gear 0 --profile-samples 200 --face-samples 1000 --out " + mesh);
+  EXPECT_EQ(long_mesh.exit_code, 2);
+  EXPECT_NE(long_mesh.err.find("10032 per section (24 teeth × (2 × 200 + 18)) and 10032002 in all"),
+            std::string::npos)
+      << long_mesh.err;
+  EXPECT_FALSE(std::filesystem::exists(mesh));
+  // A nearly pointed tooth (α 30°, x 0.9: nominal tip thickness 0.08 mm) whose drawn flanks
+  // cross before the tip: no closed section exists. Once an abort (SIGABRT); now a message.
+  const std::string pointed = testing::TempDir() + "pointed.yaml";
+  {
+    std::ifstream in(std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference.yaml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    const auto at = s.find("pressure_angle_deg: 20");
+    ASSERT_NE(at, std::string::npos);
+    s.replace(at, 22, "pressure_angle_deg: 30");
+    std::ofstream(pointed) << s;
+  }
+  int refused = 0;
+  for (int gear = 0; gear < 8; ++gear) {
+    const Result r = run("export-mesh " + pointed + " --gear " + std::to_string(gear) +
+                         " --profile-samples 8 --face-samples 4 --out " + mesh);
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 2) << r.exit_code << r.err;
+    if (r.exit_code == 2) {
+      ++refused;
+      EXPECT_NE(r.err.find("has flanks that cross before its tip or root arc"), std::string::npos)
+          << r.err;
+      EXPECT_FALSE(std::filesystem::exists(mesh));
+    }
+    std::filesystem::remove(mesh);
+  }
+  EXPECT_GT(refused, 0);  // some of the first 8 gears have crossing flanks
 }
 
 TEST(Cli, OutputFilesThatCannotBeWrittenAreBadInputNamedBeforeTheWork) {

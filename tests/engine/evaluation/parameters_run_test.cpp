@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/input_error.h"
+#include "engine/reports/parameter_report.h"
 #include "engine/run/monte_carlo.h"
 #include "engine/scenario/scenario.h"
 
@@ -155,6 +156,64 @@ TEST(ParameterRun, SameValuesForOneAndTwoThreads) {
       }
     }
   }
+}
+
+// The conformance probability of the run's worst measured item (JCGM 106 §7.6) takes the bias
+// and u of the flank side that item is on, as docs/parameters.md says (it once pooled both
+// sides: F_α 0.0266 printed where the right flank's values give 0.0301). An x scale error of
+// 60 ppm makes the two sides' slope errors differ; the reference is computed here from the
+// per-item values by hand: the worst |y| (or largest y), that side's mean and sample standard
+// deviation of measured − true, and Φ from std::erfc.
+TEST(ParameterRun, ConformanceOfTheWorstItemUsesItsSidesBiasAndU) {
+  const Scenario s = scenario_with(
+      "evaluation: {parameters: all, profile_points: 12}\n"
+      "effects: {noise: {sigma_um: 0.3}, scale: {x_ppm: 60}}\n");
+  const MonteCarloRun mc(s);
+  RunOptions o;
+  o.end_gear = 6;
+  const RunResults r = mc.run(o);
+  const std::optional<ParameterPresentation> view = present_parameters(mc, r);
+  ASSERT_TRUE(view.has_value());
+  const auto phi = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
+  int checked = 0, sides_differ = 0;
+  for (const ParameterSummary& summary : view->parameters) {
+    const ParameterConformity& c = summary.conformity;
+    if (!c.tolerance_um || summary.sides.size() < 2) continue;
+    double worst = 0.0;
+    int worst_side = -1;
+    double mean[2] = {0, 0}, sd[2] = {0, 0};
+    for (int side = 0; side < 2; ++side) {
+      std::vector<double> errors;
+      for (const ParameterValue& v : values(r, summary.parameter, side)) {
+        if (!std::isfinite(v.measured) || !std::isfinite(v.true_dense) ||
+            !std::isfinite(v.true_points)) {
+          continue;
+        }
+        errors.push_back(v.measured - v.true_dense);
+        if (worst_side < 0 ||
+            (c.two_sided ? std::abs(v.measured) > std::abs(worst) : v.measured > worst)) {
+          worst = v.measured;
+          worst_side = side;
+        }
+      }
+      const double n = static_cast<double>(errors.size());
+      for (double e : errors) mean[side] += e / n;
+      for (double e : errors) sd[side] += (e - mean[side]) * (e - mean[side]);
+      sd[side] = std::sqrt(sd[side] / (n - 1.0));
+    }
+    ASSERT_GE(worst_side, 0);
+    const double T = *c.tolerance_um;
+    const double lower = c.two_sided ? phi((-T - worst + mean[worst_side]) / sd[worst_side]) : 0.0;
+    const double expected = phi((T - worst + mean[worst_side]) / sd[worst_side]) - lower;
+    EXPECT_EQ(c.worst_measured_um, worst) << parameter_symbol(summary.parameter);
+    EXPECT_EQ(c.worst_side, worst_side == 0 ? "left" : "right");
+    EXPECT_NEAR(c.conformance_probability_of_worst, expected, 1e-12)
+        << parameter_symbol(summary.parameter);
+    ++checked;
+    sides_differ += std::abs(mean[0] - mean[1]) > 0.1 * (sd[0] + sd[1]);
+  }
+  EXPECT_GE(checked, 6);
+  EXPECT_GE(sides_differ, 1);  // the case where pooling was wrong is present
 }
 
 TEST(ParameterRun, EvaluationSectionIsReadAndChecked) {

@@ -149,16 +149,16 @@ TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
   };
   const std::vector<Case> cases = {
       {head + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n",
-       "results.dmo:2:1: FA(T001L_I00_J00): got 'no nominal'"},
+       "results.dmo:2:4: FA(T001L_I00_J00): got 'no nominal'"},
       {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,abc,3.9,0.2472,-0.969,0\n",
        "results.dmo:3:40: FEAT/POINT of T001L_I00_J00: got 'abc', expected a finite number"},
       {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472\n",
        "got '4 numbers', expected 6 numbers"},
       {head + "F(P1)=FEAT/POINT,CART,1,2,3,1,0,0\nFA(P1)=FEAT/POINT,CART,1,2,3,1,0,0\n",
-       "results.dmo:3:1: FA label: got 'P1', expected a label of gearmc's plan"},
+       "results.dmo:3:4: FA label: got 'P1', expected a label of gearmc's plan"},
       {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n" +
            "FA(T001L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n",
-       "results.dmo:4:1: FA(T001L_I00_J00): got 'measured again (first at line 3)'"},
+       "results.dmo:4:4: FA(T001L_I00_J00): got 'measured again (first at line 3)'"},
       {head + nominal + "ENDFIL\n", "no measured points"},
       // Labels the plan's form T<1-4 digits><L|R>_I<1-3>_J<1-3> does not allow.
       {head + "F(T12345L_I0_J0)=FEAT/POINT,CART,1,2,3,1,0,0\n" +
@@ -171,10 +171,28 @@ TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
            "FA(T1L_I0_J0x)=FEAT/POINT,CART,1,2,3,1,0,0\n",
        "FA label: got 'T1L_I0_J0x'"},
       // A 4 MB label on one statement (std::regex overflowed the stack on such lines): refused
-      // with its place like any other label.
+      // by the statement cap at the statement's first line, before anything scans it.
       {head + "F(" + std::string(4'000'000, 'Q') + ")=FEAT/POINT,CART,1,2,3,1,0,0\nFA(" +
            std::string(4'000'000, 'Q') + ") = feat / point , cart ,1,2,3,1,0,0\n",
-       "results.dmo:3:1: FA label: got"},
+       "results.dmo:2:1: a DMIS statement of at most 16384 bytes"},
+      // The cap counts continuation lines joined: 2000 lines of 10 bytes ending in `$`.
+      {head + "F(T1L_I0_J0)=FEAT/POINT,CART,1,2,3,1,0,0" +
+           [] {
+             std::string s;
+             for (int k = 0; k < 2000; ++k) s += "          $\n";
+             return s;
+           }() +
+           "\n",
+       "results.dmo:2:1: a DMIS statement of at most 16384 bytes"},
+      // A length unit DMIS does not have (ANSI/DMIS 105.2 §6.2: MM, CM, METER, INCH, FEET).
+      {head + "UNITS/FURLONG,ANGDEC\n" + nominal, "results.dmo:2:7: UNITS: got 'FURLONG'"},
+      // A reading 1 m off its nominal along n (a measured point of another part, or µm read as
+      // mm): beyond the readings range of (c − p)·n − R, ±100 000 µm, at the FA's values.
+      {head + nominal + "FA(T001L_I00_J00)=FEAT/POINT,CART,1066.7,-6.2,3.9,0.2472,-0.969,0\n",
+       "results.dmo:3:35: reading_um: got '(FA - F)·n = "},
+      // A coordinate beyond a CMM's volume (100 m), placed at its field.
+      {head + "F(T001L_I00_J00)=FEAT/POINT,CART,66.7,1e6,3.9,0.2472,-0.969,0\n",
+       "results.dmo:2:39: FEAT/POINT of T001L_I00_J00 y: got '1e6'"},
   };
   for (const Case& c : cases) {
     try {
@@ -195,7 +213,52 @@ TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
   EXPECT_EQ(r.rows[0].side, FlankSide::kRight);
   EXPECT_EQ(r.rows[0].i, 1);
   EXPECT_EQ(r.rows[0].j, 3);
+  // Inch results (UNITS/INCH, the unit of many US programs) in mm: 25.4 mm per inch exactly
+  // (the international inch, 1959); the unit holds until the next UNITS statement.
+  const Readings inch = parse_dmis_results(
+      head + "UNITS/INCH,ANGDEC\nF(T2R_I1_J3)=FEAT/POINT,CART,1,2,3,1,0,0\n" +
+          "FA(T2R_I1_J3)=FEAT/POINT,CART,1.0001,2,3,1,0,0\nunits / mm, angdec\n" +
+          "F(T2R_I2_J3)=FEAT/POINT,CART,25.4,50.8,76.2,1,0,0\n" +
+          "FA(T2R_I2_J3)=FEAT/POINT,CART,25.4,50.8,76.2,1,0,0\n",
+      "results.dmo", 0.5);
+  ASSERT_EQ(inch.rows.size(), 2u);
+  EXPECT_LT((inch.rows[0].p - Eigen::Vector3d(25.4, 50.8, 76.2)).norm(), 1e-12);
+  EXPECT_NEAR(measured_deviation_um(inch.rows[0], 0.5), 2.54, 1e-9);  // 0.0001 inch
+  EXPECT_LT((inch.rows[1].p - inch.rows[0].p).norm(), 1e-12);
+  EXPECT_NEAR(measured_deviation_um(inch.rows[1], 0.5), 0.0, 1e-9);
+  // Where each row came from, for the diagnosis's messages: the FA label and values, and the
+  // nominal F statement's values.
+  EXPECT_EQ(inch.rows[0].line, 4);
+  EXPECT_EQ(inch.rows[0].key_column, 4);
+  EXPECT_EQ(inch.rows[0].measured_column, 31);
+  EXPECT_EQ(inch.rows[0].nominal_line, 3);
+  EXPECT_EQ(inch.rows[0].nominal_column, 30);
   EXPECT_TRUE(is_dmis_file("a/b.DMO"));
+
+  // The diagnosis's own checks of DMIS rows name the statement they come from: a tooth the
+  // model's gear (24 teeth) lacks at the FA label, a nominal point off the gear at the F values
+  // (they were once placed by reading the file as a CSV: wrong line, no column).
+  const std::string model =
+      std::string(GEARMC_SOURCE_DIR) + "/scenarios/diagnose/lobing_model.yaml";
+  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_places";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto diagnose = [&](const std::string& text) {
+    std::ofstream(dir / "r.dmo", std::ios::binary) << text;
+    return run_gearmc("diagnose --model " + model + " --measured " + (dir / "r.dmo").string() +
+                      " --out " + (dir / "out").string());
+  };
+  const auto tooth =
+      diagnose(head + "F(T099L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n" +
+               "FA(T099L_I00_J00)=FEAT/POINT,CART,66.7,-6.2,3.9,0.2472,-0.969,0\n");
+  EXPECT_EQ(tooth.exit_code, 2);
+  EXPECT_NE(tooth.err.find("r.dmo:3:4: tooth: got '99'"), std::string::npos) << tooth.err;
+  const auto off = diagnose(head + "F(T001L_I00_J00)=FEAT/POINT,CART,500,0,3.9,1,0,0\n" +
+                            "FA(T001L_I00_J00)=FEAT/POINT,CART,500,0,3.9,1,0,0\n");
+  EXPECT_EQ(off.exit_code, 2);
+  EXPECT_NE(off.err.find("r.dmo:2:34: px,py,pz: got '500,0,3.9'"), std::string::npos) << off.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
   EXPECT_TRUE(is_dmis_file("x.dmi"));
   EXPECT_FALSE(is_dmis_file("x.csv"));
 }

@@ -156,6 +156,25 @@ TEST(SimulateCli, WritesReproducibleReadingsTheReaderAccepts) {
     t.erase(made, t.find('\n', made) + 1 - made);
   }
   EXPECT_EQ(texts[0], texts[1]);
+  // The file streamed gear by gear is the text of the rows made in memory (format_readings).
+  {
+    SimulateOptions o;
+    o.gears = 2;
+    Readings whole = simulate_readings(load_scenario_file(scenario.string()), o).readings;
+    std::string streamed = texts[0];
+    EXPECT_EQ(streamed, format_readings(whole));
+  }
+  // A file beyond what diagnose reads is refused before any work: P1's plan has 2400 points, a
+  // row at most 323 bytes, so 2^30 / (2400 × 323) = 1385.2 → at most 1385 gears.
+  const auto big = testing_support::run_gearmc(
+      "simulate " + scenario.string() + " --gears 100000 --out " + (dir / "big.csv").string());
+  EXPECT_EQ(big.exit_code, 2) << big.err;
+  EXPECT_NE(big.err.find("--gears: got '100000', expected at most 1385 gears of this plan (2400 "
+                         "points each"),
+            std::string::npos)
+      << big.err;
+  EXPECT_FALSE(fs::exists(dir / "big.csv"));
+  EXPECT_FALSE(fs::exists(dir / "big.csv.partial"));
   const auto bad = testing_support::run_gearmc("simulate " + (dir / "missing.yaml").string() +
                                                " --out " + (dir / "x.csv").string());
   EXPECT_EQ(bad.exit_code, 2);

@@ -95,6 +95,23 @@ TEST(InputFileTest, RefusesFifoDeviceAndDirectoryBeforeOpening) {
               HasSubstr("it is a directory"));
 }
 
+// A mesh file under `surfaces:` is an input file like the scenario: a FIFO given as the mesh
+// once blocked `run` forever (OpenMesh opened it); /dev/zero as a mesh would never end.
+TEST(InputFileTest, AMeshFileMustBeARegularFileToo) {
+  TempDir dir;
+  const std::string fifo = dir.file("flank.stl");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string text =
+      read_text(kP1Path) + "\nsurfaces:\n  - tooth: 1\n    flank: L\n" + "    mesh: flank.stl\n";
+  const InputError e = input_error([&] { parse_scenario(text, dir.file("s.yaml")); });
+  EXPECT_THAT(e.what(), HasSubstr("it is a FIFO (named pipe), expected a regular file"));
+  EXPECT_GT(e.where().line, 0);  // placed at the `mesh` value
+  std::filesystem::remove(fifo);
+  std::filesystem::create_symlink("/dev/zero", fifo);
+  EXPECT_THAT(input_error([&] { parse_scenario(text, dir.file("s.yaml")); }).what(),
+              HasSubstr("it is a device, expected a regular file"));
+}
+
 TEST(InputFileTest, CapsTheFileSize) {
   TempDir dir;
   // Sparse files: the size is checked from stat, nothing is read.

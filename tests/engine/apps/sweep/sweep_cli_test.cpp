@@ -75,6 +75,32 @@ TEST(SweepCli, PointEqualsTheRunOfTheVariantWrittenByHand) {
   for (const fs::path& p : {out, variant, run_out, out2}) fs::remove_all(p);
 }
 
+// The count n is a number of values, not µm: the terminal, sweep.csv and the report say so. With
+// the gear count varied, each point counts its own gears: n of the point quantity is
+// gears × 24 teeth × 2 flanks × 10 × 5 points per flank / 2 per side (P1's plan, both flanks).
+TEST(SweepCli, TheCountHasNoUnitAndVariedGearCountsAreSaid) {
+  const fs::path out = temp("count");
+  const auto r = run_gearmc("sweep " + kScenario +
+                            " --vary run.gears=1,2 --statistic delta_rcomp.point.n --quiet --out " +
+                            out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 variants of 1–2 gears"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("run.gears=1  delta_rcomp.point.n (both flanks) = 2400\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("run.gears=2  delta_rcomp.point.n (both flanks) = 4800\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("µm"), std::string::npos) << r.out;
+  const std::string csv = read(out / "sweep.csv");
+  EXPECT_NE(
+      csv.find(",delta_rcomp.point.n_left,delta_rcomp.point.n_right,delta_rcomp.point.n_both\n"),
+      std::string::npos)
+      << csv;
+  EXPECT_NE(read(out / "report.html").find("runs of 1–2 gears"), std::string::npos);
+  fs::remove_all(out);
+}
+
 TEST(SweepCli, BadKeysValuesAndStatisticsAreOneMessageAndNothingWritten) {
   struct Case {
     std::string args, expected;
@@ -86,6 +112,10 @@ TEST(SweepCli, BadKeysValuesAndStatisticsAreOneMessageAndNothingWritten) {
       {"--vary stylus.radius_mm", "KEY=V1,V2"},
       {"--vary stylus.radius_mm=0.5,0.5", "twice"},
       {"--vary stylus.radius_mm=0.5 --statistic delta_rcomp.flank_max.p99", "--statistic"},
+      // Keys the options also set: --gears (and --seed) would override the varied values in
+      // every variant, and the header once printed the option's count for all of them.
+      {"--vary run.gears=3,4", "--vary: got 'run.gears', expected a key --gears does not override"},
+      {"--vary seed=1,2 --seed 5", "--vary: got 'seed', expected a key --seed does not override"},
   };
   for (const Case& c : cases) {
     const fs::path out = temp("bad");

@@ -60,6 +60,68 @@ std::string replace(std::string s, const std::string& from, const std::string& t
   return s.replace(at, from.size(), to);
 }
 
+// Comparisons stay expressions (==, !=, <=, >= are not assignments).
+TEST(UncertaintyCli, ComparisonsAreNotAssignments) {
+  const std::string model =
+      write_model("compare", replace(kGood, "X1 + X2*X3", "(X1 <= 0) + (X2 >= 0) + (X3 != 5)"));
+  const std::string out = temp_dir("compare_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
+// An input whose mean is far larger than its u: 1e-3 u is below the resolution of the mean in a
+// double (x + h == x), so the step is widened to 2^-26 |x| and said in a warning; Y = X1 + X2 is
+// linear, so the widened step is exact and c_X1 = 1 (it was 0: u(y) = 0 was printed). X2's part
+// cannot be had in double precision at all — Y = 1e20 moves in steps of 16384 — so the true
+// u(y) = √2 (JCGM 100 5.1.2) is not what is printed (1): that is said in a warning, never silent.
+TEST(UncertaintyCli, SensitivitiesOfAnInputWithAHugeMeanUseARelativeStep) {
+  const std::string model = write_model("huge_mean", R"M(name: huge
+inputs:
+  X1: {normal: [1e20, 1]}
+  X2: {normal: [0, 1]}
+outputs:
+  Y: "X1 + X2"
+settings: {trials: 20000, seed: 3}
+)M");
+  const std::string out = temp_dir("huge_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: the sensitivity to X1 is a central difference over"),
+            std::string::npos)
+      << r.err;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  const nlohmann::json& y = j["outputs"]["Y"]["gum"];
+  EXPECT_NEAR(y["u"].get<double>(), 1.0, 1e-12) << y.dump();
+  EXPECT_EQ(y["sensitivities"]["X1"].get<double>(), 1.0);
+  EXPECT_NE(r.err.find("warning: the sensitivity of Y to X2 is lost in the output's resolution: "
+                       "Y = 1e+20 moves in steps of 16384"),
+            std::string::npos)
+      << r.err;
+  // The Monte-Carlo draws of X1 are all 1e20 (steps of 16384 at 1e20): said, not hidden.
+  EXPECT_NE(r.err.find("warning: input X1: its u (1) is under 1000 steps of a double"),
+            std::string::npos)
+      << r.err;
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
+// Values near the largest double: their sum overflows although each is finite (the fuzzer's
+// `dm: 1e308` once printed an MCM estimate and u of "inf"). The mean of a constant is the
+// constant and its u is 0, whatever its size.
+TEST(UncertaintyCli, HugeOutputValuesKeepAFiniteMean) {
+  const std::string model = write_model("huge_values", replace(kGood, "X1 + X2*X3", "1e308"));
+  const std::string out = temp_dir("huge_values_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  EXPECT_EQ(j["outputs"]["Y"]["mcm"]["estimate"].get<double>(), 1e308);
+  EXPECT_EQ(j["outputs"]["Y"]["mcm"]["u"].get<double>(), 0.0);
+  fs::remove_all(out);
+  fs::remove(model);
+}
+
 TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
   const std::string g = kGood;
   const BadCase cases[] = {
@@ -81,7 +143,15 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
        ":8:12:", "did you mean 'trials'"},
       {"builtin", replace(g, "outputs:\n  Y: \"X1 + X2*X3\"", "builtin: {model: summ}"),
        ":6:18:", "did you mean 'sum'"},
-      {"few_trials", replace(g, "trials: 20000", "trials: 10"), ":8:", "at least 21 trials"},
+      // p = 0.95: q = round(0.95 M) must be 1 … M − 1, first true at M = 11 (10: q = 10 = M).
+      {"few_trials", replace(g, "trials: 20000", "trials: 10"), ":8:", "at least 11 trials"},
+      // muParser reads '=' as an assignment to the input: the output would be the constant 3.
+      {"assignment", replace(g, "X1 + X2*X3", "X1=3"),
+       ":7:6:", "not an assignment ('=' at character 3"},
+      {"add_assignment", replace(g, "X1 + X2*X3", "X1 += 3"), ":7:6:", "not an assignment"},
+      // A pole at the input estimates (X1's mean is 0): no GUM linearisation, not a nan table.
+      {"pole", replace(g, "X1 + X2*X3", "1/X1"),
+       ":7:6:", "outputs.Y: got 'y = inf', expected a model with a finite value"},
       // 4e9 trials x 16 bytes = 64 GB: refused before any work (the memory rule).
       {"memory", replace(g, "trials: 20000", "trials: 4000000000"),
        ":8:", "16 bytes per trial per output"},

@@ -97,6 +97,33 @@ TEST(UncertaintyMcm, NumericalToleranceBlockSizeAndIntervals) {
   EXPECT_DOUBLE_EQ(symmetric_interval(y, 0.9).hi, 20.5);
 }
 
+// The smallest M with a coverage interval, against a brute-force scan of the definition
+// (JCGM 101 §7.7: q = pM rounded, the interval needs 1 ≤ q ≤ M − 1), and the message that names
+// it: it once said "at least 21" for p = 0.95 (accepting 11) and "at least 3" when refusing
+// 2000 trials at p = 0.0001 (which needs 5000).
+TEST(UncertaintyMcm, SmallestTrialsAndTheRefusalSayTheSameNumber) {
+  for (const double p : {0.0001, 0.01, 0.3, 0.5, 0.9, 0.95, 0.9973, 0.99999}) {
+    std::uint64_t brute = 1;
+    while (!(std::llround(p * static_cast<double>(brute)) >= 1 &&
+             static_cast<std::uint64_t>(std::llround(p * static_cast<double>(brute))) < brute)) {
+      ++brute;
+    }
+    EXPECT_EQ(smallest_trials(p), brute) << p;
+    EXPECT_NO_THROW(check_trials(brute, 1, p, {}, "--trials")) << p;
+    try {
+      check_trials(brute - 1, 1, p, {}, "--trials");
+      ADD_FAILURE() << "accepted " << brute - 1 << " at p " << p;
+    } catch (const InputError& e) {
+      EXPECT_NE(
+          std::string(e.what()).find("expected at least " + std::to_string(brute) + " trials"),
+          std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(smallest_trials(0.95), 11u);
+  EXPECT_EQ(smallest_trials(0.0001), 5000u);
+}
+
 TEST(UncertaintyMcm, RadixSortEqualsStdSort) {
   // Mixed signs, zeros, subnormals, huge and tiny magnitudes, repeats; compared value by value
   // with std::sort (which orders −0 and +0 as equal, so zeros are compared by value).
