@@ -215,9 +215,8 @@ def write_bytes(path, text):
     path.write_bytes(text.encode("utf-8", "surrogateescape"))
 
 
-def readings_to_dmis(csv_text):
-    """gearmc's readings CSV as a CMM's DMIS results (the reverse of engine/readings/dmis_results)."""
-    out = ["DMISMN/'fuzz seed',05.3\n", "UNITS/MM,ANGDEC\n"]
+def readings_rows(csv_text):
+    """Each row of a readings CSV as (fields, p, n, E): E = c − R n, the compensated point."""
     radius = 0.5
     for line in csv_text.splitlines():
         if line.startswith("# stylus_radius_mm="):
@@ -225,12 +224,17 @@ def readings_to_dmis(csv_text):
         if line.startswith("#") or line.startswith("gear,"):
             continue
         f = line.split(",")
-        tooth, flank, i, j = int(f[1]), f[2], int(f[3]), int(f[4])
         p = [float(x) for x in f[6:9]]
         n = [float(x) for x in f[9:12]]
         c = [float(x) for x in f[12:15]]
-        e = [c[k] - radius * n[k] for k in range(3)]
-        label = "T%03d%s_I%02d_J%02d" % (tooth, flank, i, j)
+        yield f, p, n, [c[k] - radius * n[k] for k in range(3)]
+
+
+def readings_to_dmis(csv_text):
+    """gearmc's readings CSV as a CMM's DMIS results (the reverse of engine/readings/dmis_results)."""
+    out = ["DMISMN/'fuzz seed',05.3\n", "UNITS/MM,ANGDEC\n"]
+    for f, p, n, e in readings_rows(csv_text):
+        label = "T%03d%s_I%02d_J%02d" % (int(f[1]), f[2], int(f[3]), int(f[4]))
         out.append("F(%s)=FEAT/POINT,CART,%r,%r,%r,%r,%r,%r\n" % (label, *p, *n))
         out.append("FA(%s)=FEAT/POINT,CART,%r,%r,%r,%r,%r,%r\n" % (label, *e, *n))
     return "".join(out)
@@ -239,17 +243,8 @@ def readings_to_dmis(csv_text):
 def readings_to_table(csv_text):
     """The readings as a CMM export: semicolons, decimal commas, measured point E = c − R n."""
     rows = ["Tooth;Flank;I;J;X_nom;Y_nom;Z_nom;I_vec;J_vec;K_vec;X_act;Y_act;Z_act\n"]
-    radius = 0.5
-    for line in csv_text.splitlines():
-        if line.startswith("# stylus_radius_mm="):
-            radius = float(line.split("=")[1])
-        if line.startswith("#") or line.startswith("gear,"):
-            continue
-        f = line.split(",")
-        n = [float(x) for x in f[9:12]]
-        c = [float(x) for x in f[12:15]]
-        e = [c[k] - radius * n[k] for k in range(3)]
-        vals = [f[1], f[2], f[3], f[4]] + [repr(float(x)) for x in f[6:12]] + [repr(x) for x in e]
+    for f, p, n, e in readings_rows(csv_text):
+        vals = f[1:5] + [repr(x) for x in p + n + e]
         rows.append(";".join(v.replace(".", ",") for v in vals) + "\n")
     return "".join(rows)
 

@@ -55,17 +55,6 @@ AxisResult mc_axis(std::vector<double> v, double p) {
   return a;
 }
 
-// The p quantile of |x| (order statistic ceil(p n)); NaN left out.
-double abs_quantile(std::vector<double> v, double p) {
-  for (double& x : v) x = std::abs(x);
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return kNaN;
-  const std::size_t r = std::min<std::size_t>(
-      v.size() - 1, static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size()))) - 1);
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(r), v.end());
-  return v[r];
-}
-
 // Per-class root-sum-square of contributions.
 struct ClassSum {
   std::array<Vector3d, kClasses> sq;
@@ -495,6 +484,16 @@ RTestResult evaluate_r_test(const RTestModel& m, const RTestRunOptions& o) {
                          " measurements failed (left out)");
   }
   return r;
+}
+
+double abs_quantile(std::vector<double> v, double p) {
+  for (double& x : v) x = std::abs(x);
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return kNaN;
+  const std::size_t r = std::min<std::size_t>(
+      v.size() - 1, static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size()))) - 1);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(r), v.end());
+  return v[r];
 }
 
 }  // namespace gearmc::rtest

@@ -101,6 +101,11 @@ AxisResult combine(const std::vector<Vector3d>& contributions, const std::vector
 // or the ball solve failed.
 bool full_mcm_trial(const RTestModel& m, std::uint64_t trial, Vector3d& error);
 
+// The p quantile of |x|: the order statistic ⌈p n⌉ (1-based) of the n finite |x| (NaN and inf
+// left out); NaN when none is finite. Used for the verification's 95 % of |error| (exposed for
+// tests).
+double abs_quantile(std::vector<double> v, double p);
+
 // The whole-chain GUM at ball position `ball` (noise-free readings of the fitted instrument),
 // with the calibration derivatives of `cal`: per class contribution and the result per axis.
 Prediction whole_chain_gum(const RTestModel& m, const Calibration& cal, const Vector3d& ball);

@@ -216,6 +216,33 @@ TEST(ParameterRun, ConformanceOfTheWorstItemUsesItsSidesBiasAndU) {
   EXPECT_GE(sides_differ, 1);  // the case where pooling was wrong is present
 }
 
+// The helix evaluation range L_β leaves out min(5 % b, m_n) at each end (ISO 1328-1:2013 §3.3;
+// docs/parameters.md): for P1's gear 0.05 · 78.89 = 3.9445 mm < m 5.6 mm, so [3.9445, 74.9455].
+// A 20 µm step confined to z < 2 mm (a nominal gear with deviations.normal_um) lies outside it:
+// F_β of that gear, true and measured, is below 1 µm; taken over the whole face it would be
+// about 20 µm.
+TEST(ParameterRun, TheHelixRangeLeavesOutTheEnds) {
+  const Scenario s = scenario_with(
+      "deviations: {random: false, normal_um: \"z < 2 ? 20 : 0\"}\n"
+      "evaluation: {parameters: [F_beta], helix_points: 200}\n");
+  const MonteCarloRun mc(s);
+  ASSERT_NE(mc.parameter_evaluator(), nullptr);
+  EXPECT_NEAR(mc.parameter_evaluator()->helix_start_mm(), 3.9445, 1e-12);
+  EXPECT_NEAR(mc.parameter_evaluator()->helix_end_mm(), 78.89 - 3.9445, 1e-12);
+  RunOptions o;
+  o.end_gear = 1;
+  const RunResults r = mc.run(o);
+  int checked = 0;
+  for (int side = 0; side < 2; ++side) {
+    for (const ParameterValue& v : values(r, GearParameter::kFbeta, side)) {
+      EXPECT_LT(std::abs(v.true_dense), 1.0);
+      EXPECT_LT(std::abs(v.measured), 1.0);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 0);
+}
+
 TEST(ParameterRun, EvaluationSectionIsReadAndChecked) {
   const Scenario s = scenario_with(
       "evaluation: {parameters: [F_p, F_alpha], decision_rule: guard_banded, "

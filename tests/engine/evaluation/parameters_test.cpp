@@ -148,6 +148,33 @@ TEST(Conformity, Jcgm106Section7Example) {
   EXPECT_NEAR(conformance_probability(5.0, 0.0, std::nullopt, 6.0), 1.0, 0.0);
 }
 
+// n true values X ~ N(centre, σ²) and their measurements Y = X + E, E ~ N(0, u²) (std::mt19937_64
+// seed 15).
+void draw_measured(double centre, double sigma, double u, int n, std::vector<double>* x,
+                   std::vector<double>* y) {
+  std::mt19937_64 rng(15);
+  std::normal_distribution<double> g(0.0, 1.0);
+  x->resize(n);
+  y->resize(n);
+  for (int i = 0; i < n; ++i) {
+    (*x)[i] = centre + sigma * g(rng);
+    (*y)[i] = (*x)[i] + u * g(rng);
+  }
+}
+
+// ∫_0^∞ φ_σ(a) Φ(−(a + g)/u) da: the false-accept rate at one limit with a guard band g, by the
+// midpoint rule (20000 steps to 8σ; the tail beyond is < 1e-15).
+double guarded_false_accept(double sigma, double u, double g) {
+  double integral = 0.0;
+  const double h = 8 * sigma / 20000;
+  for (int i = 0; i < 20000; ++i) {
+    const double a = (i + 0.5) * h;
+    const double phi = std::exp(-0.5 * a * a / (sigma * sigma)) / (sigma * std::sqrt(2 * kPi));
+    integral += h * phi * 0.5 * std::erfc((a + g) / (u * std::numbers::sqrt2));
+  }
+  return integral;
+}
+
 TEST(Conformity, SimpleRuleRatesMatchTheClosedFormGaussianCase) {
   // Population X ~ N(T, σ²) centred on the upper limit T, measured Y = X + E, E ~ N(0, u²),
   // accept Y <= T. With A = X − T and B = −(Y − T) jointly normal with correlation
@@ -157,13 +184,8 @@ TEST(Conformity, SimpleRuleRatesMatchTheClosedFormGaussianCase) {
   // standard errors (two-sided significance 6e-5).
   const double T = 10.0, sigma = 2.0, u = 2.0;
   const int n = 200000;
-  std::mt19937_64 rng(15);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> x(n), y(n);
-  for (int i = 0; i < n; ++i) {
-    x[i] = T + sigma * g(rng);
-    y[i] = x[i] + u * g(rng);
-  }
+  std::vector<double> x, y;
+  draw_measured(T, sigma, u, n, &x, &y);
   const ToleranceLimits tol{std::nullopt, T};
   const DecisionRates r =
       decision_rates(x, y, tol, acceptance_limits(tol, DecisionRule::kSimple, 0));
@@ -176,16 +198,36 @@ TEST(Conformity, SimpleRuleRatesMatchTheClosedFormGaussianCase) {
   // the midpoint rule (20000 steps to 8σ; the tail beyond is < 1e-15).
   const DecisionRates gb =
       decision_rates(x, y, tol, acceptance_limits(tol, DecisionRule::kGuardBanded, 2 * u));
-  double integral = 0.0;
-  const double h = 8 * sigma / 20000;
-  for (int i = 0; i < 20000; ++i) {
-    const double a = (i + 0.5) * h;
-    const double phi = std::exp(-0.5 * a * a / (sigma * sigma)) / (sigma * std::sqrt(2 * kPi));
-    integral += h * phi * 0.5 * std::erfc((a + 2 * u) / (u * std::numbers::sqrt2));
-  }
+  const double integral = guarded_false_accept(sigma, u, 2 * u);
   EXPECT_NEAR(gb.false_accept_rate(), integral, 4 * std::sqrt(integral / n) + 1e-6);
   EXPECT_LT(gb.false_accept_rate(), r.false_accept_rate());
   EXPECT_GT(gb.false_reject_rate(), r.false_reject_rate());
+}
+
+// The guard band narrows the acceptance zone at both limits (ISO 14253-1 §5): a lower limit
+// moves up by g, an upper limit down by g. Limits written by hand; then the mirror of the test
+// above on a lower limit T_L (X ~ N(T_L, σ²), accept Y ≥ T_L + 2u): the same integral by
+// symmetry, from the same draws reflected (x → 2 T_L − x keeps the law).
+TEST(Conformity, GuardBandNarrowsALowerLimitUpwards) {
+  const ToleranceLimits both{-3.0, 5.0};
+  const ToleranceLimits a = acceptance_limits(both, DecisionRule::kGuardBanded, 0.5);
+  EXPECT_EQ(*a.lower, -2.5);
+  EXPECT_EQ(*a.upper, 4.5);
+  const ToleranceLimits lower_only{2.0, std::nullopt};
+  const ToleranceLimits b = acceptance_limits(lower_only, DecisionRule::kGuardBanded, 0.5);
+  EXPECT_EQ(*b.lower, 2.5);
+  EXPECT_FALSE(b.upper.has_value());
+
+  const double TL = -10.0, sigma = 2.0, u = 2.0;
+  const int n = 200000;
+  std::vector<double> x, y;
+  draw_measured(TL, sigma, u, n, &x, &y);
+  const ToleranceLimits tol{TL, std::nullopt};
+  const DecisionRates gb =
+      decision_rates(x, y, tol, acceptance_limits(tol, DecisionRule::kGuardBanded, 2 * u));
+  // P(X < T_L, Y >= T_L + 2u): the same integral as at an upper limit, by symmetry.
+  const double integral = guarded_false_accept(sigma, u, 2 * u);
+  EXPECT_NEAR(gb.false_accept_rate(), integral, 4 * std::sqrt(integral / n) + 1e-6);
 }
 
 TEST(Conformity, ShortestIntervalOfASample) {

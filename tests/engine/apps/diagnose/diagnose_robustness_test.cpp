@@ -123,6 +123,17 @@ TEST(DiagnoseOutliers, TheScreenKeepsItsFalseAlarmRateAndFindsGrossOutliers) {
   for (ResidualPoint& p : one.points) p.residual_um = 2.0 * std::sin(0.4 * p.i + p.j);
   one.points[17].residual_um += 4.0;
   const OutlierScreen screen = screen_outliers(one);
+  // The threshold z* is Bonferroni's two-sided one over the file's n readings: P(|Z| > z*) =
+  // α/n, i.e. ½ erfc(z*/√2) = α/(2n) (α = 0.01, n = 400), solved here by bisection on erfc.
+  {
+    const double target = 0.01 / (2.0 * static_cast<double>(plan.size()));
+    double lo = 0.0, hi = 10.0;
+    for (int k = 0; k < 200; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (0.5 * std::erfc(mid / std::sqrt(2.0)) > target ? lo : hi) = mid;
+    }
+    EXPECT_NEAR(screen.threshold_z, 0.5 * (lo + hi), 1e-9);  // 3.66 for n = 400
+  }
   ASSERT_EQ(screen.excluded.size(), 1u);
   EXPECT_EQ(screen.excluded[0].row, 17);
   const Residuals kept = without_excluded(one, screen);

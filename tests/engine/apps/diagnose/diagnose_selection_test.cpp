@@ -123,5 +123,21 @@ TEST(DiagnoseSelection, TheBicGateDecidesBetweenTwoSignificantEffects) {
   EXPECT_EQ(forward_select(one, walsh_residual(std::sqrt(0.344)), 0.01, loose).selected.size(), 1u);
 }
 
+// The min-P null p-value is a Monte-Carlo p-value, (1 + #{null min p ≤ p}) / (1 + K)
+// (Davison & Hinkley 1997, eq. 4.11): never 0, at least 1/(K + 1) however strong the effect.
+// A strong Walsh signal (F = 31 · 4 = 124, no null replicate comes near) with K replicates:
+// p_null is exactly 1/(K + 1), K = effective_null_replicates (at least 2/α − 1 = 199 at α 0.01).
+TEST(DiagnoseSelection, TheNullPValueCountsTheDataAsOneOfTheReplicates) {
+  const std::vector<CandidateDesign> one = {walsh_candidate("r1", 2)};
+  SelectionOptions o = gate_options();
+  o.null_replicates = 50;
+  const int k = effective_null_replicates(o);
+  EXPECT_EQ(k, 199);
+  const Selection s = forward_select(one, walsh_residual(2.0), 0.01, o);
+  const CandidateTest& t = s.steps.at(0).tests.at(0);
+  EXPECT_DOUBLE_EQ(t.p_null, 1.0 / (1.0 + k));
+  EXPECT_TRUE(t.significant);
+}
+
 }  // namespace
 }  // namespace gearmc

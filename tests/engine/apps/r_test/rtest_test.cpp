@@ -282,5 +282,19 @@ TEST(RTestMonteCarlo, ResultsBitIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(a.verification.failed, 0u);
 }
 
+// The verification's 95 % of |error| is the order statistic ⌈0.95 n⌉ of the n finite |e|
+// (counted by hand): an off-by-one would take the next one.
+TEST(RTestEvaluation, AbsQuantileIsTheCeilOrderStatistic) {
+  EXPECT_EQ(rtest::abs_quantile({-5, 1, -2, 3, 4}, 0.95), 5.0);  // ⌈4.75⌉ = 5th of 1 … 5
+  EXPECT_EQ(rtest::abs_quantile({-5, 1, -2, 3, 4}, 0.5), 3.0);   // ⌈2.5⌉ = 3rd
+  EXPECT_EQ(rtest::abs_quantile({-5, 1, -2, 3, 4}, 0.4), 2.0);   // ⌈2⌉ = 2nd exactly
+  std::vector<double> hundred;
+  for (int i = 1; i <= 100; ++i) hundred.push_back(i % 2 ? -i : i);
+  hundred.push_back(std::nan(""));
+  hundred.push_back(INFINITY);
+  EXPECT_EQ(rtest::abs_quantile(hundred, 0.95), 95.0);  // 100 finite values: the 95th
+  EXPECT_TRUE(std::isnan(rtest::abs_quantile({NAN}, 0.95)));
+}
+
 }  // namespace
 }  // namespace gearmc::rtest
