@@ -245,8 +245,8 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
     s = local_solve(flank, extent, p, n, R, c.higher_point, anchor);
     result.iterations += s.iterations;
   }
-  result.roll_length = s.x[0];
-  result.z = s.x[1];
+  result.roll_length_mm = s.x[0];
+  result.z_mm = s.x[1];
   result.status = s.status;
   if (result.status != ContactResult::Status::kOk) return result;
   result.contact = s.point;  // S(x), evaluated where the solver stopped

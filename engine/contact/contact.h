@@ -42,7 +42,7 @@ struct ContactResult {
   Eigen::Vector3d contact;        // C, mm
   Eigen::Vector3d centre;         // O, mm
   Eigen::Vector3d reported;       // E = O - R n, mm
-  double roll_length = 0, z = 0;  // parameters of C
+  double roll_length_mm = 0, z_mm = 0;  // parameters of C
   double delta_um = 0;            // |C - E|
   double normal_error_um = 0;     // (E - C).n
   int iterations = 0;             // Newton iterations, all restarts included

@@ -103,8 +103,8 @@ ContactResult MeshFlankProbe::probe(const Eigen::Vector3d& p, const Eigen::Vecto
   }
   const Eigen::Vector3d C = point_ == MeshContactPoint::kSmoothed ? m.smoothed_contact : m.contact;
   const NominalFlankCoordinates at = nominal_flank_coordinates(gear_, tooth_, side_, C);
-  result.roll_length = at.roll_length_mm;
-  result.z = at.z_mm;
+  result.roll_length_mm = at.roll_length_mm;
+  result.z_mm = at.z_mm;
   if (on_border) {
     result.status = ContactResult::Status::kEdge;
     return result;

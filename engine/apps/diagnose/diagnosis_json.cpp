@@ -265,7 +265,7 @@ std::string diagnosis_json(const Diagnosis& d) {
                           {"i", e.i},
                           {"j", e.j},
                           {"residual_um", number(e.residual_um)},
-                          {"z", number(e.z)}});
+                          {"z", number(e.z_score)}});
     }
     j["outliers"] = {{"rule",
                       "prediction from the profile scan's neighbours, |z| > z* = "

@@ -518,7 +518,7 @@ void notes_and_inputs_section(HtmlReport& report, const ReportContext& ctx) {
       const ExcludedReading& x = d.outliers.excluded[e];
       t.rows.push_back({{std::to_string(x.line), std::to_string(x.gear), std::to_string(x.tooth),
                          x.side == FlankSide::kRight ? "R" : "L", std::to_string(x.i),
-                         std::to_string(x.j), fixed(x.residual_um), fixed(x.z, 1)}});
+                         std::to_string(x.j), fixed(x.residual_um), fixed(x.z_score, 1)}});
     }
     report.heading("Excluded readings");
     report.table(t);

@@ -107,7 +107,7 @@ OutlierScreen screen_outliers(const Residuals& residuals, double family_false_al
     e.line = p.line;
     e.key() = p.key();
     e.residual_um = p.residual_um;
-    e.z = prediction_z(scans[s], at, residuals, out.sigma_um);
+    e.z_score = prediction_z(scans[s], at, residuals, out.sigma_um);
     excluded.push_back(e);
     scans[s].erase(scans[s].begin() + static_cast<std::ptrdiff_t>(at));
     rescan(s);

@@ -33,7 +33,7 @@ struct ExcludedReading : PointKey {
   int row = 0;   // index into the residuals (= the readings' data rows)
   int line = 0;  // line in the readings file (0: readings made in memory)
   double residual_um = 0.0;
-  double z = 0.0;  // the standardised prediction error when it was excluded
+  double z_score = 0.0;  // the standardised prediction error when it was excluded
 };
 
 struct OutlierScreen {

@@ -74,8 +74,8 @@ TEST(ContactCertificate, TwoBumpsTheFarHigherOneIsTheFirstContact) {
     // by the brute force's own resolution (nested grids down to ~1e-9 mm in L and z).
     EXPECT_GE(r.height, r.brute.height - kCertificateToleranceMm);
     EXPECT_LE(r.height, r.brute.height + 1e-9);
-    EXPECT_NEAR(r.result.z, 40.12, 0.02);  // on bump B (the sphere rests on its near side)
-    EXPECT_NEAR(r.result.z, r.brute.z, 1e-4);
+    EXPECT_NEAR(r.result.z_mm, 40.12, 0.02);  // on bump B (the sphere rests on its near side)
+    EXPECT_NEAR(r.result.z_mm, r.brute.z, 1e-4);
   }
 }
 

@@ -204,7 +204,7 @@ TEST(FlankCurvatureBound, SameVerdictsAndResultsAndP1IsProvenPerFlank) {
           EXPECT_EQ((b.contact - a.contact).norm(), 0.0);
           // The certificate itself at the found contact, with a gradient bound of 1e-6.
           const FlankSurfacePoint start = flank.evaluate(pp.roll_length_mm, pp.z_mm);
-          const Eigen::Vector2d x(a.roll_length, a.z);
+          const Eigen::Vector2d x(a.roll_length_mm, a.z_mm);
           const double t = (a.centre - pp.point).dot(pp.normal);
           const ContactCertificate with =
               certify_contact(flank, pp.point, pp.normal, kR, pp.roll_length_mm, start, x, t, 1e-6,
@@ -249,7 +249,7 @@ TEST(FlankCurvatureBound, WhereTheFlanksBoundFailsThePointsOwnProves) {
   const FlankSurfacePoint start = flank.evaluate(L0, z0);
   const double t = (r.centre - fp.point).dot(fp.normal);
   const ContactCertificate c = certify_contact(flank, fp.point, fp.normal, kR, L0, start,
-                                               Eigen::Vector2d(r.roll_length, r.z), t, 1e-9,
+                                               Eigen::Vector2d(r.roll_length_mm, r.z_mm), t, 1e-9,
                                                extent.roll_length_min, extent.roll_length_max, &fb);
   EXPECT_EQ(c.verdict, ContactCertificate::Verdict::kCertified);
   EXPECT_FALSE(c.by_flank_bound);

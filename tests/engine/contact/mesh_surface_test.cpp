@@ -135,8 +135,8 @@ TEST(MeshFlankProbe, ContactEdgeMissAndTouchingAtTheStart) {
     ASSERT_EQ(r.status, ContactResult::Status::kOk);
     EXPECT_NEAR((r.contact - r.centre).norm(), kR, 1e-12);
     EXPECT_LT((r.contact - inside.point).norm(), 1e-3);
-    EXPECT_NEAR(r.roll_length, 33.0, 0.01);
-    EXPECT_NEAR(r.z, 20.0, 0.01);
+    EXPECT_NEAR(r.roll_length_mm, 33.0, 0.01);
+    EXPECT_NEAR(r.z_mm, 20.0, 0.01);
     EXPECT_NEAR(r.delta_um, 1e3 * (r.contact - (r.centre - kR * inside.normal)).norm(), 1e-9);
     // At z = 40.2 the sphere meets the mesh's border edge z = 40 first: an edge contact.
     const FlankPoint near_border = gear.flank_point(5, side, 33.0, 40.2);
