@@ -223,8 +223,8 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       "Conformity, rule " + e.spec().decision_rule +
       " (ISO 14253-1): false accept = accepted although the true value is out of "
       "tolerance; false reject = rejected although it conforms; fractions of all items. "
-      "p_c: the run's worst measured value and the JCGM 106 probability that its true value "
-      "conforms.";
+      "p_c: the run's worst measured value (its flank side) and the JCGM 106 probability that "
+      "its true value conforms, with that side's bias and u.";
   c.header = {"parameter",
               "tolerance",
               "T",
