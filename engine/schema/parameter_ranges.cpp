@@ -75,8 +75,10 @@ const RangeTable& tolerance_ranges() {
 const RangeTable& deviation_ranges() {
   static const RangeTable table{
       "deviations",
-      {{"deviations.k", "", above(0, 100), 1, 6,
-        "tolerance = k sigma; k 2–4 is usual (3: 99.73 % of a normal law inside)", ""},
+      {{"deviations.k", "", closed(0.5, 100), 1, 6,
+        "tolerance = k sigma; k 2–4 is usual (3: 99.73 % of a normal law inside); below 0.5 "
+        "the law is nearly uniform and drawing within tolerance would reject almost every draw",
+        ""},
        {"deviations.control_points", "", closed(4, 64), 4, 32,
         "B-spline control points of a form deviation; >= 4 for a cubic", "", true}}};
   return table;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/input_file.h"
+#include "core/number_text.h"
 #include "core/yaml_reader.h"
 #include "engine/apps/uncertainty/model_function.h"
 
@@ -86,6 +87,16 @@ ModelInput read_input(const YamlMap::Entry& entry) {
     }
   } catch (const std::invalid_argument& e) {
     throw v.error(expected + " (" + e.what() + ")");
+  }
+  // The GUM and the MCM need the law's mean and variance as doubles: a uniform law over
+  // [-1.7, 1e308] has a finite u whose square (the variance) overflows, and every sum over it
+  // would be inf or nan.
+  {
+    const double mean = in.law.mean(), u = in.law.gum_u();
+    if (!std::isfinite(mean) || !std::isfinite(u) || !std::isfinite(u * u * 16.0)) {
+      throw v.error(expected + " whose mean and variance a double can hold (here mean " +
+                    shortest_text(mean) + ", u " + shortest_text(u) + ")");
+    }
   }
   in.dof = in.law.gum_dof();
   if (const auto dof = m.find("dof")) {

@@ -149,6 +149,9 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
       {"assignment", replace(g, "X1 + X2*X3", "X1=3"),
        ":7:6:", "not an assignment ('=' at character 3"},
       {"add_assignment", replace(g, "X1 + X2*X3", "X1 += 3"), ":7:6:", "not an assignment"},
+      // u = 2.9e307 is a double, its square is not: found by the command fuzzer (nan tables).
+      {"variance", replace(g, "uniform: [-1, 1]", "uniform: [-1, 1e308]"), ":4:",
+       "whose mean and variance a double can hold"},
       // A pole at the input estimates (X1's mean is 0): no GUM linearisation, not a nan table.
       {"pole", replace(g, "X1 + X2*X3", "1/X1"),
        ":7:6:", "outputs.Y: got 'y = inf', expected a model with a finite value"},
