@@ -71,8 +71,8 @@ std::vector<Statement> statements(const std::string& text, const std::string& so
 
 // F(label)=FEAT/POINT,CART,<values> or FA(label)=… (keywords in any case, blanks anywhere
 // between the tokens): its kind, its label (blanks trimmed) and where <values> starts. Scanned
-// by hand in one pass (std::regex recurses once per character and overflowed the stack on long
-// statements).
+// by hand in one pass (the standard library's regex engine recurses once per character and
+// overflowed the stack on long statements).
 struct FeatureStatement {
   bool is_actual = false;
   std::string label;

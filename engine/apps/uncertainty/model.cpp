@@ -19,7 +19,8 @@ const std::vector<std::string> kTopKeys = {"name",    "inputs",  "constants",  "
 const std::vector<std::string> kSettingKeys = {
     "coverage_probability", "trials", "significant_digits", "seed", "second_order", "max_trials"};
 
-// [A-Za-z_][A-Za-z0-9_]* (ASCII), checked by hand: std::regex recurses once per character.
+// [A-Za-z_][A-Za-z0-9_]* (ASCII), checked by hand: the standard regex engine recurses once per
+// character.
 bool valid_name(const std::string& s) {
   const auto letter = [](char c) {
     return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_';
