@@ -252,7 +252,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "check", "Decide the scenario's accuracy claims (claims:) with confidence bounds");
   check->footer(
       "Example:\n  gearmc check scenarios/p1_claims.yaml --junit results/claims.xml\n"
-      "Exit 0: every claim holds; 1: a claim fails or is undecided at --max-gears; 2: bad input.");
+      "Exit 0: every claim holds; 1: a claim fails; 3: none fails, some undecided at --max-gears;\n"
+      "2: bad input; 4: internal error.");
   check->add_option("SCENARIO", check_options.scenario_path, "Scenario file with claims:")
       ->required();
   check->add_option("--out", check_options.out_dir,

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "core/input_error.h"
 #include "core/output_files.h"
@@ -90,10 +91,13 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   }
   if (run.contacts > 0 &&
       run.failed_contacts + run.edge_contacts + run.collisions == run.contacts) {
-    throw InputError({scenario.source_path, 0, 0},
-                     scenario.source_path + ": none of the " + std::to_string(run.contacts) +
-                         " contacts gave a value; check the stylus radius against the tooth "
-                         "space");
+    std::ostringstream msg;
+    msg << scenario.source_path << ": none of the " << run.contacts << " contacts"
+        << (run.no_values ? " of the first gear" : "") << " gave a value (failed "
+        << run.failed_contacts << ", edge " << run.edge_contacts << ", collisions "
+        << run.collisions
+        << "); check the stylus radius against the tooth space and any normal_um expression";
+    throw InputError({scenario.source_path, 0, 0}, msg.str());
   }
 
   CheckContext context;

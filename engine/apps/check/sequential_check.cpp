@@ -130,6 +130,23 @@ CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims
   // share of the batch's blocks), then rank 0 looks and tells every rank whether to go on. The
   // looks depend on gear counts only, so verdicts and gear counts do not depend on the number of
   // ranks or threads.
+  // Gear 0 alone first, on every rank (the same gear everywhere, so every rank agrees): when none
+  // of its contacts gives a value, stop before the first look.
+  {
+    RunOptions probe;
+    probe.only_gear = 0;
+    probe.threads = options.threads;
+    const RunResults g = mc.run(probe);
+    if (g.contacts > 0 && g.failed_contacts + g.edge_contacts + g.collisions == g.contacts) {
+      run.no_values = true;
+      run.contacts = g.contacts;
+      run.failed_contacts = g.failed_contacts;
+      run.edge_contacts = g.edge_contacts;
+      run.collisions = g.collisions;
+      run.wall_s = elapsed();
+      return run;
+    }
+  }
   const std::vector<int> looks = look_points(options.max_gears);
   int first = 0;
   for (int end : looks) {

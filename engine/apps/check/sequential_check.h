@@ -77,11 +77,16 @@ struct CheckRun {
   std::uint64_t contacts = 0, failed_contacts = 0, edge_contacts = 0, collisions = 0;
   double wall_s = 0.0;
   bool cancelled = false;
+  // Every contact of the first gear gave no value (failed, edge or collision): the run stopped
+  // after that gear, and the claims have no values to rest on (the command refuses the scenario).
+  bool no_values = false;
 };
 
 // Measures gears 0, 1, … of the run's scenario (its seed) in batches that end at the looks (over
 // the ranks of options.ranks, in parallel blocks of 256 gears), feeding them in gear order to a
-// SequentialCheck on rank 0, until done. Each claim's time_s is the wall time of the
+// SequentialCheck on rank 0, until done. Gear 0 runs alone first (and again in the first batch):
+// when none of its contacts gives a value the run stops there with no_values set and gears 0 (a
+// stylus too large for the tooth space would otherwise cost a whole first look of failing gears). Each claim's time_s is the wall time of the
 // look that decided it (or of the last look).
 CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims,
                    const CheckOptions& options);

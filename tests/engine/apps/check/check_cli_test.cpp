@@ -131,6 +131,24 @@ TEST(CheckCli, AScenarioWithoutClaimsIsExit2WithAMessage) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A stylus far wider than the tooth space (radius 20 mm; the space of this gear is about 9 mm
+// wide at the pitch circle: πm/2 + 2xm·tan α = 12.5 mm minus the tooth, no 40 mm ball fits)
+// collides at every contact: check stops after the first gear, whose 48 contacts (4 teeth × 2
+// flanks × 3 × 2 points, the plan of kScenario) all gave no value, and refuses the scenario.
+TEST(CheckCli, AStylusThatFitsNowhereIsRefusedAfterTheFirstGear) {
+  const std::string path = write_scenario(
+      "no_values", "stylus: {radius_mm: 20}\nclaims:\n  - {name: a, quantity: delta_rcomp.point, "
+                   "statistic: mean, at_most_um: 2}\n");
+  const std::string out = temp_path("no_values_out");
+  fs::remove_all(out);
+  const auto r = run_gearmc("check " + path + " --out " + out + " --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("none of the 48 contacts of the first gear gave a value"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(CheckCli, ClaimsAreReadIntoTheTypedScenario) {
   const Scenario s = parse_scenario(
       kScenario +
