@@ -16,6 +16,7 @@
 #include "core/output_files.h"
 #include "core/provenance.h"
 #include "core/ranks.h"
+#include "engine/apps/r_test/r_test_evaluation.h"
 #include "engine/apps/r_test/r_test_output.h"
 #include "engine/apps/r_test/register.h"
 #include "engine/apps/uncertainty/evaluation.h"
@@ -66,6 +67,12 @@ int r_test_command(const UncertaintyCommandOptions& o, const UncertaintyModel& m
   if (r.cancelled) {
     err << "gearmc: interrupted; nothing written\n";
     return 130;
+  }
+  if (const std::string why = rtest::r_test_refusal(r); !why.empty()) {
+    throw InputError({model.source_path, 0, 0},
+                     model.source_path + ": " + why +
+                         "; the input laws are too wide for the R-Test model (P3's errors are a "
+                         "few µm): narrow them");
   }
   const Provenance provenance =
       make_provenance(o.command_line, model.source_path, model.source_text);

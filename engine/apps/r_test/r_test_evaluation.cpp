@@ -9,7 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <iomanip>
 #include <optional>
+#include <sstream>
+#include <string>
 
 #include "core/constants.h"
 #include "core/thread_arena.h"
@@ -484,6 +487,38 @@ RTestResult evaluate_r_test(const RTestModel& m, const RTestRunOptions& o) {
                          " measurements failed (left out)");
   }
   return r;
+}
+
+std::string r_test_refusal(const RTestResult& r) {
+  if (!r.observed.ok) {
+    double ss = 0.0;
+    int n = 0;
+    for (const SensorFit& f : r.observed.fit) {
+      for (double g_j : f.residuals) {
+        ss += g_j * g_j;
+        ++n;
+      }
+    }
+    const double rms_um = n > 0 ? std::sqrt(ss / n) * kUmPerMm : kNaN;
+    std::ostringstream rms;
+    rms << std::setprecision(4) << rms_um;
+    return "the observed calibration fit does not converge (residual RMS " + rms.str() + " µm)";
+  }
+  if (!r.estimate.ok) return "the ball centre at P_m does not converge";
+  const auto too_many = [](std::uint64_t failed, std::uint64_t all) {
+    return all > 0 && static_cast<double>(failed) > kMaxFailedShare * static_cast<double>(all);
+  };
+  for (const Prediction& pr : r.predictions) {
+    if (too_many(pr.failed, pr.trials)) {
+      return pr.label + ": " + std::to_string(pr.failed) + " of " + std::to_string(pr.trials) +
+             " trials failed (more than 1 %)";
+    }
+  }
+  if (too_many(r.verification.failed, r.verification.measurements)) {
+    return "verification: " + std::to_string(r.verification.failed) + " of " +
+           std::to_string(r.verification.measurements) + " measurements failed (more than 1 %)";
+  }
+  return "";
 }
 
 double abs_quantile(std::vector<double> v, double p) {

@@ -97,6 +97,13 @@ RTestResult evaluate_r_test(const RTestModel& m, const RTestRunOptions& o);
 AxisResult combine(const std::vector<Vector3d>& contributions, const std::vector<double>& dof,
                    int coordinate, double p);
 
+// Why the results cannot be vouched for, or "" when they can: the observed calibration fit or
+// the ball centre at P_m did not converge, or a Monte-Carlo route or the verification lost more
+// than kMaxFailedShare of its trials (leaving them out would bias its U). Input laws far wider
+// than an R-Test's errors (P3's are a few µm) lead here; the command refuses them (exit 2).
+inline constexpr double kMaxFailedShare = 0.01;
+std::string r_test_refusal(const RTestResult& r);
+
 // The full-MCM error e = P̂ − P_m of one trial (exposed for tests): false when the calibration
 // or the ball solve failed.
 bool full_mcm_trial(const RTestModel& m, std::uint64_t trial, Vector3d& error);

@@ -77,6 +77,32 @@ TEST(RTestCli, BadKeysAndInputsExit2WithOneMessage) {
   }
 }
 
+// Input laws far wider than an R-Test's errors: a linearity error of ±100 mm on 2.5 mm tips and a
+// 15 mm ball leaves no calibration that fits (P3's errors are a few µm). That was exit 0 with
+// `nan` tables and null U; now one message (exit 2) naming the failed fit, and nothing written.
+// Moderately wide laws (±0.05 mm, 20 times P3's linearity) still converge and are accepted.
+TEST(RTestCli, LawsTooWideForTheCalibrationAreRefused) {
+  const std::string model = temp_path("wide") + ".yaml";
+  std::ofstream(model) << replace(kGood, "linearity:     {uniform: [-0.0025, 0.0025], dof: 50}",
+                                  "linearity:     {uniform: [-100, 100], dof: 50}");
+  const std::string out = temp_path("wide_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(model + ": the observed calibration fit does not converge"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("too wide for the R-Test model"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+
+  std::ofstream(model) << replace(kGood, "linearity:     {uniform: [-0.0025, 0.0025], dof: 50}",
+                                  "linearity:     {uniform: [-0.05, 0.05], dof: 50}");
+  const auto ok = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out + "/uncertainty.json"));
+  EXPECT_GT(j.at("r_test").at("predictions").at("full_mcm").at("x").at("U_um").get<double>(), 0);
+}
+
 TEST(RTestCli, SmallRunWritesTheRTestSection) {
   const std::string model = temp_path("good") + ".yaml";
   std::ofstream(model) << kGood;
