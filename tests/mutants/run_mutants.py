@@ -8,9 +8,10 @@ each one, in the copy build-mutants/src (built in build-mutants/build, no unity 
 mutant recompiles one file):
   1. the patch is applied (a patch that no longer applies is an error: refresh it);
   2. the build runs (a mutant that does not compile is "invalid", not counted as killed);
-  3. the tests of behaviour run: every ctest test but those labelled `reference` (stored
-     references) and `slow` (mpi_identity, package_consumer, fuzz_commands), stopping at the
-     first failure; a failure or a timeout kills the mutant;
+  3. the tests of behaviour run: every ctest test but the stored references (label `reference`,
+     and GoogleTest suites named *Regression) and those labelled `slow` (mpi_identity,
+     package_consumer, fuzz_commands), stopping at the first failure; a failure or a timeout
+     kills the mutant;
   4. if none failed, the stored-reference tests run: a failure there is "references only";
   5. the patch is reversed.
 The score is the share of valid mutants killed by tests of behaviour; docs/contributing.md
@@ -85,8 +86,21 @@ def ctest(label_args, timeout_s):
     return False, failed[0] if failed else "(ctest failed: " + r.stdout.strip()[-200:] + ")"
 
 
-BEHAVIOUR = ["-LE", "reference|slow"]
-REFERENCE = ["-L", "reference"]
+# Stored references: the ctest label `reference` (regression_tests), any GoogleTest suite named
+# *Regression (a change detector kept beside the unit tests, e.g. CheckRegression) and the
+# README's transcripts (ReadmeExamples: gearmc's own output, pasted into the README).
+STORED = r"Regression\.|ReadmeExamples\."
+BEHAVIOUR = ["-LE", "reference|slow", "-E", STORED]
+REFERENCE = [["-L", "reference"], ["-R", STORED, "-LE", "slow"]]
+
+
+def reference_tests(timeout_s):
+    """Runs the stored references; returns (passed, first failing test or '')."""
+    for args in REFERENCE:
+        ok, first = ctest(args, timeout_s)
+        if not ok:
+            return ok, first
+    return True, ""
 
 
 def describe(patch):
@@ -132,7 +146,7 @@ def main():
         sys.exit("mutants: the unmutated sources do not build:\n" + b.stdout[-4000:])
     if not a.no_baseline:
         ok, first = ctest(BEHAVIOUR + ["--schedule-random"], a.timeout)
-        ok_ref, first_ref = ctest(REFERENCE, a.timeout)
+        ok_ref, first_ref = reference_tests(a.timeout)
         if not ok or not ok_ref:
             sys.exit("mutants: the unmutated tests fail (%s): fix them first" % (first or first_ref))
         print("mutants: the unmutated tests pass", flush=True)
@@ -155,7 +169,7 @@ def main():
                 if not ok:
                     outcome, by = "killed", first
                 else:
-                    ok_ref, first_ref = ctest(REFERENCE, a.timeout)
+                    ok_ref, first_ref = reference_tests(a.timeout)
                     outcome, by = ("references only", first_ref) if not ok_ref else ("survived", "")
         finally:
             if apply(patch, reverse=True).returncode != 0:

@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <regex>
 #include <set>
@@ -181,6 +182,33 @@ TEST(ProbingGrid, P1GridHasMarginsAndEqualSteps) {
   EXPECT_EQ(points.size(), 50u);
   EXPECT_EQ(points[11].i, 1);
   EXPECT_EQ(points[11].j, 1);
+}
+
+// The other two profile spacings of docs/scenario-keys.md: equal steps of the involute's arc
+// length from the base circle, s = L² / (2 r_b) (the integral of L / r_b dL), or of the radius
+// r = sqrt(r_b² + L²), each with the 5 % margins taken of that coordinate's extent. Checked from
+// the returned roll lengths with the formulas written out here (not the planner's code).
+TEST(ProbingGrid, ArcLengthAndRadiusSpacingsHaveEqualStepsOfTheirCoordinate) {
+  const InvoluteGear gear = p1_gear();
+  const double r_b = 0.5 * gear.base_diameter_mm();
+  const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
+  const auto arc = [&](double L) { return L * L / (2.0 * r_b); };
+  const auto radius = [&](double L) { return std::sqrt(r_b * r_b + L * L); };
+  for (const auto& [spacing, coordinate] :
+       {std::pair<ProfileSpacing, std::function<double(double)>>{ProfileSpacing::kArcLength, arc},
+        {ProfileSpacing::kRadius, radius}}) {
+    ProbingGridSpec spec;
+    spec.spacing = spacing;
+    spec.points_along_profile = 7;
+    const ProbingGridCoordinates c = probing_grid_coordinates(gear, spec);
+    ASSERT_EQ(c.roll_lengths.size(), 7u);
+    const double a = coordinate(L0), b = coordinate(L1);
+    const double step = 0.9 * (b - a) / 6.0;
+    for (int i = 0; i < 7; ++i) {
+      EXPECT_NEAR(coordinate(c.roll_lengths[i]), a + 0.05 * (b - a) + i * step, 1e-9)
+          << static_cast<int>(spacing) << " point " << i;
+    }
+  }
 }
 
 }  // namespace

@@ -285,7 +285,7 @@ TEST(CheckCli, AllHoldingIsExit0) {
   fs::remove_all(out);
 }
 
-TEST(CheckCli, P1ClaimsKeepTheirMeasuredVerdicts) {
+TEST(CheckRegression, P1ClaimsKeepTheirMeasuredVerdicts) {
   // A regression of the claims in scenarios/p1_claims.yaml (seed 1, all 20000 gears allowed),
   // measured when the claims were written: P1's "δRcomp ≤ 4 µm at 99.73 %" on the per-flank
   // maximum FAILS under gearmc's deviation model — after 512 gears, about 1 % of the flank maxima

@@ -11,8 +11,10 @@
 #include <cstdio>
 #include <random>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "engine/apps/check/check_outputs.h"
 #include "engine/apps/check/claim_tracker.h"
 #include "engine/apps/check/confidence_sequences.h"
 #include "engine/apps/check/sequential_check.h"
@@ -318,6 +320,36 @@ TEST(SequentialCheck, LooksDoubleFrom256AndEndAtTheBudget) {
   EXPECT_EQ(look_points(20000), (std::vector<int>{256, 512, 1024, 2048, 4096, 8192, 16384, 20000}));
   EXPECT_EQ(look_points(100), (std::vector<int>{100}));
   EXPECT_EQ(look_points(512), (std::vector<int>{256, 512}));
+}
+
+// The terminal line prints each bound to 3 decimals rounded outward (the lower down, the upper
+// up), so that the printed interval still contains the exact one: [1.2341, 1.2349] is printed
+// [1.234, 1.235], and so is [1.2346, 1.2344] (made up to tell outward from nearest rounding,
+// which would print [1.235, 1.234]); a negative lower bound floors away from zero, and a bound
+// exactly on a thousandth stays as it is. Expected texts written by hand.
+TEST(CheckOutputs, PrintedBoundsAreRoundedOutward) {
+  ClaimSpec c;
+  c.name = "a";
+  c.statistic = ClaimStatistic::kMean;
+  c.limit_um = 4.0;
+  struct Case {
+    double lower, upper;
+    const char* text;
+  } cases[] = {
+      {1.2341, 1.2349, "bounds [1.234, 1.235] µm"},
+      {1.2346, 1.2344, "bounds [1.234, 1.235] µm"},
+      {-0.0005, 0.0001, "bounds [-0.001, 0.001] µm"},
+      {1.5, 2.25, "bounds [1.500, 2.250] µm"},
+  };
+  for (const Case& k : cases) {
+    ClaimResult r;
+    r.verdict = Verdict::kUndecided;
+    r.estimate_um = 1.0;
+    r.lower_um = k.lower;
+    r.upper_um = k.upper;
+    const std::string line = claim_terminal_line(c, r, 1);
+    EXPECT_NE(line.find(k.text), std::string::npos) << line;
+  }
 }
 
 }  // namespace
