@@ -22,7 +22,7 @@ The table lists these counts per command; the exit status is 1 when anything but
 rejection" and "accepted" was seen. Failures are saved (input, command, stderr) with --save.
 
   fuzz_commands.py --gearmc build/gearmc [--inputs N] [--seed S] [--timeout SEC]
-                   [--memory-mb MB] [--jobs J] [--save DIR] [--only CMD,…]
+                   [--memory-mb MB] [--jobs J] [--save DIR] [--only CMD,…] [--progress N]
 """
 import argparse
 import concurrent.futures
@@ -460,6 +460,8 @@ def main():
     ap.add_argument("--save", help="folder for the inputs that were not clean")
     ap.add_argument("--only", help="comma-separated commands")
     ap.add_argument("--verbose", action="store_true", help="print every run's outcome")
+    ap.add_argument("--progress", type=int, default=0,
+                    help="print the table so far to stderr after every N inputs")
     a = ap.parse_args()
     a.gearmc = os.path.abspath(a.gearmc)  # the runs start in their own folders
     commands = a.only.split(",") if a.only else COMMANDS
@@ -467,48 +469,75 @@ def main():
     rng = random.Random(a.seed)
     mut = Mutator(rng)
     seeds = Seeds(a.gearmc, work)
-    jobs = []
-    for k in range(a.inputs):
-        name = commands[k % len(commands)]
-        argv, expected, d = command_for(name, rng, mut, seeds, work, k)
-        if rng.random() < 0.05:  # a mutated option value (not where the outputs go)
-            i = rng.randrange(1, len(argv))
-            if argv[i - 1].startswith("--") and argv[i - 1] not in ("--out", "--junit"):
-                argv[i] = mut.token()
-        jobs.append((name, argv, expected, d, a.gearmc, a.timeout, a.memory_mb))
     kinds = ["clean rejection", "accepted", "crash", "hang", "internal", "silent wrong"]
     table = {c: dict.fromkeys(kinds, 0) for c in commands}
     bad = []
+
+    def jobs():
+        # Made one at a time as the runs need them (the same inputs, in the same order, as when
+        # made all at once): a long run needs no disk for its inputs up front.
+        for k in range(a.inputs):
+            name = commands[k % len(commands)]
+            argv, expected, d = command_for(name, rng, mut, seeds, work, k)
+            if rng.random() < 0.05:  # a mutated option value (not where the outputs go)
+                i = rng.randrange(1, len(argv))
+                if argv[i - 1].startswith("--") and argv[i - 1] not in ("--out", "--junit"):
+                    argv[i] = mut.token()
+            yield (name, argv, expected, d, a.gearmc, a.timeout, a.memory_mb)
+
+    def table_text(done):
+        lines = ["| command | inputs | " + " | ".join(kinds) + " |",
+                 "|---|---:|" + "---:|" * len(kinds)]
+        total = dict.fromkeys(kinds, 0)
+        for c in commands:
+            n = sum(table[c].values())
+            lines.append("| %s | %d | " % (c, n) + " | ".join(str(table[c][k]) for k in kinds) +
+                         " |")
+            for k in kinds:
+                total[k] += table[c][k]
+        lines.append("| all | %d | " % done + " | ".join(str(total[k]) for k in kinds) + " |")
+        return "\n".join(lines)
+
+    done = 0
+
+    def finish(result):
+        # Counted, saved at once when not clean (an interrupted long run keeps what it found),
+        # and the input's folder removed.
+        nonlocal done
+        name, argv, kind, detail, stderr, d = result
+        done += 1
+        table[name][kind] += 1
+        if a.verbose:
+            print("%s: %s: %s" % (name, kind, detail[:160]))
+        if kind not in ("clean rejection", "accepted"):
+            bad.append((name, argv, kind, detail, stderr, d))
+            if a.save:
+                target = Path(a.save) / ("%s_%03d" % (kind.replace(" ", "_"), len(bad) - 1))
+                shutil.copytree(d, target, dirs_exist_ok=True)  # the input's own folder
+                (target / "command.txt").write_text(kind + ": " + detail + "\ngearmc " +
+                                                    " ".join(argv) + "\n\n" + stderr)
+        shutil.rmtree(d, ignore_errors=True)
+        if a.progress and done % a.progress == 0:
+            print("fuzz_commands: %d of %d inputs\n%s" % (done, a.inputs, table_text(done)),
+                  file=sys.stderr, flush=True)
+
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for name, argv, kind, detail, stderr, d in pool.map(run_one, jobs):
-            table[name][kind] += 1
-            if a.verbose:
-                print("%s: %s: %s" % (name, kind, detail[:160]))
-            if kind not in ("clean rejection", "accepted"):
-                bad.append((name, argv, kind, detail, stderr, d))
+        pending = set()
+        for job in jobs():
+            pending.add(pool.submit(run_one, job))
+            if len(pending) >= 2 * a.jobs:
+                finished, pending = concurrent.futures.wait(
+                    pending, return_when=concurrent.futures.FIRST_COMPLETED)
+                for f in finished:
+                    finish(f.result())
+        for f in concurrent.futures.as_completed(pending):
+            finish(f.result())
     print("fuzz_commands: %d inputs, seed %d, %d s and %d MB per run" % (
         a.inputs, a.seed, a.timeout, a.memory_mb))
-    print("| command | inputs | " + " | ".join(kinds) + " |")
-    print("|---|---:|" + "---:|" * len(kinds))
-    total = dict.fromkeys(kinds, 0)
-    for c in commands:
-        n = sum(table[c].values())
-        print("| %s | %d | " % (c, n) + " | ".join(str(table[c][k]) for k in kinds) + " |")
-        for k in kinds:
-            total[k] += table[c][k]
-    print("| all | %d | " % a.inputs + " | ".join(str(total[k]) for k in kinds) + " |")
+    print(table_text(done))
     for name, argv, kind, detail, stderr, d in bad[:40]:
         print("%s: %s: %s\n  gearmc %s" % (kind, name, detail, " ".join(
             x if len(x) < 200 else x[:60] + "…" for x in argv)))
-    if a.save and bad:
-        save = Path(a.save)
-        save.mkdir(parents=True, exist_ok=True)
-        for n, (name, argv, kind, detail, stderr, d) in enumerate(bad):
-            target = save / ("%s_%03d" % (kind.replace(" ", "_"), n))
-            shutil.copytree(d, target, dirs_exist_ok=True)  # the input's own folder
-            target.mkdir(parents=True, exist_ok=True)
-            (target / "command.txt").write_text(kind + ": " + detail + "\ngearmc " +
-                                                " ".join(argv) + "\n\n" + stderr)
     shutil.rmtree(work, ignore_errors=True)
     sys.exit(1 if bad else 0)
 
