@@ -489,19 +489,22 @@ RTestResult evaluate_r_test(const RTestModel& m, const RTestRunOptions& o) {
   return r;
 }
 
+double residual_rms_um(const Calibration& c) {
+  double ss = 0.0;
+  int n = 0;
+  for (const SensorFit& f : c.fit) {
+    for (double g_j : f.residuals) {
+      ss += g_j * g_j;
+      ++n;
+    }
+  }
+  return n > 0 ? std::sqrt(ss / n) * kUmPerMm : kNaN;
+}
+
 std::string r_test_refusal(const RTestResult& r) {
   if (!r.observed.ok) {
-    double ss = 0.0;
-    int n = 0;
-    for (const SensorFit& f : r.observed.fit) {
-      for (double g_j : f.residuals) {
-        ss += g_j * g_j;
-        ++n;
-      }
-    }
-    const double rms_um = n > 0 ? std::sqrt(ss / n) * kUmPerMm : kNaN;
     std::ostringstream rms;
-    rms << std::setprecision(4) << rms_um;
+    rms << std::setprecision(4) << residual_rms_um(r.observed);
     return "the observed calibration fit does not converge (residual RMS " + rms.str() + " µm)";
   }
   if (!r.estimate.ok) return "the ball centre at P_m does not converge";

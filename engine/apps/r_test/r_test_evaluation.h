@@ -97,6 +97,9 @@ RTestResult evaluate_r_test(const RTestModel& m, const RTestRunOptions& o);
 AxisResult combine(const std::vector<Vector3d>& contributions, const std::vector<double>& dof,
                    int coordinate, double p);
 
+// The RMS of every sensor's calibration-fit residuals, µm (NaN without residuals).
+double residual_rms_um(const Calibration& c);
+
 // Why the results cannot be vouched for, or "" when they can: the observed calibration fit or
 // the ball centre at P_m did not converge, or a Monte-Carlo route or the verification lost more
 // than kMaxFailedShare of its trials (leaving them out would bias its U). Input laws far wider

@@ -167,15 +167,7 @@ void print_r_test(std::ostream& out, const RTestModel& m, const RTestResult& r) 
       << kCalibrationPoints << " calibration points at +-" << m.settings.calibration_step
       << " mm, form errors " << (m.settings.form_per_sensor ? "per sensor" : "per reading") << "\n";
   out << "calibration: residual RMS ";
-  double ss = 0;
-  int n = 0;
-  for (const SensorFit& f : r.observed.fit) {
-    for (double g_j : f.residuals) {
-      ss += g_j * g_j;
-      ++n;
-    }
-  }
-  out << fixed(std::sqrt(ss / n) * kUmPerMm, 3) << " um, fits "
+  out << fixed(residual_rms_um(r.observed), 3) << " um, fits "
       << (r.observed.ok ? "converged" : "NOT converged") << "\n\n";
   out << "P3's GUM of the base points C_i1 (um; u by exact / varied-parameter sensitivities, "
          "nu = 50 per Type-B input)\n";
