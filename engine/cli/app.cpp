@@ -193,8 +193,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                        "Seed of the null simulations (default 1)");
   diagnose
       ->add_option("--null-replicates", diagnose_options.null_replicates,
-                   "Null simulations K (default 200, at least 2/alpha - 1; 0: tables instead)")
-      ->check(CLI::Range(0, 1000000));
+                   "Null simulations K (default 200, at least 2/alpha - 1, at most 10000; 0: "
+                   "tables instead)")
+      ->check(CLI::Range(0, 10000));
   diagnose->add_option("--candidates", diagnose_options.candidates,
                        "Comma-separated library effects the diagnosis may name (default: all)");
   diagnose->add_flag("--model-gears", diagnose_options.model_gears,

@@ -70,13 +70,40 @@ double largest_eigenvalue(const Eigen::Matrix2d& H) {
   return m + std::sqrt(d * d + off * off);
 }
 
+// Second differences of (h, u) at an interior node along L and along z (mm): psi = h - G.u is
+// linear in them, so each cell's curvature estimate for its own G costs three products per node.
+struct SecondDifference {
+  double h_L = 0.0, h_z = 0.0;
+  Eigen::Vector2d u_L = Eigen::Vector2d::Zero(), u_z = Eigen::Vector2d::Zero();
+};
+
 // The footprint grid: nodes (i, j), i along L, j along z.
 struct Grid {
   int cells_L, cells_z;
   double L0, z0, dL, dz;
   std::vector<Node> nodes;
-  const Node& at(int i, int j) const {
-    return nodes[static_cast<std::size_t>(j * (cells_L + 1) + i)];
+  std::vector<SecondDifference> second;  // per node; zero on the border (unused there)
+  std::size_t index(int i, int j) const { return static_cast<std::size_t>(j * (cells_L + 1) + i); }
+  const Node& at(int i, int j) const { return nodes[index(i, j)]; }
+  const SecondDifference& second_at(int i, int j) const { return second[index(i, j)]; }
+  void difference() {
+    second.assign(nodes.size(), SecondDifference{});
+    for (int j = 0; j <= cells_z; ++j) {
+      for (int i = 0; i <= cells_L; ++i) {
+        SecondDifference& d = second[index(i, j)];
+        const Node& c = at(i, j);
+        if (i > 0 && i < cells_L) {
+          const Node &a = at(i - 1, j), &b = at(i + 1, j);
+          d.h_L = b.h - 2.0 * c.h + a.h;
+          d.u_L = b.u - 2.0 * c.u + a.u;
+        }
+        if (j > 0 && j < cells_z) {
+          const Node &a = at(i, j - 1), &b = at(i, j + 1);
+          d.h_z = b.h - 2.0 * c.h + a.h;
+          d.u_z = b.u - 2.0 * c.u + a.u;
+        }
+      }
+    }
   }
 };
 
@@ -92,20 +119,23 @@ struct CellProver {
   // the grid's second differences at the nodes of the cell and its neighbours (each is psi''
   // somewhere within two steps), plus their spread: the sampled curvature bound.
   void curvature_bounds(int i, int j, const Eigen::Vector2d& G, double* K_L, double* K_z) const {
-    auto psi = [&](int a, int b) { return grid.at(a, b).h - G.dot(grid.at(a, b).u); };
     double lo_L = kInf, hi_L = -kInf, lo_z = kInf, hi_z = -kInf;
     for (int b = std::max(j - 1, 0); b <= std::min(j + 2, grid.cells_z); ++b) {
       for (int a = std::max(i - 1, 0); a <= std::min(i + 2, grid.cells_L); ++a) {
+        const SecondDifference& d = grid.second_at(a, b);
         if (a > 0 && a < grid.cells_L) {
-          const double d2 = (psi(a + 1, b) - 2.0 * psi(a, b) + psi(a - 1, b)) / (grid.dL * grid.dL);
+          const double d2 = d.h_L - G.dot(d.u_L);
           lo_L = std::min(lo_L, d2), hi_L = std::max(hi_L, d2);
         }
         if (b > 0 && b < grid.cells_z) {
-          const double d2 = (psi(a, b + 1) - 2.0 * psi(a, b) + psi(a, b - 1)) / (grid.dz * grid.dz);
+          const double d2 = d.h_z - G.dot(d.u_z);
           lo_z = std::min(lo_z, d2), hi_z = std::max(hi_z, d2);
         }
       }
     }
+    // Divided by the steps once (the differences above are not).
+    lo_L /= grid.dL * grid.dL, hi_L /= grid.dL * grid.dL;
+    lo_z /= grid.dz * grid.dz, hi_z /= grid.dz * grid.dz;
     *K_L = std::max(0.0, -lo_L + (hi_L - lo_L));
     *K_z = std::max(0.0, -lo_z + (hi_z - lo_z));
   }
@@ -180,24 +210,29 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
       flank, p, n, Eigen::Vector3d::UnitZ().cross(n).normalized(), Eigen::Vector3d::UnitZ(), R};
   const double r_b = 0.5 * flank.gear().base_diameter_mm();
   const double dz = 2.0 * R / kSampledCellsAcross;
-  // The L half-width: grow until both end columns lie outside the footprint (sampled).
-  const double L_ref = std::max(x_star.x(), 1e-3);
-  double half = 1.2 * (R + flank.eccentricity().norm()) * r_b / L_ref;
+  // The L range from the involute's arc length s = L^2 / (2 r_b) from the base circle: the
+  // footprint spans about 2 (R + e) of arc, which near the base circle is a wide range of L on
+  // the lower side and a narrow one on the upper side. Grow the arc half-width until both end
+  // columns lie outside the footprint (sampled).
+  const double arc0 = L0 * L0 / (2.0 * r_b);
+  auto L_at_arc = [&](double arc) { return arc > 0.0 ? std::sqrt(2.0 * r_b * arc) : 0.0; };
+  double arc_half = 1.2 * (R + flank.eccentricity().norm());
   // The grid is cut at the flank's extent: a cut end is the flank's edge, not a footprint bound.
   bool bounded = false;
   double L_lo = 0.0, L_hi = 0.0;
   for (int attempt = 0; attempt < 6 && !bounded; ++attempt) {
     bounded = true;
-    L_lo = std::max(L0 - half, L_min);
-    L_hi = std::min(L0 + half, L_max);
-    for (double L : {L0 - half, L0 + half}) {
-      if (L < L_min || L > L_max) continue;  // cut: the edge of the flank
+    const double L_down = L_at_arc(arc0 - arc_half), L_up = L_at_arc(arc0 + arc_half);
+    L_lo = std::max(L_down, L_min);
+    L_hi = std::min(L_up, L_max);
+    for (double L : {L_down, L_up}) {
+      if (L <= L_min || L > L_max) continue;  // cut: the edge of the flank (or the base circle)
       for (int j = 0; j <= kSampledCellsAcross && bounded; ++j) {
         const Eigen::Vector3d w = flank.point(L, p.z() - R + j * dz) - p;
         bounded = std::abs(w.dot(fr.tau)) >= R + dz;
       }
     }
-    if (!bounded) half *= 1.3;
+    if (!bounded) arc_half *= 1.3;
   }
   if (!bounded || !(L_hi > L_lo)) {
     out.reason = ContactFailure::kFootprintNotBounded;
@@ -205,6 +240,9 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
   }
   Grid grid;
   grid.cells_z = kSampledCellsAcross;
+  // The same spacing in u as across at the contact: a step dL moves the involute by about
+  // L dL / r_b of arc (cells further up are wider, further down narrower; the prover splits).
+  const double L_ref = std::max(x_star.x(), 1e-3);
   grid.cells_L = std::max(2, static_cast<int>(std::ceil((L_hi - L_lo) / (dz * r_b / L_ref))));
   grid.L0 = L_lo;
   grid.z0 = p.z() - R;
@@ -267,6 +305,7 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
     out.reason = ContactFailure::kNotConcaveAtContact;
     return out;
   }
+  grid.difference();
   CellProver prover{fr, grid, t_star, star.u, rho, {}};
   for (int j = 0; j < grid.cells_z; ++j) {
     for (int i = 0; i < grid.cells_L; ++i) {

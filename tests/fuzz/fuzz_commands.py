@@ -35,6 +35,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -439,14 +440,16 @@ def classify(name, argv, proc, timed_out, expected, work_dir, before):
 def run_one(job):
     name, argv, expected, d, gearmc, timeout, memory_mb = job
     before = set(os.listdir(d))
+    start = time.monotonic()
     try:
         proc = subprocess.run([gearmc] + argv, capture_output=True, text=True, errors="replace",
                               timeout=timeout, cwd=d, preexec_fn=limits(memory_mb, timeout))
         timed_out = False
     except subprocess.TimeoutExpired as e:
         proc, timed_out = e, True
+    seconds = time.monotonic() - start
     kind, detail = classify(name, argv, proc, timed_out, expected, d, before)
-    return name, argv, kind, detail, (proc.stderr or "") if not timed_out else "", d
+    return name, argv, kind, detail, (proc.stderr or "") if not timed_out else "", d, seconds
 
 
 def main():
@@ -499,13 +502,18 @@ def main():
         return "\n".join(lines)
 
     done = 0
+    slowest = []  # (seconds, command, argv) of the three longest runs that ended in time
 
     def finish(result):
         # Counted, saved at once when not clean (an interrupted long run keeps what it found),
         # and the input's folder removed.
         nonlocal done
-        name, argv, kind, detail, stderr, d = result
+        name, argv, kind, detail, stderr, d, seconds = result
         done += 1
+        if kind != "hang":
+            slowest.append((seconds, name, argv))
+            slowest.sort(key=lambda x: -x[0])
+            del slowest[3:]
         table[name][kind] += 1
         if a.verbose:
             print("%s: %s: %s" % (name, kind, detail[:160]))
@@ -535,6 +543,9 @@ def main():
     print("fuzz_commands: %d inputs, seed %d, %d s and %d MB per run" % (
         a.inputs, a.seed, a.timeout, a.memory_mb))
     print(table_text(done))
+    for seconds, name, argv in slowest:  # how close the longest runs came to the limit
+        print("slow: %.1f s %s: gearmc %s" % (seconds, name, " ".join(
+            x if len(x) < 200 else x[:60] + "…" for x in argv)))
     for name, argv, kind, detail, stderr, d in bad[:40]:
         print("%s: %s: %s\n  gearmc %s" % (kind, name, detail, " ".join(
             x if len(x) < 200 else x[:60] + "…" for x in argv)))

@@ -479,6 +479,14 @@ TEST_F(DiagnoseCli, MissingInputsGiveExitTwo) {
   EXPECT_NE(bad.err.find("'wobble'"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("probe_warmup"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(path("out_nope")));
+  // More null simulations than the documented 10 000 (docs/diagnosis.md: beyond it no decision
+  // changes, only the time): refused before any work, with the bound.
+  const auto many =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("lobing.csv") +
+                 " --out " + path("out_nope") + " --null-replicates 10001");
+  EXPECT_EQ(many.exit_code, 2);
+  EXPECT_NE(many.err.find("10000"), std::string::npos) << many.err;
+  EXPECT_FALSE(fs::exists(path("out_nope")));
 }
 
 TEST_F(DiagnoseCli, CandidatesRestrictTheLibrary) {
