@@ -240,10 +240,10 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
 
   GearMesh out;
   TriangleMesh& mesh = out.mesh;
-  mesh.reserve(static_cast<size_t>(nz) * M + 2, 3 * static_cast<size_t>(nz) * M,
-               2 * static_cast<size_t>(nz) * M);
+  mesh.reserve(static_cast<size_t>(nz + 2) * M, 3 * static_cast<size_t>(nz + 2) * M,
+               2 * static_cast<size_t>(nz + 2) * M);
   std::vector<TriangleMesh::VertexHandle> v;
-  v.reserve(static_cast<size_t>(nz) * M + 2);
+  v.reserve(static_cast<size_t>(nz + 2) * M);
   std::vector<Eigen::Vector3d> section;
   section.reserve(M);
   for (int j = 0; j < nz; ++j) {
@@ -267,9 +267,23 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
     GEARMC_CHECK(static_cast<int>(section.size()) == M, "section vertex count");
     for (const Eigen::Vector3d& x : section) v.push_back(mesh.add_vertex(to_point(x)));
   }
-  const int bottom = nz * M, top = bottom + 1;
-  v.push_back(mesh.add_vertex(TriangleMesh::Point(centre.x(), centre.y(), 0.0)));
-  v.push_back(mesh.add_vertex(TriangleMesh::Point(centre.x(), centre.y(), b)));
+  // The inner rings of the end faces: section j's vertices projected radially (about the
+  // centre) onto the circle of half the section's smallest radius, bottom then top.
+  const int bottom = nz * M, top = bottom + M;
+  for (const int j : {0, nz - 1}) {
+    double smallest = kInf;
+    for (int i = 0; i < M; ++i) {
+      const TriangleMesh::Point& x = mesh.point(v[static_cast<size_t>(j * M + i)]);
+      smallest = std::min(smallest, std::hypot(x[0] - centre.x(), x[1] - centre.y()));
+    }
+    const double r_in = 0.5 * smallest;
+    for (int i = 0; i < M; ++i) {
+      const TriangleMesh::Point& x = mesh.point(v[static_cast<size_t>(j * M + i)]);
+      const double dx = x[0] - centre.x(), dy = x[1] - centre.y(), rho = std::hypot(dx, dy);
+      v.push_back(mesh.add_vertex(TriangleMesh::Point(centre.x() + r_in * dx / rho,
+                                                      centre.y() + r_in * dy / rho, x[2])));
+    }
+  }
 
   out.faces.reserve(2 * static_cast<size_t>(nz) * M);
   // Side walls: the section runs counter-clockwise, so (a, b, c) with a -> b along the section
@@ -283,17 +297,43 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
       out.faces.push_back(edge_label[i]);
     }
   }
-  // End faces: fans from the centre; the section is star-shaped about it (polar angle strictly
-  // increasing along the section), so every fan triangle is proper. Bottom faces -Z, top +Z.
+  // End faces, with no vertex in more than a few triangles (a fan from the centre would put one
+  // vertex in M of them, and OpenMesh's cost of adding a face grows with its vertices' valence:
+  // O(M^2) in all). Each is an annulus between the section (outer o_i) and its inner ring (n_i,
+  // on the same ray) plus the inner polygon. The section is star-shaped about the centre (polar
+  // angle phi strictly increasing along it), so each edge's quad (n_i, o_i, o_i+1, n_i+1) lies
+  // in the edge's own sector [phi_i, phi_i+1] with two radial sides: its triangles (n_i, o_i,
+  // o_i+1) and (n_i, o_i+1, n_i+1) are counter-clockwise seen from +z (cross products
+  // (rho_i - r_in) rho_i+1 sin(dphi) and r_in (rho_i+1 - r_in) sin(dphi), both > 0) and the
+  // sectors do not overlap. The inner polygon is convex (points on a circle, counter-clockwise):
+  // a zigzag strip (q_l, q_l+1, q_r), (q_l, q_r-1, q_r) triangulates it with every triangle
+  // counter-clockwise. Bottom faces -z (reversed), top +z.
   const GearMeshFace end_face{GearMeshFace::Region::kEndFace, 0, FlankSide::kLeft};
-  for (int i = 0; i < M; ++i) {
-    add_triangle(mesh, v, bottom, (i + 1) % M, i);
-    out.faces.push_back(end_face);
-  }
-  for (int i = 0; i < M; ++i) {
-    const int a = (nz - 1) * M + i, bb = (nz - 1) * M + (i + 1) % M;
-    add_triangle(mesh, v, top, a, bb);
-    out.faces.push_back(end_face);
+  for (const bool is_top : {false, true}) {
+    const int o = is_top ? (nz - 1) * M : 0, n = is_top ? top : bottom;
+    auto end_triangle = [&](int a, int bb, int c) {  // counter-clockwise seen from +z
+      if (is_top) {
+        add_triangle(mesh, v, a, bb, c);
+      } else {
+        add_triangle(mesh, v, a, c, bb);
+      }
+      out.faces.push_back(end_face);
+    };
+    for (int i = 0; i < M; ++i) {
+      const int next = (i + 1) % M;
+      end_triangle(n + i, o + i, o + next);
+      end_triangle(n + i, o + next, n + next);
+    }
+    int l = 0, r = M - 1;
+    for (bool left = true; r - l >= 2; left = !left) {
+      if (left) {
+        end_triangle(n + l, n + l + 1, n + r);
+        ++l;
+      } else {
+        end_triangle(n + l, n + r - 1, n + r);
+        --r;
+      }
+    }
   }
   GEARMC_CHECK(out.faces.size() == mesh.n_faces(), "face labels");
   return out;

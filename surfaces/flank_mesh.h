@@ -91,8 +91,11 @@ struct GearMesh {
 // starts on the form circle down to the root circle,
 //   r(u) = r_f + (r_start(u) - r_f) |2u - 1|^3,   u in [0, 1] across the space,
 // with r_start interpolated between the two flank starts' radii (nominal: r_Ff). The end faces
-// z = 0 and z = b are fans from the gear centre. Vertices: section j (z_j = j b / (face_samples
-// - 1)) holds vertices j * M ... j * M + M - 1, then the bottom and the top centre.
+// z = 0 and z = b are each an annulus from the section to its radial projection on a circle of
+// half its smallest radius, and that inner polygon (no vertex in more than a few triangles, so
+// the build is linear in M). Vertices: section j (z_j = j b / (face_samples - 1)) holds vertices
+// j * M ... j * M + M - 1, then the bottom's and the top's inner rings (M each); triangles:
+// 2 (face_samples - 1) M walls and 3 M - 2 per end face.
 GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
                    const GearMeshSpec& spec, const NormalExpression* expression = nullptr);
 

@@ -28,13 +28,14 @@ int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostr
   GearMeshSpec spec;
   spec.profile_samples = o.profile_samples;
   spec.face_samples = o.face_samples;
-  // The mesh's size before any work: vertices per section M = z (2 P + tip + root), the end
-  // faces are fans of M triangles around one centre vertex (OpenMesh's time there grows as M²),
-  // and the whole mesh has F M + 2 vertices.
+  // The mesh's size before any work: vertices per section M = z (2 P + tip + root); the whole
+  // mesh has (F + 2) M vertices (F sections and each end face's inner ring) and
+  // 2 (F - 1) M + 2 (3 M - 2) triangles (surfaces/flank_mesh.h).
   const std::uint64_t per_section =
       static_cast<std::uint64_t>(scenario.gear.teeth) *
       (2 * static_cast<std::uint64_t>(spec.profile_samples) + spec.tip_samples + spec.root_samples);
-  const std::uint64_t vertices = static_cast<std::uint64_t>(spec.face_samples) * per_section + 2;
+  const std::uint64_t vertices =
+      (static_cast<std::uint64_t>(spec.face_samples) + 2) * per_section;
   if (per_section > kMaxMeshSectionVertices || vertices > kMaxMeshVertices) {
     throw InputError(
         {}, "--profile-samples, --face-samples",

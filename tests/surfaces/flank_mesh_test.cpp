@@ -162,8 +162,11 @@ TEST(GearMesh, NominalGearIsAClosedOutwardSolidWithTheAnalyticVolume) {
   spec.face_samples = 5;  // ... few sections: the nominal gear is a prism (and the test fast)
   const GearMesh gm = mesh_gear(gear, nominal_perturbed(gear), spec);
   const int M = gear.teeth() * (2 * spec.profile_samples + spec.tip_samples + spec.root_samples);
-  ASSERT_EQ(gm.mesh.n_vertices(), static_cast<size_t>(spec.face_samples * M + 2));
-  ASSERT_EQ(gm.mesh.n_faces(), static_cast<size_t>(2 * spec.face_samples * M));
+  // F sections and an inner ring per end face; 2 (F - 1) M walls and 3 M - 2 per end face (an
+  // annulus of 2 M, the inner polygon's M - 2), flank_mesh.h.
+  ASSERT_EQ(gm.mesh.n_vertices(), static_cast<size_t>((spec.face_samples + 2) * M));
+  ASSERT_EQ(gm.mesh.n_faces(),
+            static_cast<size_t>(2 * (spec.face_samples - 1) * M + 2 * (3 * M - 2)));
   ASSERT_EQ(gm.faces.size(), gm.mesh.n_faces());
 
   const MeshCheck check = check_mesh(gm.mesh, /*check_self_intersection=*/true);
@@ -211,7 +214,16 @@ TEST(GearMesh, NominalGearIsAClosedOutwardSolidWithTheAnalyticVolume) {
   EXPECT_EQ(flank, wall * 2 * (spec.profile_samples - 1));
   EXPECT_EQ(tip, wall * (spec.tip_samples + 1));
   EXPECT_EQ(root, wall * (spec.root_samples + 1));
-  EXPECT_EQ(end, 2 * M);
+  EXPECT_EQ(end, 2 * (3 * M - 2));
+  // No vertex with more than a few neighbours, whatever M (a fan made one centre vertex the
+  // neighbour of all M, and building such a vertex costs OpenMesh O(M^2)): a wall vertex has 6,
+  // an inner-ring vertex 4 in the annulus and at most 2 strip diagonals, a section vertex on an
+  // end 4 along the wall and 2 on the inner ring.
+  size_t max_valence = 0;
+  for (const auto vh : gm.mesh.vertices()) {
+    max_valence = std::max(max_valence, static_cast<size_t>(gm.mesh.valence(vh)));
+  }
+  EXPECT_LE(max_valence, 8u);
 }
 
 TEST(GearMesh, PerturbedGearIsClosedAndFlankFacesLieOnTheirFlanks) {

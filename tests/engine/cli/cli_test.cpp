@@ -133,8 +133,8 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   EXPECT_EQ(run("export-mesh --gear 2").exit_code, 2);  // --out is required
   // The mesh's size is bounded before any work (the allowed option maxima, 2000 × 20000, once
   // ran out of memory under 4 GB): P1's 24 teeth × (2 × 2000 + 6 + 12) = 96 432 vertices per
-  // section, beyond 20 000; 200 × 1000 gives 24 × 418 = 10 032 per section and 10 032 002 in
-  // all, beyond 2 000 000.
+  // section, beyond 20 000; 200 × 1000 gives 24 × 418 = 10 032 per section and (1000 + 2) × 10 032
+  // = 10 052 064 in all (sections and the end faces' inner rings), beyond 2 000 000.
   const std::string mesh = testing::TempDir() + "big.stl";
   const Result wide =
       run("export-mesh --gear 0 --profile-samples 2000 --face-samples 20000 --out " + mesh);
@@ -143,7 +143,7 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   const Result long_mesh =
       run("export-mesh --gear 0 --profile-samples 200 --face-samples 1000 --out " + mesh);
   EXPECT_EQ(long_mesh.exit_code, 2);
-  EXPECT_NE(long_mesh.err.find("10032 per section (24 teeth × (2 × 200 + 18)) and 10032002 in all"),
+  EXPECT_NE(long_mesh.err.find("10032 per section (24 teeth × (2 × 200 + 18)) and 10052064 in all"),
             std::string::npos)
       << long_mesh.err;
   EXPECT_FALSE(std::filesystem::exists(mesh));
