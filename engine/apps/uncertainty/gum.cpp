@@ -178,7 +178,11 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
     o.u_first_order = std::sqrt(std::max(0.0, var));
     o.second_order_variance = second[k];
     o.u = std::sqrt(std::max(0.0, var + second[k]));
-    if (!std::isfinite(o.estimate) || !std::isfinite(o.u)) {
+    // Tested before the max() above can hide it: max(0, NaN) is 0, so a sensitivity that is not
+    // finite (the model overflowing next to the estimate) once gave u = 0 and "inf" cells.
+    const bool sensitivities_finite =
+        std::all_of(c[k].begin(), c[k].end(), [](double v) { return std::isfinite(v); });
+    if (!std::isfinite(o.estimate) || !std::isfinite(var + second[k]) || !sensitivities_finite) {
       std::string inputs;
       for (std::size_t i = 0; i < n; ++i) {
         inputs += (i ? ", " : "") + model.inputs[i].name + " = " + shortest_text(r.x[i]);

@@ -122,6 +122,28 @@ TEST(UncertaintyCli, HugeOutputValuesKeepAFiniteMean) {
   fs::remove(model);
 }
 
+// A sensitivity that is not finite while y is: exp(X1) at X1 = 709.78 is 1.79e308, finite, but
+// the central difference's step 1e-3 u = 0.01 reaches exp(709.79) = inf (exp overflows beyond
+// ln(DBL_MAX) = 709.7827). max(0, NaN) = 0 once turned that into a printed u(y) = 0 and "inf"
+// cells in the report (the fuzzer's mass calibration with 1e308/rho_W); it is an error at the
+// output, naming the sensitivity and the input estimates, and nothing is written.
+TEST(UncertaintyCli, ANonFiniteSensitivityIsAnErrorNotAZeroU) {
+  const std::string model = write_model("overflowing", R"M(name: overflowing
+inputs:
+  X1: {normal: [709.78, 10]}
+outputs:
+  Y: "exp(X1)"
+settings: {trials: 2000, seed: 3}
+)M");
+  const std::string out = temp_dir("overflowing_out");
+  const auto r = run_gearmc("uncertainty " + model + " --out " + out + " --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("outputs.Y: got 'dY/dX1 = inf'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("at the input estimates (X1 = 709.78)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove(model);
+}
+
 TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
   const std::string g = kGood;
   const BadCase cases[] = {
@@ -150,8 +172,8 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
        ":7:6:", "not an assignment ('=' at character 3"},
       {"add_assignment", replace(g, "X1 + X2*X3", "X1 += 3"), ":7:6:", "not an assignment"},
       // u = 2.9e307 is a double, its square is not: found by the command fuzzer (nan tables).
-      {"variance", replace(g, "uniform: [-1, 1]", "uniform: [-1, 1e308]"), ":4:",
-       "whose mean and variance a double can hold"},
+      {"variance", replace(g, "uniform: [-1, 1]", "uniform: [-1, 1e308]"),
+       ":4:", "whose mean and variance a double can hold"},
       // A pole at the input estimates (X1's mean is 0): no GUM linearisation, not a nan table.
       {"pole", replace(g, "X1 + X2*X3", "1/X1"),
        ":7:6:", "outputs.Y: got 'y = inf', expected a model with a finite value"},
