@@ -17,11 +17,23 @@ struct BaseAngle {
   double cos, sin;
 };
 
-// phi_b at roll length L (mm) of flank `side` of `tooth`: as InvoluteGear::flank_point computes it.
+// phi_b at roll length L (mm) of flank `side` of `tooth`: as InvoluteGear::flank_point computes it
+// for a spur gear.
 inline BaseAngle base_angle(const InvoluteGear& gear, int tooth, FlankSide side, double L) {
   const double xi = L / (gear.base_diameter_mm() / 2.0);
   const double phi_b =
       gear.tooth_centre_angle_rad(tooth) + side_sign(side) * (gear.base_half_angle_rad() - xi);
+  return {std::cos(phi_b), std::sin(phi_b)};
+}
+
+// The same at height z (mm) of a helical gear: the transverse section turned by z
+// helix_turn_per_mm (InvoluteGear::flank_point).
+inline BaseAngle base_angle(const InvoluteGear& gear, int tooth, FlankSide side, double L,
+                            double z) {
+  const double xi = L / (gear.base_diameter_mm() / 2.0);
+  const double phi_b = gear.tooth_centre_angle_rad(tooth) +
+                       side_sign(side) * (gear.base_half_angle_rad() - xi) +
+                       z * gear.helix_turn_per_mm();
   return {std::cos(phi_b), std::sin(phi_b)};
 }
 

@@ -7,6 +7,8 @@
 //   S_Lz = t delta_z / r_b + delta_Lz n,              S_zz = delta_zz n.
 #include "surfaces/analytic_flank.h"
 
+#include "core/check.h"
+
 #include "surfaces/flank_frame.h"
 
 #include <Eigen/Geometry>
@@ -29,7 +31,12 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       eccentricity_(eccentricity_mm.x(), eccentricity_mm.y(), 0.0),
       expression_(expression),
       ranges_(deviation.derivative_ranges()),
-      inverse_base_radius_(2.0 / gear.base_diameter_mm()) {}
+      inverse_base_radius_(2.0 / gear.base_diameter_mm()) {
+  // The flank frame and the contact solver are transverse (spur) constructions; helical gears
+  // reach gearmc's commands only through the gears layer so far (scenarios refuse them).
+  GEARMC_CHECK(!gear.helical(),
+               "AnalyticFlank: helical gears are not supported by the flank model");
+}
 
 FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
   const Eigen::Vector3d t(f.t.x(), f.t.y(), 0.0), n(f.m.x(), f.m.y(), 0.0);

@@ -15,6 +15,7 @@ namespace gearmc {
 int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostream& err) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  require_spur_gear(scenario, "export-mesh");
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   check_output_file(o.out, "--out");
   try {
@@ -34,8 +35,7 @@ int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostr
   const std::uint64_t per_section =
       static_cast<std::uint64_t>(scenario.gear.teeth) *
       (2 * static_cast<std::uint64_t>(spec.profile_samples) + spec.tip_samples + spec.root_samples);
-  const std::uint64_t vertices =
-      (static_cast<std::uint64_t>(spec.face_samples) + 2) * per_section;
+  const std::uint64_t vertices = (static_cast<std::uint64_t>(spec.face_samples) + 2) * per_section;
   if (per_section > kMaxMeshSectionVertices || vertices > kMaxMeshVertices) {
     throw InputError(
         {}, "--profile-samples, --face-samples",

@@ -25,6 +25,7 @@ std::string short_number(double v) {
 int export_plan_command(const ExportPlanOptions& o, std::ostream& out, std::ostream& err) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
+  require_spur_gear(scenario, "export-plan");
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   if (o.format != "dmis") {
     throw InputError({}, "--format", o.format, "dmis (the only plan format so far)");

@@ -43,6 +43,17 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
                   {{"addendum", p.rack.addendum},
                    {"dedendum", p.rack.dedendum},
                    {"root_radius", p.rack.root_radius}}}};
+  if (gear.helical()) {  // ISO 21771 §4: the transverse section's values below are these
+    doc["helix"] = {
+        {"helix_angle_beta_deg", p.helix_angle_deg},
+        {"hand", p.hand == Hand::kRight ? "right" : "left"},
+        {"base_helix_angle_beta_b_deg", deg(gear.base_helix_angle_rad())},
+        {"transverse_module_m_t_mm", mm(gear.transverse_module_mm())},
+        {"transverse_pressure_angle_alpha_t_deg", deg(gear.transverse_pressure_angle_rad())},
+        {"lead_p_z_mm", mm(gear.lead_mm())},
+        {"normal_base_pitch_p_bn_mm",
+         mm(gear.base_pitch_mm() * std::cos(gear.base_helix_angle_rad()))}};
+  }
   doc["geometry_mm"] = {{"reference_diameter_d", mm(gear.reference_diameter_mm())},
                         {"tip_diameter_d_a", mm(gear.tip_diameter_mm())},
                         {"root_diameter_d_f", mm(gear.root_diameter_mm())},

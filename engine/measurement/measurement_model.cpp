@@ -20,7 +20,9 @@ struct MeasurementModel::ThreadExpressions {
 };
 
 MeasurementModel::MeasurementModel(const Scenario& scenario)
-    : scenario_(scenario), gear_(std::make_unique<InvoluteGear>(scenario.gear)) {
+    : scenario_(scenario),
+      gear_((require_spur_gear(scenario, ""), std::make_unique<InvoluteGear>(scenario.gear))) {
+  // (A sweep's variant can make a gear helical after its command's own check.)
   tolerances_ = resolve_scenario_tolerances(scenario_, *gear_);
   sampler_ =
       std::make_unique<GearSampler>(*gear_, tolerances_, scenario_.deviations, scenario_.seed);

@@ -43,6 +43,10 @@ const RangeTable& gear_ranges() {
        {"gear.pressure_angle_deg", "deg", NumberRange{5, 45, true, false}, 14.5, 30,
         "ISO 53: 20°; 14.5°, 25° and 30° are also made",
         "a value below 1 is an angle in radians (0.349 rad = 20°): give degrees"},
+       {"gear.helix_angle_deg", "deg", NumberRange{0, 45, true, false}, 0, 35,
+        "ISO 21771: beta at the reference diameter; helical gears are made with 8°–35°, "
+        "double-helical up to 45°",
+        "a value below 1 is an angle in radians (0.262 rad = 15°): give degrees"},
        {"gear.profile_shift", "", closed(-1.5, 3), -1, 1.5,
         "profile shift coefficients in practice -1…+1.5 (P1: 0.90116)", ""},
        {"gear.face_width_mm", "mm", closed(0.01, 5000), 1, 1200,
