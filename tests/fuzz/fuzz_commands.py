@@ -371,7 +371,8 @@ def reject_constant(name):
 
 def limits(memory_mb, seconds):
     def apply():
-        resource.setrlimit(resource.RLIMIT_AS, (memory_mb << 20, memory_mb << 20))
+        if memory_mb > 0:  # 0: no cap (AddressSanitizer reserves terabytes of address space)
+            resource.setrlimit(resource.RLIMIT_AS, (memory_mb << 20, memory_mb << 20))
         resource.setrlimit(resource.RLIMIT_CPU, (seconds * 4, seconds * 4))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
         os.setsid()
@@ -458,7 +459,8 @@ def main():
     ap.add_argument("--inputs", type=int, default=900, help="inputs in all (spread over commands)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--timeout", type=int, default=20, help="seconds per run")
-    ap.add_argument("--memory-mb", type=int, default=4096, help="address-space cap per run")
+    ap.add_argument("--memory-mb", type=int, default=4096,
+                    help="address-space cap per run (0: none, for sanitizer builds)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--save", help="folder for the inputs that were not clean")
     ap.add_argument("--only", help="comma-separated commands")

@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -41,7 +41,9 @@ bool parallel_trials(std::uint64_t n, const std::atomic<bool>* cancel, Body body
 AxisResult mc_axis(std::vector<double> v, double p) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
   AxisResult a;
-  if (v.size() < 2) return a;
+  // Too few values left for a coverage interval (most trials failed: the run is refused by
+  // r_test_refusal, kMaxFailedShare): no statistics, rather than an interval read past the end.
+  if (v.size() < 2 || uncertainty::coverage_count(v.size(), p) >= v.size()) return a;
   double mean = 0.0;
   for (double x : v) mean += x;
   mean /= static_cast<double>(v.size());

@@ -142,6 +142,9 @@ std::uint64_t coverage_count(std::uint64_t M, double p) { return gearmc::coverag
 Interval symmetric_interval(const std::vector<double>& sorted, double p) {
   const std::uint64_t M = sorted.size();
   const std::uint64_t q = coverage_count(M, p);
+  // r + q − 1 must index a value: q < M (callers check; the R-Test's axes once passed 5 values
+  // left of 2000 trials at p 0.95, q = 5, and read one past the end).
+  GEARMC_CHECK(q < M, "symmetric_interval: fewer values than the coverage needs");
   // 1-based r; (M − q)/2 when an integer, else floor((M − q + 1)/2).
   std::uint64_t r = (M - q) % 2 == 0 ? (M - q) / 2 : (M - q + 1) / 2;
   if (r < 1) r = 1;

@@ -95,6 +95,13 @@ TEST(UncertaintyMcm, NumericalToleranceBlockSizeAndIntervals) {
   y.push_back(30);
   EXPECT_EQ(coverage_count(21, 0.9), 19u);
   EXPECT_DOUBLE_EQ(symmetric_interval(y, 0.9).hi, 20.5);
+  // M = 5, p = 0.95: q = round(4.75) = 5 = M, no interval: an internal error (exit 4), not a
+  // read past the end (AddressSanitizer found the R-Test's axes passing 5 values left of 2000
+  // trials; they now check first, r_test_evaluation.cpp).
+  const std::vector<double> five = {1, 2, 3, 4, 5};
+  EXPECT_EQ(coverage_count(5, 0.95), 5u);
+  EXPECT_EXIT(symmetric_interval(five, 0.95), testing::ExitedWithCode(4),
+              "fewer values than the coverage needs");
 }
 
 // The smallest M with a coverage interval, against a brute-force scan of the definition
