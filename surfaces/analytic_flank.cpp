@@ -5,6 +5,14 @@
 //   S_L  = t (L + delta) / r_b + delta_L n,           S_z  = e_z + delta_z n,
 //   S_LL = t (1 + 2 delta_L) / r_b + n (delta_LL - (L + delta) / r_b^2),
 //   S_Lz = t delta_z / r_b + delta_Lz n,              S_zz = delta_zz n.
+// A helical flank (flank_frame.h): the transverse section at z is the one at 0 turned by g z
+// (g = side sign * helix_turn_per_mm), so phi_b = phi_b(L) + g' z and t_z = g n, n_z = -g t with
+// n = n_t the transverse normal; P = r_b e(phi_b) + L n + z e_z gives P_z = e_z + g (r_b n - L t)
+// and S = P + delta n + eps
+//   S_z  = e_z - g (L + delta) t + (g r_b + delta_z) n,
+//   S_Lz = (delta_z / r_b - g delta_L) t + (delta_Lz + g (L + delta) / r_b) n,
+//   S_zz = -g (2 delta_z + g r_b) t + (delta_zz - g^2 (L + delta)) n,
+// S_L and S_LL as above (t_L and n_L do not see z).
 #include "surfaces/analytic_flank.h"
 
 #include "core/check.h"
@@ -12,6 +20,7 @@
 #include "surfaces/flank_frame.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace gearmc {
 
@@ -31,12 +40,12 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       eccentricity_(eccentricity_mm.x(), eccentricity_mm.y(), 0.0),
       expression_(expression),
       ranges_(deviation.derivative_ranges()),
-      inverse_base_radius_(2.0 / gear.base_diameter_mm()) {
-  // The flank frame and the contact solver are transverse (spur) constructions; helical gears
-  // reach gearmc's commands only through the gears layer so far (scenarios refuse them).
-  GEARMC_CHECK(!gear.helical(),
-               "AnalyticFlank: helical gears are not supported by the flank model");
-}
+      inverse_base_radius_(2.0 / gear.base_diameter_mm()),
+      base_radius_(0.5 * gear.base_diameter_mm()),
+      frame_turn_per_mm_(side_sign(side) * gear.helix_turn_per_mm()),
+      cos_base_helix_(std::cos(gear.base_helix_angle_rad())),
+      sin_base_helix_(std::sin(gear.base_helix_angle_rad())),
+      normal_z_(-side_sign(side) * hand_sign(gear.hand()) * sin_base_helix_) {}
 
 FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
   const Eigen::Vector3d t(f.t.x(), f.t.y(), 0.0), n(f.m.x(), f.m.y(), 0.0);
@@ -52,11 +61,29 @@ FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
   return out;
 }
 
+FlankSurfacePoint frame_to_surface(const HelicalFramePoint& h, const InvoluteGear& gear,
+                                   FlankSide side) {
+  FlankSurfacePoint out = frame_to_surface(h.f);
+  const Eigen::Vector3d t(h.f.t.x(), h.f.t.y(), 0.0), m(h.f.m.x(), h.f.m.y(), 0.0);
+  out.d_dz = Eigen::Vector3d::UnitZ() + h.z_t * t + h.z_m * m;
+  out.d2_dLdz = h.lz_t * t + h.lz_m * m;
+  out.d2_dz2 = h.zz_t * t + h.zz_m * m;
+  const double beta_b = gear.base_helix_angle_rad();
+  out.nominal_normal = std::cos(beta_b) * m - side_sign(side) * hand_sign(gear.hand()) *
+                                                  std::sin(beta_b) * Eigen::Vector3d::UnitZ();
+  return out;
+}
+
 FlankSurfacePoint AnalyticFlank::evaluate(double L, double z) const {
+  if (gear_.helical()) {
+    return frame_to_surface(
+        evaluate_helical_frame(*this, L, z, base_angle(gear_, tooth_, side_, L, z)), gear_, side_);
+  }
   return frame_to_surface(evaluate_frame(*this, L, z, base_angle(gear_, tooth_, side_, L)));
 }
 
 Eigen::Vector3d AnalyticFlank::point(double L, double z) const {
+  if (gear_.helical()) return surface_point_at(*this, L, z, base_angle(gear_, tooth_, side_, L, z));
   return surface_point_at(*this, L, z, base_angle(gear_, tooth_, side_, L));
 }
 

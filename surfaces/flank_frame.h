@@ -64,10 +64,50 @@ inline FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, doub
   return out;
 }
 
+// A helical flank (involute helicoid, gears/involute_gear.h) in the same frame. The deviation
+// delta is transverse, along m = n_t (as gear measuring instruments report it, ISO 1328-1: in
+// the transverse plane along the base tangent; the deviation normal to the flank is delta
+// cos(beta_b)), so S = P + delta m + eps stays in the frame (t, m, e_z). With g = side sign *
+// helix_turn_per_mm (rad/mm; t_z = g m, m_z = -g t, t_L = -m / r_b, m_L = t / r_b) and
+// P_z = e_z + g (r_b m - L t), the partials are (derived in analytic_flank.cpp)
+//   S_L  = a t + delta_L m                        (as for a spur flank)
+//   S_z  = e_z + z_t t + z_m m,                   z_t = -g r_b a,  z_m = g r_b + delta_z
+//   S_LL = b t + c m                              (as for a spur flank)
+//   S_Lz = lz_t t + lz_m m,  lz_t = delta_z / r_b - g delta_L,  lz_m = delta_Lz + g a
+//   S_zz = zz_t t + zz_m m,  zz_t = -g (2 delta_z + g r_b),  zz_m = delta_zz - g^2 r_b a.
+// At g = 0 these are the spur partials.
+struct HelicalFramePoint {
+  FlankFramePoint f;  // point, t, m, a, b, c and the deviation's partials
+  double z_t, z_m, lz_t, lz_m, zz_t, zz_m;
+};
+
+// S and its partials at (L, z) of a helical flank with phi_b's cos and sin at (L, z) given
+// (base_angle.h, the five-argument form).
+inline HelicalFramePoint evaluate_helical_frame(const AnalyticFlank& flank, double L, double z,
+                                                const BaseAngle& angle) {
+  HelicalFramePoint out;
+  out.f = evaluate_frame(flank, L, z, angle);  // the point is the helicoid's: P_z = z
+  const FlankFramePoint& f = out.f;
+  const double g = flank.frame_turn_per_mm();
+  const double g_rb = g * flank.base_radius();
+  out.z_t = -g_rb * f.a;
+  out.z_m = g_rb + f.d_z;
+  out.lz_t = f.d_z_over_rb - g * f.d_L;
+  out.lz_m = f.d_Lz + g * f.a;
+  out.zz_t = -g * (2.0 * f.d_z + g_rb);
+  out.zz_m = f.d_zz - g * g_rb * f.a;
+  return out;
+}
+
 // The vectors of FlankSurfacePoint from the frame form (AnalyticFlank::evaluate is this of
 // evaluate_frame: the same values).
 FlankSurfacePoint frame_to_surface(const FlankFramePoint& f);
-// S(L, z) with phi_b's cos and sin at L given (AnalyticFlank::point is this with base_angle).
+// The same of a helical flank; its nominal normal is the helicoid's, cos(beta_b) m - side hand
+// sin(beta_b) e_z (InvoluteGear::flank_point).
+FlankSurfacePoint frame_to_surface(const HelicalFramePoint& h, const InvoluteGear& gear,
+                                   FlankSide side);
+// S(L, z) with phi_b's cos and sin at L given (AnalyticFlank::point is this with base_angle;
+// of a helical flank the angle at (L, z)).
 inline Eigen::Vector3d surface_point_at(const AnalyticFlank& flank, double L, double z,
                                         const BaseAngle& angle) {
   const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);

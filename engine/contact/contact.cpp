@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 namespace gearmc {
 namespace {
@@ -31,12 +32,22 @@ struct Local {
 // Where one solve's evaluations take the base point's angle from: its value at the start's
 // roll length, turned by the small angle to each new L (base_angle_near, gears/base_angle.h),
 // so a solve calls sincos once.
+// A helical flank's angle also turns with z (helix_turn_per_mm): the anchor keeps its z.
 struct AngleAnchor {
   double L;
   BaseAngle angle;
-  double per_mm;  // base_angle_per_mm: one division per solve
+  double per_mm;        // base_angle_per_mm: one division per solve
+  double z = 0.0;       // helical: the anchor's z (mm)
+  double per_mm_z = 0;  // helical: helix_turn_per_mm (rad/mm)
   BaseAngle at(const AnalyticFlank& flank, double L_new) const {
     return base_angle_near(flank.gear(), flank.tooth(), flank.side(), angle, L, per_mm, L_new);
+  }
+  BaseAngle at(const AnalyticFlank& flank, double L_new, double z_new) const {
+    const double d = (L_new - L) * per_mm + (z_new - z) * per_mm_z;
+    if (!(std::abs(d) <= 1.0 / 32.0)) {
+      return base_angle(flank.gear(), flank.tooth(), flank.side(), L_new, z_new);
+    }
+    return turn_small(angle, d);
   }
 };
 
@@ -87,6 +98,71 @@ Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Ei
   return m;
 }
 
+// The same on a helical flank: S_z, S_Lz and S_zz gain transverse components (flank_frame.h),
+// so S_L.S_z = a z_t + delta_L z_m and |S_z|^2 = 1 + z_t^2 + z_m^2.
+Local local_model_helical(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                          const Eigen::Vector3d& n, double R, double L, double z,
+                          const AngleAnchor& anchor, HelicalFramePoint* keep = nullptr) {
+  const HelicalFramePoint h = evaluate_helical_frame(flank, L, z, anchor.at(flank, L, z));
+  const FlankFramePoint& s = h.f;
+  if (keep) *keep = h;
+  const Eigen::Vector3d w = s.point - p;
+  const double wn = w.dot(n);
+  const Eigen::Vector3d w_perp = w - wn * n;
+  const double q2 = R * R - w_perp.squaredNorm();
+  Local m{};
+  m.point = s.point;
+  if (q2 <= 0.0) {
+    m.reachable = false;
+    m.f = -std::numeric_limits<double>::infinity();
+    return m;
+  }
+  m.reachable = true;
+  const double q = std::sqrt(q2);
+  const double inv_q = 1.0 / q;
+  m.f = wn + q;
+  const double tn = s.t.x() * n.x() + s.t.y() * n.y(), mn = s.m.x() * n.x() + s.m.y() * n.y();
+  const double tw = s.t.x() * w_perp.x() + s.t.y() * w_perp.y();
+  const double mw = s.m.x() * w_perp.x() + s.m.y() * w_perp.y();
+  const double zn = n.z(), zw = w_perp.z();
+  const double nL = s.a * tn + s.d_L * mn, nz = zn + h.z_t * tn + h.z_m * mn;
+  const double wL = s.a * tw + s.d_L * mw, wz = zw + h.z_t * tw + h.z_m * mw;
+  m.gradient[0] = nL - wL * inv_q;
+  m.gradient[1] = nz - wz * inv_q;
+  const double inv_q3 = inv_q * inv_q * inv_q;
+  const double LL = s.a * s.a + s.d_L * s.d_L, Lz = s.a * h.z_t + s.d_L * h.z_m,
+               zz = 1.0 + h.z_t * h.z_t + h.z_m * h.z_m;
+  const double hLL =
+      (s.b * tn + s.c * mn) - (LL - nL * nL + (s.b * tw + s.c * mw)) * inv_q - wL * wL * inv_q3;
+  const double hLz = (h.lz_t * tn + h.lz_m * mn) -
+                     (Lz - nL * nz + (h.lz_t * tw + h.lz_m * mw)) * inv_q - wL * wz * inv_q3;
+  const double hzz = (h.zz_t * tn + h.zz_m * mn) -
+                     (zz - nz * nz + (h.zz_t * tw + h.zz_m * mw)) * inv_q - wz * wz * inv_q3;
+  m.hessian << hLL, hLz, hLz, hzz;
+  return m;
+}
+
+// The model of either kind of flank.
+template <bool kHelical>
+Local model_at(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+               double R, double L, double z, const AngleAnchor& anchor) {
+  if constexpr (kHelical) {
+    return local_model_helical(flank, p, n, R, L, z, anchor);
+  } else {
+    return local_model(flank, p, n, R, L, z, anchor);
+  }
+}
+
+// The base point's angle at (L, z) from the anchor, of either kind of flank.
+template <bool kHelical>
+BaseAngle angle_at(const AnalyticFlank& flank, const AngleAnchor& anchor, double L, double z) {
+  if constexpr (kHelical) {
+    return anchor.at(flank, L, z);
+  } else {
+    return anchor.at(flank, L);
+  }
+}
+
 // f at (L, z) and the flank point S(L, z) there (mm), the base point's angle given.
 double height_at(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
                  double R, double L, double z, const BaseAngle& angle, Eigen::Vector3d* point) {
@@ -101,8 +177,10 @@ double height_at(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eig
 double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                       const Eigen::Vector3d& n, double R, double L, double z) {
   Eigen::Vector3d point;
-  return height_at(flank, p, n, R, L, z, base_angle(flank.gear(), flank.tooth(), flank.side(), L),
-                   &point);
+  const BaseAngle angle = flank.gear().helical()
+                              ? base_angle(flank.gear(), flank.tooth(), flank.side(), L, z)
+                              : base_angle(flank.gear(), flank.tooth(), flank.side(), L);
+  return height_at(flank, p, n, R, L, z, angle, &point);
 }
 
 namespace {
@@ -117,11 +195,20 @@ struct LocalSolution {
   Eigen::Vector3d point;  // S(x), mm (kOk)
 };
 
+template <bool kHelical>
+using FrameOf = std::conditional_t<kHelical, HelicalFramePoint, FlankFramePoint>;
+
+template <bool kHelical>
 LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
                           const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R,
                           Eigen::Vector2d x, const AngleAnchor& anchor,
-                          FlankFramePoint* start = nullptr) {
-  Local m = local_model(flank, p, n, R, x[0], x[1], anchor, start);
+                          FrameOf<kHelical>* start = nullptr) {
+  Local m;
+  if constexpr (kHelical) {
+    m = local_model_helical(flank, p, n, R, x[0], x[1], anchor, start);
+  } else {
+    m = local_model(flank, p, n, R, x[0], x[1], anchor, start);
+  }
   bool converged = false, at_edge = false;
   double final_height = 0.0, gradient_bound = 0.0;
   Eigen::Vector3d final_point = Eigen::Vector3d::Zero();
@@ -155,7 +242,8 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
       // sphere on a flank is of order 3 / R^2, taken here as 1e3 / R^2 (the resulting
       // certificate term, ~1e-17 mm, is nine orders below its tolerance).
       x += step;
-      final_height = height_at(flank, p, n, R, x[0], x[1], anchor.at(flank, x[0]), &final_point);
+      final_height = height_at(flank, p, n, R, x[0], x[1],
+                               angle_at<kHelical>(flank, anchor, x[0], x[1]), &final_point);
       at_edge = x[0] < extent.roll_length_min || x[0] > extent.roll_length_max ||
                 x[1] < extent.z_min || x[1] > extent.z_max;
       converged = std::isfinite(final_height);
@@ -165,7 +253,7 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
     }
     Local trial;
     for (int halvings = 0;; ++halvings) {
-      trial = local_model(flank, p, n, R, x[0] + step[0], x[1] + step[1], anchor);
+      trial = model_at<kHelical>(flank, p, n, R, x[0] + step[0], x[1] + step[1], anchor);
       if (trial.reachable && (newton_region || trial.f >= m.f)) break;
       if (halvings == 40) break;
       step *= 0.5;
@@ -197,11 +285,26 @@ LocalSolution local_solve(const AnalyticFlank& flank, const FlankExtent& extent,
           final_point};
 }
 
+// What the certificate checks p and n against: S(L0, z0), the nominal normal there and the
+// deviation (contact_certificate.h).
+ContactStart start_of(const FlankFramePoint& f, const AnalyticFlank&) {
+  return ContactStart(f.point, Eigen::Vector3d(f.m.x(), f.m.y(), 0.0), f.deviation_um);
+}
+
+template <bool kHelical>
+ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const Eigen::Vector3d& p,
+                    const Eigen::Vector3d& n, double R, double L0, double z0,
+                    const BaseAngle& angle_at_L0, const FlankCurvatureBound* flank_bound);
+
 }  // namespace
 
 ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& extent,
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0) {
+  if (flank.gear().helical()) {
+    return solve_contact(flank, extent, p, n, R, L0, z0,
+                         base_angle(flank.gear(), flank.tooth(), flank.side(), L0, z0));
+  }
   return solve_contact(flank, extent, p, n, R, L0, z0,
                        base_angle(flank.gear(), flank.tooth(), flank.side(), L0));
 }
@@ -210,14 +313,68 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
                             const Eigen::Vector3d& p, const Eigen::Vector3d& n, double R, double L0,
                             double z0, const BaseAngle& angle_at_L0,
                             const FlankCurvatureBound* flank_bound) {
+  return flank.gear().helical()
+             ? solve<true>(flank, extent, p, n, R, L0, z0, angle_at_L0, flank_bound)
+             : solve<false>(flank, extent, p, n, R, L0, z0, angle_at_L0, flank_bound);
+}
+
+namespace {
+
+template <bool kHelical>
+ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const Eigen::Vector3d& p,
+                    const Eigen::Vector3d& n, double R, double L0, double z0,
+                    const BaseAngle& angle_at_L0, const FlankCurvatureBound* flank_bound) {
   ContactResult result;
-  const AngleAnchor anchor{L0, angle_at_L0, base_angle_per_mm(flank.gear(), flank.side())};
-  FlankFramePoint start_frame;  // S(L0, z0): the certificate checks p and n against it
-  LocalSolution s =
-      local_solve(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), anchor, &start_frame);
-  const ContactStart start(start_frame.point,
-                           Eigen::Vector3d(start_frame.m.x(), start_frame.m.y(), 0.0),
-                           start_frame.deviation_um);
+  AngleAnchor anchor{L0, angle_at_L0, base_angle_per_mm(flank.gear(), flank.side())};
+  if constexpr (kHelical) {
+    anchor.z = z0;
+    anchor.per_mm_z = flank.gear().helix_turn_per_mm();
+  }
+  FlankFramePoint start_frame;  // spur: S(L0, z0), the certificate checks p and n against it
+  ContactStart start(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0);
+  LocalSolution s;
+  if constexpr (kHelical) {
+    // On a helicoid the probing normal n is not the transverse n_t along which the deviation
+    // and the eccentricity move the flank, so the contact lies |w_perp| (w = S(L0, z0) - p)
+    // from S(L0, z0) in the tangent plane: ~ delta0 sin(beta_b) along the generator, 15 µm for
+    // P1's 60 µm. Newton from (L0, z0) then needs a third iteration; the foot of p's line on the
+    // tangent plane at S(L0, z0) is within the spur start's distance (the normal's turn over R):
+    // start there, one step of S_a.dx = -w_perp by the 2 x 2 normal equations.
+    // S(L0, z0) from the deviation's value alone (the certificate's start), the tangents of
+    // the flank there to first order in the deviation (its slopes move the foot by |w_perp|
+    // times them: nanometres).
+    const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L0, z0, angle_at_L0);
+    double d = flank.deviation().normal_um(L0, z0);
+    if (const NormalExpression* expression = flank.expression()) {
+      d += expression->value_um(L0, z0, flank.tooth(), side_sign(flank.side()));
+    }
+    const Eigen::Vector3d S0 = nominal.point + 1e-3 * d * nominal.normal + flank.eccentricity();
+    const double c = flank.cos_base_helix();
+    start = ContactStart(
+        S0, Eigen::Vector3d(c * nominal.normal.x(), c * nominal.normal.y(), flank.normal_z()), d);
+    const Eigen::Vector3d w = S0 - p;
+    const Eigen::Vector3d w_perp = w - w.dot(n) * n;
+    const Eigen::Vector3d& t = nominal.profile_tangent;
+    const Eigen::Vector3d& m = nominal.normal;
+    const double tw = t.x() * w_perp.x() + t.y() * w_perp.y();
+    const double mw = m.x() * w_perp.x() + m.y() * w_perp.y();
+    const double g_rb = flank.frame_turn_per_mm() * flank.base_radius();
+    const double a = (L0 + 1e-3 * d) * flank.inverse_base_radius();
+    const double z_t = -g_rb * a, z_m = g_rb;
+    const double gL = a * tw, gz = w_perp.z() + z_t * tw + z_m * mw;
+    const double GLL = a * a, GLz = a * z_t, Gzz = 1.0 + z_t * z_t + z_m * z_m;
+    const double inverse_det = 1.0 / (GLL * Gzz - GLz * GLz);
+    Eigen::Vector2d x((GLz * gz - Gzz * gL) * inverse_det, (GLz * gL - GLL * gz) * inverse_det);
+    x += Eigen::Vector2d(L0, z0);
+    if (!(x - Eigen::Vector2d(L0, z0)).allFinite() || (x - Eigen::Vector2d(L0, z0)).norm() > R) {
+      x = Eigen::Vector2d(L0, z0);
+    }
+    s = local_solve<kHelical>(flank, extent, p, n, R, x, anchor);
+  } else {
+    s = local_solve<kHelical>(flank, extent, p, n, R, Eigen::Vector2d(L0, z0), anchor,
+                              &start_frame);
+    start = start_of(start_frame, flank);
+  }
   result.iterations = s.iterations;
   // The certificate (contact_certificate.h): restart from a higher point until none is left.
   // The flank's stage-1 bound first, inline (certify_contact would try it first as well).
@@ -242,7 +399,7 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
       break;
     }
     ++result.restarts;
-    s = local_solve(flank, extent, p, n, R, c.higher_point, anchor);
+    s = local_solve<kHelical>(flank, extent, p, n, R, c.higher_point, anchor);
     result.iterations += s.iterations;
   }
   result.roll_length_mm = s.x[0];
@@ -256,8 +413,6 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
   result.normal_error_um = 1e3 * (result.reported - result.contact).dot(n);
   return result;
 }
-
-namespace {
 
 // Distance (mm) in the transverse plane from point X to the nominal flank `side` of `tooth`,
 // limited to the flank's real extent [L_form, L_tip]: closed form r_b (inv(alpha_X) + s phi -
@@ -295,10 +450,28 @@ ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, F
   const Eigen::Vector3d start = centre + approach_mm * n;
   ToothSpaceClearance c{std::numeric_limits<double>::infinity(),
                         std::numeric_limits<double>::infinity()};
+  // A helical gear: the station's transverse section turned back to z = 0 (the section turns by
+  // z helix_turn_per_mm), the transverse distance there, times cos(beta_a), beta_a the helix
+  // angle at the tip circle (tan(beta_a) = tan(beta) r_a / r, the steepest helix on the tooth):
+  // a lower bound of the distance in space (the flank's tangent plane at the transverse foot
+  // supports the locally convex tooth and lies d_t cos(beta_b) >= d_t cos(beta_a) away; the tip
+  // edge, a helix of angle beta_a, at least d_t cos(beta_a)). The approach is then never passed
+  // as clear when it is not; it may be refused a few per cent early.
+  const bool helical = gear.helical();
+  const double cos_tip_helix =
+      helical ? std::cos(std::atan(std::tan(gear.helix_angle_rad()) * gear.tip_diameter_mm() /
+                                   gear.reference_diameter_mm()))
+              : 1.0;
   for (double a : {0.0, 0.25, 0.5, 0.75, 1.0}) {
-    const Eigen::Vector2d X = (start + a * (centre - start)).head<2>();
-    c.facing_flank_mm =
-        std::min(c.facing_flank_mm, distance_to_flank(gear, facing_tooth, facing_side, X) - R);
+    const Eigen::Vector3d station = start + a * (centre - start);
+    Eigen::Vector2d X = station.head<2>();
+    if (helical) {
+      const double turn = -station.z() * gear.helix_turn_per_mm();
+      const double cs = std::cos(turn), sn = std::sin(turn);
+      X = Eigen::Vector2d(cs * X.x() - sn * X.y(), sn * X.x() + cs * X.y());
+    }
+    const double d = distance_to_flank(gear, facing_tooth, facing_side, X);
+    c.facing_flank_mm = std::min(c.facing_flank_mm, (helical ? cos_tip_helix * d : d) - R);
     c.root_mm = std::min(c.root_mm, X.norm() - R - r_root);
   }
   return c;

@@ -39,14 +39,14 @@ struct ContactResult {
                     // counted with the failed contacts, never used as a value
   };
   Status status = Status::kNotConverged;
-  Eigen::Vector3d contact;        // C, mm
-  Eigen::Vector3d centre;         // O, mm
-  Eigen::Vector3d reported;       // E = O - R n, mm
+  Eigen::Vector3d contact;              // C, mm
+  Eigen::Vector3d centre;               // O, mm
+  Eigen::Vector3d reported;             // E = O - R n, mm
   double roll_length_mm = 0, z_mm = 0;  // parameters of C
-  double delta_um = 0;            // |C - E|
-  double normal_error_um = 0;     // (E - C).n
-  int iterations = 0;             // Newton iterations, all restarts included
-  int restarts = 0;               // Newton restarts from a higher point the certificate found
+  double delta_um = 0;                  // |C - E|
+  double normal_error_um = 0;           // (E - C).n
+  int iterations = 0;                   // Newton iterations, all restarts included
+  int restarts = 0;                     // Newton restarts from a higher point the certificate found
   // kCollision: what the sphere meets (neighbour flank, root; on a mesh flank touching at the
   // start of the approach, mesh_probe.h).
   CollisionKind collision = CollisionKind::kNone;
@@ -91,7 +91,8 @@ void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
                        const Eigen::Vector3d& n, double R, double approach_mm,
                        ContactResult* result);
 
-// The clearances check_tooth_space tests (mm; negative = the sphere overlaps): the smallest,
+// The clearances check_tooth_space tests (mm; negative = the sphere overlaps; of a helical gear
+// the facing flank's a lower bound, see the .cpp): the smallest,
 // over the stations of the approach from centre + approach_mm n to `centre`, of the distance
 // to the facing flank minus R and of the distance from the axis minus R minus the root radius.
 struct ToothSpaceClearance {

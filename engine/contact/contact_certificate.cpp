@@ -30,12 +30,18 @@ struct Frame {
   const AnalyticFlank& flank;
   Eigen::Vector3d p, n, tau, e2;
   double R;
+  // A helical flank's grid is sheared (see sampled_certificate) and may reach beyond the flank's
+  // roll-length extent at some z: nodes there keep h and u (the surface's smooth continuation,
+  // a superset for the bounds) but are never a higher point (no flank there).
+  bool mask_extent = false;
+  double L_min = 0.0, L_max = kInf;
 };
 
 Node sample(const Frame& fr, double L, double z) {
   const Eigen::Vector3d w = fr.flank.point(L, z) - fr.p;
   Node k{L, z, w.dot(fr.n), Eigen::Vector2d(w.dot(fr.tau), w.dot(fr.e2)), -kInf};
   const double q2 = fr.R * fr.R - k.u.squaredNorm();
+  if (fr.mask_extent && (L < fr.L_min || L > fr.L_max)) return k;
   if (q2 > 0.0) k.f = k.h + std::sqrt(q2);
   return k;
 }
@@ -146,7 +152,9 @@ struct CellProver {
     return prove(c0, c1, c2, c3, i, j, 0);
   }
 
-  // Corners c0 (L0, z0), c1 (L1, z0), c2 (L0, z1), c3 (L1, z1), inside grid cell (i, j).
+  // Corners c0 (L0, z0), c1 (L1, z0), c2 (L0', z1), c3 (L1', z1), inside grid cell (i, j): a
+  // parallelogram in (L, z) (L0' = L0 on a spur flank's rectangular grid; sheared on a helical
+  // one), split at its edges' midpoints.
   bool prove(const Node& c0, const Node& c1, const Node& c2, const Node& c3, int i, int j,
              int depth) {
     const Node* c[4] = {&c0, &c1, &c2, &c3};
@@ -181,8 +189,10 @@ struct CellProver {
     if (depth == 4) return false;
     // Split 2 x 2: five new samples.
     const double Lm = 0.5 * (c0.L + c1.L), zm = 0.5 * (c0.z + c2.z);
-    const Node s[5] = {sample(fr, Lm, c0.z), sample(fr, c0.L, zm), sample(fr, Lm, zm),
-                       sample(fr, c1.L, zm), sample(fr, Lm, c2.z)};
+    const double Lm2 = 0.5 * (c2.L + c3.L);  // = Lm on a rectangular grid
+    const Node s[5] = {sample(fr, Lm, c0.z), sample(fr, 0.5 * (c0.L + c2.L), zm),
+                       sample(fr, 0.5 * (Lm + Lm2), zm), sample(fr, 0.5 * (c1.L + c3.L), zm),
+                       sample(fr, Lm2, c2.z)};
     for (const Node& k : s) {
       if (k.f > t_star + kCertificateToleranceMm) {
         higher.push_back(k);
@@ -202,14 +212,32 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
                                        double L_max) {
   ContactCertificate out;
   out.sampled = true;
-  if (std::abs(n.z()) > 1e-9) {
+  const bool helical = flank.gear().helical();
+  if (!helical && std::abs(n.z()) > 1e-9) {
     out.reason = ContactFailure::kNormalNotTransverse;
     return out;
   }
-  const Frame fr{
-      flank, p, n, Eigen::Vector3d::UnitZ().cross(n).normalized(), Eigen::Vector3d::UnitZ(), R};
+  // u = (w.tau, w.e2) with tau = e_z x n (transverse) and e2 = n x tau (e_z itself when n is
+  // transverse).
+  const Eigen::Vector3d tau = Eigen::Vector3d::UnitZ().cross(n).normalized();
+  Frame fr{flank, p, n, tau, helical ? Eigen::Vector3d(n.cross(tau)) : Eigen::Vector3d::UnitZ(), R};
   const double r_b = 0.5 * flank.gear().base_diameter_mm();
-  const double dz = 2.0 * R / kSampledCellsAcross;
+  // A helical flank's grid is sheared along the generators of the helicoid: node (i, j) at
+  // L = L_lo + i dL + shear (z_j - p_z), z_j. Along a generator the transverse section turns
+  // with z as L moves by shear = side * helix_turn_per_mm * r_b (= +/- tan(beta_b)), so the base
+  // angle phi_b and with it the involute's frame stay fixed: the footprint, a disk in the plane
+  // normal to n, is nearly a rectangle in (L', z) as it is for a spur flank in (L, z). Its z
+  // half-extent is R cos(beta_b) (|u_e2| grows by 1 / cos(beta_b) per mm of z along a
+  // generator); the grid takes 1.05 R.
+  const double shear =
+      helical ? side_sign(flank.side()) * flank.gear().helix_turn_per_mm() * r_b : 0.0;
+  const double z_half = helical ? 1.05 * R : R;
+  if (helical) {
+    fr.mask_extent = true;
+    fr.L_min = L_min;
+    fr.L_max = L_max;
+  }
+  const double dz = 2.0 * z_half / kSampledCellsAcross;
   // The L range from the involute's arc length s = L^2 / (2 r_b) from the base circle: the
   // footprint spans about 2 (R + e) of arc, which near the base circle is a wide range of L on
   // the lower side and a narrow one on the upper side. Grow the arc half-width until both end
@@ -218,17 +246,23 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
   auto L_at_arc = [&](double arc) { return arc > 0.0 ? std::sqrt(2.0 * r_b * arc) : 0.0; };
   double arc_half = 1.2 * (R + flank.eccentricity().norm());
   // The grid is cut at the flank's extent: a cut end is the flank's edge, not a footprint bound.
+  // (Helical: the flank's extent in L is a sheared band in (L', z); the grid reaches
+  // |shear| z_half beyond it and masks the nodes off the flank.)
   bool bounded = false;
   double L_lo = 0.0, L_hi = 0.0;
+  const double reach = std::abs(shear) * z_half;
   for (int attempt = 0; attempt < 6 && !bounded; ++attempt) {
     bounded = true;
     const double L_down = L_at_arc(arc0 - arc_half), L_up = L_at_arc(arc0 + arc_half);
-    L_lo = std::max(L_down, L_min);
-    L_hi = std::min(L_up, L_max);
+    L_lo = std::max(L_down, L_min - reach);
+    L_hi = std::min(L_up, L_max + reach);
     for (double L : {L_down, L_up}) {
-      if (L <= L_min || L > L_max) continue;  // cut: the edge of the flank (or the base circle)
+      if (!helical && (L <= L_min || L > L_max)) continue;  // cut: the edge of the flank
       for (int j = 0; j <= kSampledCellsAcross && bounded; ++j) {
-        const Eigen::Vector3d w = flank.point(L, p.z() - R + j * dz) - p;
+        const double z = p.z() - z_half + j * dz;
+        const double L_j = L + shear * (z - p.z());
+        if (helical && (L_j <= L_min || L_j > L_max)) continue;  // no flank there
+        const Eigen::Vector3d w = flank.point(L_j, z) - p;
         bounded = std::abs(w.dot(fr.tau)) >= R + dz;
       }
     }
@@ -245,14 +279,16 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
   const double L_ref = std::max(x_star.x(), 1e-3);
   grid.cells_L = std::max(2, static_cast<int>(std::ceil((L_hi - L_lo) / (dz * r_b / L_ref))));
   grid.L0 = L_lo;
-  grid.z0 = p.z() - R;
+  grid.z0 = p.z() - z_half;
   grid.dL = (L_hi - L_lo) / grid.cells_L;
   grid.dz = dz;
   grid.nodes.reserve(static_cast<std::size_t>((grid.cells_L + 1) * (grid.cells_z + 1)));
   const Node* best = nullptr;
   for (int j = 0; j <= grid.cells_z; ++j) {
     for (int i = 0; i <= grid.cells_L; ++i) {
-      grid.nodes.push_back(sample(fr, grid.L0 + i * grid.dL, grid.z0 + j * dz));
+      const double z = grid.z0 + j * dz;
+      const double L = grid.L0 + i * grid.dL;
+      grid.nodes.push_back(sample(fr, helical ? L + shear * (z - p.z()) : L, z));
     }
   }
   // A higher node: the caller restarts there.
@@ -288,7 +324,7 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
     for (int b = -m; b <= m; ++b) {
       for (int a = -m; a <= m; ++a) {
         const std::size_t idx = static_cast<std::size_t>((b + m) * (2 * m + 1) + (a + m));
-        H[idx] = curvature(fr, x_star.x() + a * hL, x_star.y() + b * hz).H_uu;
+        H[idx] = curvature(fr, x_star.x() + a * hL + shear * (b * hz), x_star.y() + b * hz).H_uu;
         kappa = std::max(kappa, largest_eigenvalue(H[idx]));
         if (a > -m) spread = std::max(spread, (H[idx] - H[idx - 1]).norm());
         if (b > -m) spread = std::max(spread, (H[idx] - H[idx - (2 * m + 1)]).norm());
@@ -340,7 +376,9 @@ ContactCertificate certify_contact(const AnalyticFlank& flank, const Eigen::Vect
     out.by_flank_bound = true;
     return out;
   }
-  const ExactBound b = exact_bound(flank, p, n, R, L0, start, L_min, L_max);
+  const ExactBound b = flank.gear().helical()
+                           ? helical_exact_bound(flank, p, n, R, L0, start, L_min, L_max)
+                           : exact_bound(flank, p, n, R, L0, start, L_min, L_max);
   if (concavity_proves(R, b.kappa, b.inverse_jacobian, gradient_bound)) {
     out.verdict = ContactCertificate::Verdict::kCertified;
     return out;

@@ -90,6 +90,11 @@ inline bool nominal_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
          (start.point - delta0 * n - flank.eccentricity() - p).squaredNorm() <= 1e-18 && L0 > 0.0;
 }
 
+// The same on a helical flank: p = P(L0, p_z) on the nominal helicoid, n its normal there,
+// `start` = S(L0, p_z) = P + delta m0 + eps with m0 the transverse normal (curvature_bound.cpp).
+bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                           const Eigen::Vector3d& n, double L0, const ContactStart& start);
+
 // The concavity bound (above): with H_uu <= kappa I over the footprint and |grad f| <=
 // gradient_bound at the found point, F <= t* + g^2 / (2 (1/R - kappa)), g = gradient_bound
 // |J^-1|; whether that is within the tolerance (compared without a division).
@@ -101,12 +106,14 @@ inline bool concavity_proves(double R, double kappa, double inverse_jacobian,
 }
 
 // Stage 1 for all planned points of one flank at once: the run's contacts take one bound per
-// flank instead of one per point. The box of every planned point's footprint (exact_bound in the
-// .cpp: L within a half-width K / L0 of L0, cut at the flank's extent) lies in L in [L_min,
-// L_max] with a turn of the involute normal of at most K / (L_min r_b) and |delta| at most
-// deviation_max_mm + max|delta_L| K / L_min + max|delta_z| R; the bound over that box (c_tau
-// taken as |eps|) holds at every point `covers` accepts. Where it does not prove a point, the
-// point's own (tighter) bound is tried next, so the verdicts are those without it.
+// flank instead of one per point (of a helical flank: helical_flank_bound, curvature_bound.h,
+// with the box's turn, deviation and footprint as helical_exact_bound's). The box of every planned
+// point's footprint (exact_bound in the .cpp: L within a half-width K / L0 of L0, cut at the
+// flank's extent) lies in L in [L_min, L_max] with a turn of the involute normal of at most K /
+// (L_min r_b) and |delta| at most deviation_max_mm + max|delta_L| K / L_min + max|delta_z| R; the
+// bound over that box (c_tau taken as |eps|) holds at every point `covers` accepts. Where it does
+// not prove a point, the point's own (tighter) bound is tried next, so the verdicts are those
+// without it.
 struct FlankCurvatureBound {
   const AnalyticFlank* flank = nullptr;      // the flank it was computed for
   double R = 0.0, L_min = 0.0, L_max = 0.0;  // stylus radius and extent, mm
@@ -131,7 +138,8 @@ struct FlankCurvatureBound {
               double R_mm, double L0, const ContactStart& start, double gradient_bound,
               double L_min_mm, double L_max_mm) const {
     return covers(f, R_mm, L0, start.deviation_um, L_min_mm, L_max_mm) &&
-           nominal_start(f, p, n, L0, start) &&
+           (f.gear().helical() ? nominal_helical_start(f, p, n, L0, start)
+                               : nominal_start(f, p, n, L0, start)) &&
            concavity_proves(R_mm, kappa, inverse_jacobian, gradient_bound);
   }
 };

@@ -147,9 +147,186 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   return {};
 }
 
+// Stage 1 on a helical flank. In the sheared parameters (lambda, zeta) with L = lambda + g r_b
+// (zeta - p_z), g = side * helix_turn_per_mm, the transverse frame (t, m) depends on lambda only
+// (the generators of the helicoid are the lines of constant phi_b) and the partials of S = P +
+// delta m + eps (flank_frame.h) become those of a spur flank with delta_z replaced by
+// Z' = g r_b + delta_zeta:
+//   S_lambda = a t + delta_lambda m,  S_zeta = e_z + Z' m,
+//   S_ll = b t + c m,  S_lz = (Z' / r_b) t + delta_lz m,  S_zz = delta_zz m
+// (delta_zeta = delta_z + g r_b delta_L, delta_lz = delta_Lz + g r_b delta_LL, delta_zz' =
+// delta_zz + 2 g r_b delta_Lz + (g r_b)^2 delta_LL; the B-spline fields have delta_Lz = 0).
+// With the outward normal N' = (-delta_lambda, a, -a Z') in (t, m, e_z), the second fundamental
+// form's numerators are those of the spur bound (a c - b delta_lambda, a delta_lz - Z'
+// delta_lambda / r_b, a delta_zz) over |N'| >= a sqrt(1 + Z'^2), and the first fundamental form
+// is diag(a^2, 1) plus a rank-one positive term, so the largest principal curvature is at most
+// the largest eigenvalue of diag(1/a, 1) II diag(1/a, 1) (Gershgorin). For the graph h(u) over
+// the plane normal to n, v^T H_uu v = W II(X_v, X_v) with X_v the lift of v, |X_v| <= W =
+// 1 / cos(theta) and theta the largest angle between the real normal and n over the box:
+// H_uu <= k_max / cos^3(theta). theta <= Phi (the nominal normal turns with phi_b only) plus
+// asin(cos(beta_b) |(delta_lambda / a, delta_zeta)|) (the deviation's tilt of the normal).
+// The box: |lambda - L0| <= half (the spur margins of u_tau = w.t0, with the generator's turn
+// g r_b zeta sin(psi) added to the deviation term) and |zeta - p_z| <= Z, from
+// u_e2 = zeta (cos(beta_b) + sin^2(beta_b) cos(psi) / cos(beta_b)) - sigma (T_m + delta cos(psi)
+// + eps.m0), sigma = n_z, |T_m| <= L0 Phi^2 / 2 + r_b Phi^3 / 3 (the involute's sag along m0).
+// J = d(u)/d(lambda, zeta) has the diagonal a cos(psi) - delta_lambda sin(psi), the same
+// denominator as Z's, and off-diagonal terms (Z' sin(psi), sigma (a sin(psi) + delta_lambda
+// cos(psi))): |J^-1| <= 1 / (smallest diagonal - largest off-diagonal) (Weyl), times
+// |d(lambda, zeta)/d(L, z)| = (G + sqrt(G^2 + 4)) / 2, G = tan(beta_b), for the solver's (L, z)
+// gradient. The same dominance makes u one-to-one on the (convex) box: the footprint is a graph.
+namespace {
+
+// What the helical bound needs of a flank: the gear's helix and the deviation's sheared
+// partials' bounds (mm, mm/mm, 1/mm).
+struct HelicalFlank {
+  double r_b, cb, sb, G;    // base radius, cos and sin of beta_b, tan(beta_b)
+  double D_l, D_z, D_lz;    // |delta_lambda|, |delta_zeta|, |delta_lz|
+  double D_ll_hi, D_zz_hi;  // upper bounds of delta_ll, delta_zz'
+  double e_norm, c_tau;     // |eps|, >= |eps.t0|
+  explicit HelicalFlank(const AnalyticFlank& flank, const Eigen::Vector3d& n) {
+    const InvoluteGear& gear = flank.gear();
+    r_b = 0.5 * gear.base_diameter_mm();
+    const double beta_b = gear.base_helix_angle_rad();
+    cb = std::cos(beta_b), sb = std::sin(beta_b);
+    G = std::abs(gear.helix_turn_per_mm()) * r_b;
+    const DeviationIntervals dv(flank.deviation_derivative_ranges());
+    D_l = dv.dL_mag;
+    D_z = dv.dz_mag + G * D_l;
+    D_lz = G * dv.dLL.magnitude();  // delta_Lz = 0
+    D_ll_hi = dv.dLL.hi;
+    D_zz_hi = dv.dzz.hi + G * G * dv.dLL.hi;
+    const Eigen::Vector3d& eps = flank.eccentricity();
+    e_norm = eps.norm();
+    // Per point: |eps - (eps.n) n| >= |eps.t0|; per flank (n unknown): |eps|.
+    c_tau = n.allFinite() ? (eps - eps.dot(n) * n).norm() : e_norm;
+  }
+  // den: the smallest |u_e2| per mm of |zeta - p_z| and J's smallest e2 diagonal term.
+  double den(double Phi) const { return cb + sb * sb * (1.0 - 0.5 * Phi * Phi) / cb - sb * D_z; }
+  // Z: the footprint's |zeta - p_z| bound for a box of half-width `half` at L0 with |delta(L0,
+  // p_z)| <= delta0 (infinite when den <= 0).
+  double Z(double L0, double half, double delta0) const {
+    const double Phi = half / r_b, d = den(Phi);
+    if (!(d > 0.0)) return kInf;
+    const double sag = L0 * 0.5 * Phi * Phi + r_b * Phi * Phi * Phi / 3.0;
+    return (R_ + sb * (sag + delta0 + D_l * half + e_norm)) / d;
+  }
+  double R_ = 0.0;
+};
+
+// The bound over the box: L in [L_lo, L_hi] (the flank's part), turn Phi, |delta| <= D.
+ExactBound helical_box_bound(const HelicalFlank& h, double L_lo, double L_hi, double Phi,
+                             double D) {
+  const double r_b = h.r_b, G = h.G;
+  const double a_lo = (L_lo - D) / r_b, a_hi = (L_hi + D) / r_b;
+  if (!(a_lo > 0.0) || !(L_hi >= L_lo)) return {};
+  const double Zp_lo = std::max(0.0, G - h.D_z);
+  const double N_lo = a_lo * std::sqrt(1.0 + Zp_lo * Zp_lo);
+  const double num_ll_ub =
+      a_hi * std::max(h.D_ll_hi, 0.0) - a_lo * a_lo / r_b + h.D_l * (1.0 + 2.0 * h.D_l) / r_b;
+  const double K_ll = std::max(num_ll_ub, 0.0) / (N_lo * a_lo * a_lo);
+  const double K_lz = (a_hi * h.D_lz + (G + h.D_z) * h.D_l / r_b) / (N_lo * a_lo);
+  const double K_zz = a_hi * std::max(h.D_zz_hi, 0.0) / N_lo;
+  const double k_max = std::max(K_ll, K_zz) + K_lz;
+  const double tilt = std::sqrt((h.D_l / a_lo) * (h.D_l / a_lo) + h.D_z * h.D_z) * h.cb;
+  // asin(x) <= x asin(0.5) / 0.5 for x <= 0.5 (asin(x) / x grows with x); cos(theta) >= 1 -
+  // theta^2 / 2.
+  if (!(tilt <= 0.5)) return {};
+  const double theta = Phi + 1.0472 * tilt;
+  const double cos_theta = 1.0 - 0.5 * theta * theta;
+  if (!(cos_theta > 0.1)) return {};
+  const double j11 = a_lo * (1.0 - 0.5 * Phi * Phi) - h.D_l * Phi;
+  const double off = std::max((G + h.D_z) * Phi, h.sb * (a_hi * Phi + h.D_l));
+  const double smallest = std::min(j11, h.den(Phi)) - off;
+  if (!(smallest > 0.0)) return {};
+  ExactBound out;
+  out.kappa = k_max / (cos_theta * cos_theta * cos_theta);
+  out.inverse_jacobian = 0.5 * (G + std::sqrt(G * G + 4.0)) / smallest;
+  return out;
+}
+
+}  // namespace
+
+// p on the nominal helicoid and n its normal there: S(L0, p_z) = p + delta0 m0 + eps.
+bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                           const Eigen::Vector3d& n, double L0, const ContactStart& start) {
+  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical()) return false;
+  const Eigen::Vector3d m0 = Eigen::Vector3d(n.x(), n.y(), 0.0) / flank.cos_base_helix();
+  return (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
+         (start.point - 1e-3 * start.deviation_um * m0 - flank.eccentricity() - p).squaredNorm() <=
+             1e-18 &&
+         std::abs(m0.squaredNorm() - 1.0) <= 1e-9;
+}
+
+ExactBound helical_exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                               const Eigen::Vector3d& n, double R, double L0,
+                               const ContactStart& start, double L_min, double L_max) {
+  if (!nominal_helical_start(flank, p, n, L0, start)) return {};
+  HelicalFlank h(flank, n);
+  h.R_ = R;
+  const double delta0 = std::abs(1e-3 * start.deviation_um);
+  const double r_b = h.r_b, G = h.G;
+  double half = 1.2 * (R + h.c_tau) * r_b / L0;
+  for (int attempt = 0; attempt < 4; ++attempt, half *= 1.5) {
+    const double Phi = half / r_b;
+    const double Z = h.Z(L0, half, delta0);
+    if (!std::isfinite(Z)) return {};
+    const double D = delta0 + h.D_l * half + h.D_z * Z;
+    const bool lower_cut = L0 - half + G * Z<L_min, upper_cut = L0 + half - G * Z> L_max;
+    const FootprintMargins m = footprint_margins(L0, half, R, r_b, h.c_tau, D + G * Z);
+    if (!((lower_cut || m.lower >= 0.0) && (upper_cut || m.upper >= 0.0))) continue;
+    return helical_box_bound(h, std::max(L_min, L0 - half - G * Z),
+                             std::min(L_max, L0 + half + G * Z), Phi, D);
+  }
+  return {};
+}
+
+// The per-flank bound of a helical flank (flank_curvature_bound): as for a spur flank, one K
+// (half-width K / L0) for every planned point, the margins checked at the smallest L0 whose end
+// is not cut, now with the generator's term G Z in the deviation's place and the cut conditions
+// widened by G Z_max (Z is largest at L_min: its turn and sag shrink with L0, so every margin
+// still grows with L0 and a superset of the uncut points starts at the roots below).
+void helical_flank_bound(const AnalyticFlank& flank, double R, double L_min, double L_max,
+                         FlankCurvatureBound* out) {
+  HelicalFlank h(flank, Eigen::Vector3d::Constant(kInf));
+  h.R_ = R;
+  const double r_b = h.r_b, G = h.G, dev = out->deviation_max_mm;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const double K = 1.2 * std::pow(1.5, attempt) * (R + h.e_norm) * r_b;
+    auto Z_at = [&](double L0) { return h.Z(L0, K / L0, dev); };
+    auto D_at = [&](double L0) { return dev + h.D_l * K / L0 + h.D_z * Z_at(L0); };
+    auto margins = [&](double L0) {
+      return footprint_margins(L0, K / L0, R, r_b, h.c_tau, D_at(L0) + G * Z_at(L0));
+    };
+    const double Z_max = Z_at(L_min);
+    if (!std::isfinite(Z_max)) return;
+    bool holds = true;
+    const double B = L_max + G * Z_max;  // upper end uncut => L0 + K / L0 <= B
+    if (B * B >= 4.0 * K) {
+      const double l1 = 2.0 * K / (B + std::sqrt(B * B - 4.0 * K));
+      const double L_up = std::max(L_min, l1) * (1.0 - 1e-9);
+      holds = margins(L_up).upper >= 0.0;
+    }
+    const double A = L_min - G * Z_max;  // lower end uncut => L0 - K / L0 >= A
+    const double L_c = 0.5 * (A + std::sqrt(A * A + 4.0 * K));
+    if (holds && L_c <= L_max) holds = margins(std::max(L_min, L_c * (1.0 - 1e-9))).lower >= 0.0;
+    if (!holds) continue;
+    out->half_width_mm2 = K;
+    out->max_turn_rad = K / (L_min * r_b);
+    out->max_deviation_mm = D_at(L_min);
+    const ExactBound b =
+        helical_box_bound(h, L_min, L_max, out->max_turn_rad, out->max_deviation_mm);
+    out->kappa = b.kappa;
+    out->inverse_jacobian = b.inverse_jacobian;
+    return;
+  }
+}
+
 double exact_curvature_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                              const Eigen::Vector3d& n, double R, double L0, double z0, double L_min,
                              double L_max) {
+  if (flank.gear().helical()) {
+    return helical_exact_bound(flank, p, n, R, L0, flank.evaluate(L0, z0), L_min, L_max).kappa;
+  }
   return exact_bound(flank, p, n, R, L0, flank.evaluate(L0, z0), L_min, L_max).kappa;
 }
 
@@ -161,6 +338,7 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
   out.L_min = L_min;
   out.L_max = L_max;
   if (flank.expression() != nullptr || !(L_min > 0.0) || !(L_max > L_min)) return out;
+
   const FlankDeviation& dev = flank.deviation();
   // The profile part over the extent, the helix part over its own domain (a planned point
   // beyond it fails `covers`' check of |delta0| and takes the per-point bound): 1 % and 1 nm of
@@ -172,6 +350,10 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
       trace_part_magnitude(dev.helix_form, dev.helix_slope_um_per_mm, dev.helix_mid_mm,
                            dev.helix_form.t0(), dev.helix_form.t1());
   out.deviation_max_mm = 1e-3 * (1.01 * deviation_um + 1e-3);
+  if (flank.gear().helical()) {
+    helical_flank_bound(flank, R, L_min, L_max, &out);
+    return out;
+  }
   const double r_b = 0.5 * flank.gear().base_diameter_mm();
   const double c = flank.eccentricity().norm();  // >= c_tau at every planned point
   const DeviationIntervals dv(flank.deviation_derivative_ranges());

@@ -25,4 +25,17 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                        const Eigen::Vector3d& n, double R, double L0, const ContactStart& start,
                        double L_min, double L_max);
 
+// The same on a helical flank (involute helicoid): the bound of the surface's principal
+// curvature over a box in sheared parameters (L' = L - shear (z - p_z), z) that holds the
+// footprint, turned into a bound of H_uu by the normal's tilt from n over the box (the .cpp
+// derives it). Infinite where it does not apply.
+ExactBound helical_exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                               const Eigen::Vector3d& n, double R, double L0,
+                               const ContactStart& start, double L_min, double L_max);
+
+// flank_curvature_bound's helical part: fills kappa, inverse_jacobian and the box of `out`
+// (whose flank, R, extent and deviation_max_mm are set), or leaves kappa infinite.
+void helical_flank_bound(const AnalyticFlank& flank, double R, double L_min, double L_max,
+                         FlankCurvatureBound* out);
+
 }  // namespace gearmc

@@ -2,6 +2,7 @@
 // and its normal against the geometric facts (offsets and eccentricity keep the nominal
 // normal at corresponding points; a slope tilts it by atan(slope)).
 #include "surfaces/analytic_flank.h"
+#include "tests/support/helical_fixtures.h"
 #include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -43,6 +44,65 @@ TEST(AnalyticFlank, PartialsMatchFiniteDifferences) {
           EXPECT_NEAR((s.d2_dL2 - fd_LL).norm(), 0.0, tol);
           EXPECT_NEAR((s.d2_dLdz - fd_Lz).norm(), 0.0, tol);
           EXPECT_NEAR((s.d2_dz2 - fd_zz).norm(), 0.0, tol);
+        }
+      }
+    }
+  }
+}
+
+// A helical flank's partials (flank_frame.h) against central differences of its points, both
+// hands and sides, with a B-spline field and an expression; its nominal normal is the helicoid's
+// (InvoluteGear::flank_point), its real normal with no deviation the same.
+TEST(AnalyticFlank, HelicalPartialsMatchFiniteDifferences) {
+  const FlankDeviation dev = testing_support::helical_wavy_deviation();
+  const NormalExpression expr("0.5*sin(L)*cos(z/7) - 20*max(0, L-30)^2/16");
+  for (Hand hand : {Hand::kRight, Hand::kLeft}) {
+    const InvoluteGear gear = testing_support::helical_gear(hand);
+    for (const NormalExpression* e : {static_cast<const NormalExpression*>(nullptr), &expr}) {
+      for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+        const AnalyticFlank flank(gear, 7, side, dev, {0.01, -0.02}, e);
+        const FlankDeviation none;
+        const AnalyticFlank nominal(gear, 7, side, none, {0.0, 0.0});
+        const double h = 1e-4;
+        for (double L : {17.0, 24.3, 32.2}) {
+          for (double z : {3.0, 20.0, 37.0}) {
+            const FlankSurfacePoint s = flank.evaluate(L, z);
+            auto P = [&](double l, double zz) { return flank.point(l, zz); };
+            EXPECT_NEAR((s.point - P(L, z)).norm(), 0.0, 1e-12);
+            const Eigen::Vector3d fd_L = (P(L + h, z) - P(L - h, z)) / (2 * h);
+            const Eigen::Vector3d fd_z = (P(L, z + h) - P(L, z - h)) / (2 * h);
+            EXPECT_NEAR((s.d_dL - fd_L).norm(), 0.0, 1e-8);
+            EXPECT_NEAR((s.d_dz - fd_z).norm(), 0.0, 1e-8);
+            const Eigen::Vector3d fd_LL =
+                (flank.evaluate(L + h, z).d_dL - flank.evaluate(L - h, z).d_dL) / (2 * h);
+            const Eigen::Vector3d fd_Lz =
+                (flank.evaluate(L, z + h).d_dL - flank.evaluate(L, z - h).d_dL) / (2 * h);
+            const Eigen::Vector3d fd_zL =
+                (flank.evaluate(L + h, z).d_dz - flank.evaluate(L - h, z).d_dz) / (2 * h);
+            const Eigen::Vector3d fd_zz =
+                (flank.evaluate(L, z + h).d_dz - flank.evaluate(L, z - h).d_dz) / (2 * h);
+            const double tol = e ? 2e-6 : 1e-7;
+            EXPECT_NEAR((s.d2_dL2 - fd_LL).norm(), 0.0, tol);
+            EXPECT_NEAR((s.d2_dLdz - fd_Lz).norm(), 0.0, tol);
+            EXPECT_NEAR((s.d2_dLdz - fd_zL).norm(), 0.0, tol);
+            EXPECT_NEAR((s.d2_dz2 - fd_zz).norm(), 0.0, tol);
+            // The nominal normal is the gear's, unit and perpendicular to the nominal partials.
+            const FlankPoint fp = gear.flank_point(7, side, L, z);
+            EXPECT_NEAR((s.nominal_normal - fp.normal).norm(), 0.0, 1e-15);
+            const FlankSurfacePoint n0 = nominal.evaluate(L, z);
+            EXPECT_NEAR((n0.point - fp.point).norm(), 0.0, 1e-12);
+            EXPECT_NEAR(n0.d_dL.dot(fp.normal), 0.0, 1e-13);
+            EXPECT_NEAR(n0.d_dz.dot(fp.normal), 0.0, 1e-13);
+            EXPECT_NEAR((n0.real_normal() - fp.normal).norm(), 0.0, 1e-13);
+            // The deviation is transverse: S - P - eps is along the transverse normal n_t, of
+            // length delta (µm).
+            const Eigen::Vector3d shift = s.point - fp.point - Eigen::Vector3d(0.01, -0.02, 0.0);
+            EXPECT_NEAR(shift.z(), 0.0, 1e-15);
+            const Eigen::Vector3d n_t =
+                Eigen::Vector3d(fp.normal.x(), fp.normal.y(), 0).normalized();
+            EXPECT_NEAR((shift - shift.dot(n_t) * n_t).norm(), 0.0, 1e-13);
+            EXPECT_NEAR(1e3 * shift.dot(n_t), s.deviation_um, 1e-9);
+          }
         }
       }
     }
