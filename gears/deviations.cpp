@@ -310,6 +310,8 @@ FlankDistance distance_to_real_flank(const InvoluteGear& gear, const PerturbedGe
   const double t = std::sqrt(std::max(0.0, rho * rho - r_b * r_b));
   const double alpha_x = std::atan2(t, r_b);
   double phi = std::atan2(Xg.y(), Xg.x()) - gear.tooth_centre_angle_rad(tooth);
+  // A helical gear's section at z is the section at 0 turned by z helix_turn_per_mm.
+  if (gear.helical()) phi -= z * gear.helix_turn_per_mm();
   phi = std::remainder(phi, 2.0 * kPi);
   const double s = side_sign(side);
   const double theta_b = gear.base_half_angle_rad();
@@ -339,17 +341,26 @@ double radial_runout_um(const InvoluteGear& gear, const PerturbedGear& g) {
   // Ball radius: touches the nominal flanks at the middle of the profile evaluation range.
   // Space 1 lies between the R flank of tooth 1 and the L flank of tooth 2, centred on tau/2.
   const double L_c = 0.5 * (ranges.profile_start_mm + ranges.profile_end_mm);
-  const FlankPoint c = gear.flank_point(1, FlankSide::kRight, L_c, z);
+  // A helical gear: in the transverse section (the section at 0 turned by z turn; ISO 10064-4's
+  // ball touches both helicoids where a circle of the same radius touches both transverse
+  // involutes, to first order in the deviations: a flank's normal displacement delta cos(beta_b)
+  // along N moves the ball radially as the transverse displacement delta along n_t moves the
+  // circle, N.e_r = cos(beta_b) n_t.e_r). The ball's radius from the section at 0, with the
+  // transverse normal.
+  const double turn = gear.helical() ? z * gear.helix_turn_per_mm() : 0.0;
+  const FlankPoint c = gear.flank_point(1, FlankSide::kRight, L_c, gear.helical() ? 0.0 : z);
   const double half = 0.5 * gear.angular_pitch_rad();
   const Eigen::Vector2d bisector_normal(-std::sin(half), std::cos(half));
-  const Eigen::Vector2d p = c.point.head<2>(), n = c.normal.head<2>();
+  const Eigen::Vector2d p = c.point.head<2>();
+  const Eigen::Vector2d n =
+      gear.helical() ? Eigen::Vector2d(c.normal.head<2>().normalized()) : c.normal.head<2>();
   const double r_ball = -p.dot(bisector_normal) / n.dot(bisector_normal);
   const double rho_nominal = (p + r_ball * n).norm();
 
   double rho_min = std::numeric_limits<double>::infinity(), rho_max = -rho_min;
   for (int k = 1; k <= teeth; ++k) {
     const int next = k % teeth + 1;
-    const double angle = gear.tooth_centre_angle_rad(k) + half;
+    const double angle = gear.tooth_centre_angle_rad(k) + half + turn;
     Eigen::Vector2d X = rho_nominal * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     // Newton on (distance to the right flank, distance to the left flank) = (r_ball, r_ball)
     // with the closed-form gradients as the Jacobian's rows: two distance evaluations per step.

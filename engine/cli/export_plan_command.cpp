@@ -25,7 +25,6 @@ std::string short_number(double v) {
 int export_plan_command(const ExportPlanOptions& o, std::ostream& out, std::ostream& err) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
-  require_spur_gear(scenario, "export-plan");
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   if (o.format != "dmis") {
     throw InputError({}, "--format", o.format, "dmis (the only plan format so far)");
@@ -35,10 +34,16 @@ int export_plan_command(const ExportPlanOptions& o, std::ostream& out, std::ostr
   const std::vector<PlannedPoint> sequence = probing_sequence(gear, scenario.probing);
   const Provenance made =
       make_provenance(o.command_line, scenario.source_path, scenario.source_text);
+  // A helical gear's plan lies on the involute helicoid: its normals tilt out of the transverse
+  // plane by beta_b (docs/scenarios.md), which the comment states with the helix.
+  const std::string helix =
+      gear.helical() ? ", helix " + short_number(scenario.gear.helix_angle_deg) + " deg " +
+                           (gear.hand() == Hand::kRight ? "right" : "left") + " hand (m normal)"
+                     : "";
   const std::vector<std::string> comments = {
       "made by " + provenance_line(made),
-      "gear: z " + std::to_string(gear.teeth()) + ", m " + short_number(gear.module_mm()) +
-          " mm; stylus ball radius " + short_number(scenario.stylus_radius_mm) +
+      "gear: z " + std::to_string(gear.teeth()) + ", m " + short_number(gear.module_mm()) + " mm" +
+          helix + "; stylus ball radius " + short_number(scenario.stylus_radius_mm) +
           " mm (qualify the probe with it); frame: gear axis +Z, tooth 1 on +X"};
   write_file_atomically(o.out, dmis_program(sequence, "gearmc probing plan of " + scenario.name,
                                             kProbeApproachMm, comments));

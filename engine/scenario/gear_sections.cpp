@@ -304,9 +304,6 @@ void check_tolerances(Scenario& scenario, const YamlMap& gear_map,
     throw InputError(where, key + ": " + e.what());
   }
   if (!set.get_um(ToleranceKind::kRunout) || !scenario.deviations.random) return;
-  // The sampler draws spur (transverse) deviation fields: a helical gear is not drawn by any
-  // command yet (require_spur_gear), so its runout has nothing to check against.
-  if (gear.helical()) return;
   const GearSampler sampler(gear, set, scenario.deviations, scenario.seed);
   for (int k = 0; k < kRunoutCheckGears; ++k) {
     try {

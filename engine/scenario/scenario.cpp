@@ -169,9 +169,9 @@ void require_spur_gear(const Scenario& scenario, const std::string& command) {
   throw InputError(
       scenario.helix_location, "gear.helix_angle_deg", beta.str(),
       "0 for " + (command.empty() ? std::string("this command") : "`gearmc " + command + "`") +
-          ": helical gears are modelled by `gearmc geometry` only in this version "
-          "(dimensions, tolerances); probing, contact and evaluation of a helicoid "
-          "follow");
+          ": helical gears are modelled by `gearmc geometry` and `gearmc export-plan` only in "
+          "this version (dimensions, tolerances, the probing plan on the helicoid); simulated "
+          "measurement and evaluation of a helicoid follow");
 }
 
 }  // namespace gearmc

@@ -97,7 +97,7 @@ std::vector<ScenarioKey> make_table() {
       number_key("gear.pressure_angle_deg", kNum, 20, "", "normal pressure angle α_n"),
       number_key("gear.helix_angle_deg", kNum, 0, "",
                  "helix angle β at the reference diameter (0: spur; helical gears: "
-                 "`gearmc geometry` only in this version)"),
+                 "`gearmc geometry` and `export-plan` only in this version)"),
       choice_key("gear.hand", {"right", "left"}, "required when helix_angle_deg > 0",
                  "hand of the helix (right: the section turns counter-clockwise going up +Z)"),
       boolean_key("gear.internal", false,

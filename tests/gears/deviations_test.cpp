@@ -2,6 +2,7 @@
 // answers, the runout measurement on pure eccentricity and pure flank offsets, and the
 // sampler's reproducibility (gear k depends only on (seed, k)).
 #include "gears/deviations.h"
+#include "tests/support/helical_fixtures.h"
 #include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -72,38 +73,37 @@ TEST(EvaluateTrace, LineGivesSlopeOnlyAndSineGivesForm) {
   EXPECT_NEAR(wl.form_um, 4.0, 1e-12);
 }
 
-TEST(RadialRunout, PureEccentricityAndUniformOffsets) {
-  const InvoluteGear gear(p1_gear_parameters());
+// The runout's independent facts on `gear`: no deviation or a uniform offset (thinner teeth,
+// every ball moves by the same amount): 0. Pure eccentricity e: every ball centre moves by the
+// eccentricity vector, so the runout is max - min of |C_k + e| with C_k the nominal centres on
+// the space bisectors: between 2 e cos(pi / z) and 2 e. Opening one space by 1 µm on each
+// flank lowers that ball by 1 µm / sin(alpha_contact): between 1 / sin(alpha) at the profile
+// range's ends.
+void expect_runout_facts(const InvoluteGear& gear) {
+  const int z = gear.teeth();
   PerturbedGear g;
-  g.flanks.resize(48);
+  g.flanks.resize(2 * z);
   EXPECT_NEAR(radial_runout_um(gear, g), 0.0, 1e-6);
-  // A uniform offset (thinner teeth) moves every ball by the same amount: no runout.
   for (auto& f : g.flanks) f.offset_um = -20.0;
   EXPECT_NEAR(radial_runout_um(gear, g), 0.0, 1e-6);
-  // Pure eccentricity e: every ball centre moves by the eccentricity vector; the expected
-  // runout is max - min of |C_k + e| with C_k the nominal centres on the space bisectors
-  // (independent: the nominal centre radius comes from the ball touching both nominal flanks,
-  // which for a translated rigid gear just moves with it).
   for (auto& f : g.flanks) f.offset_um = 0.0;
   g.eccentricity_mm = {0.015, 0.008};
   const double runout = radial_runout_um(gear, g);
-  // Nominal ball-centre radius: find it from the unperturbed gear by symmetry: the runout
-  // function's own nominal radius is not exposed, so bound instead: 2 e cos(7.5°) <= R <= 2e.
   const double e_um = 1e3 * g.eccentricity_mm.norm();
   EXPECT_LE(runout, 2 * e_um + 1e-6);
-  EXPECT_GE(runout, 2 * e_um * std::cos(7.5 * std::numbers::pi / 180.0) - 1e-6);
-  // Opening one space by 1 µm on each flank lowers that ball by 1 µm / sin(alpha_contact)...
-  // at least by 2 µm / (2 sin(alpha_max)) and at most 2 µm / (2 sin(alpha_min)).
+  EXPECT_GE(runout, 2 * e_um * std::cos(std::numbers::pi / z) - 1e-6);
   g.eccentricity_mm = {0, 0};
   g.flank(3, FlankSide::kRight).offset_um = -1.0;
   g.flank(4, FlankSide::kLeft).offset_um = -1.0;
   const double one = radial_runout_um(gear, g);
   const EvaluationRanges r = evaluation_ranges(gear);
   const double r_b = gear.base_diameter_mm() / 2;
-  const double sin_lo = std::sin(std::atan(r.profile_start_mm / r_b));
-  const double sin_hi = std::sin(std::atan(r.profile_end_mm / r_b));
-  EXPECT_GT(one, 1.0 / sin_hi);
-  EXPECT_LT(one, 1.0 / sin_lo);
+  EXPECT_GT(one, 1.0 / std::sin(std::atan(r.profile_end_mm / r_b)));
+  EXPECT_LT(one, 1.0 / std::sin(std::atan(r.profile_start_mm / r_b)));
+}
+
+TEST(RadialRunout, PureEccentricityAndUniformOffsets) {
+  expect_runout_facts(InvoluteGear(p1_gear_parameters()));
 }
 
 TEST(GearSampler, GearKDependsOnlyOnSeedAndK) {
@@ -164,6 +164,26 @@ TEST(GearSampler, ShapesThatAloneBreakTheRunoutAreDrawnAgain) {
   }
   EXPECT_GT(redrawn, 0);  // the case is exercised
   EXPECT_GT(plain, 0);
+}
+
+// Radial runout of a helical gear (the example, both hands), measured in the transverse
+// section at mid face (turned by z tan(beta) / r): the same independent facts as for a spur gear
+// (no deviation or a uniform offset: 0; pure eccentricity e: between 2 e cos(pi / z) and 2 e;
+// one space opened by 1 µm on each flank: between 1 / sin(alpha) at the profile range's ends,
+// alpha the transverse pressure angle at the contact), and the sampler keeps every drawn gear
+// within a tight F_r.
+TEST(RadialRunout, HelicalGearInItsTransverseSection) {
+  for (Hand hand : {Hand::kRight, Hand::kLeft}) {
+    const InvoluteGear gear = testing_support::helical_gear(hand);
+    expect_runout_facts(gear);
+    // The sampler: F_r 10 µm with P1's profile and helix tolerances, 20 gears.
+    ToleranceSet tight = testing_support::p1_tolerance_set();
+    tight.values[ToleranceKind::kRunout] = {10, "test", true};
+    const GearSampler sampler(gear, tight, DeviationModel{}, 5);
+    for (int k = 0; k < 20; ++k) {
+      EXPECT_LE(radial_runout_um(gear, sampler.draw(k)), 10.0) << "gear " << k;
+    }
+  }
 }
 
 }  // namespace

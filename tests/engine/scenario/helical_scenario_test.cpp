@@ -1,12 +1,20 @@
 // Helical gears in scenarios: `gear: helix_angle_deg` and `hand` read as docs/scenarios.md says,
 // `gearmc geometry` prints the helical gear's dimensions (ISO 21771, evaluated independently in
-// tests/gears/helical_reference.py), and every command that probes or evaluates a gear refuses a
-// helical one with one located message and exit 2, leaving nothing behind.
+// tests/gears/helical_reference.py), `gearmc export-plan` puts the plan on the helicoid, and
+// every command that simulates or evaluates a measurement refuses a helical gear with one
+// located message and exit 2, leaving nothing behind.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
+#include <regex>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/support/run_gearmc.h"
 #include "tests/support/temp_paths.h"
@@ -16,6 +24,7 @@ namespace gearmc {
 namespace {
 
 using testing_support::fresh_temp_path;
+using testing_support::read_text;
 using testing_support::run_gearmc;
 using testing_support::write_text;
 namespace fs = std::filesystem;
@@ -121,7 +130,6 @@ TEST(HelicalScenario, CommandsThatProbeTheGearRefuseItAtTheHelixAngle) {
       {"sweep", "sweep " + s + " --vary stylus.radius_mm=0.5,1 --out " + out},
       {"simulate", "simulate " + s + " --out " + out + ".csv"},
       {"export-mesh", "export-mesh " + s + " --gear 0 --out " + out + ".stl"},
-      {"export-plan", "export-plan " + s + " --out " + out + ".dmi"},
       {"diagnose", "diagnose --model " + s + " --measured " + s + " --out " + out},
   };
   for (const auto& [name, args] : commands) {
@@ -136,6 +144,64 @@ TEST(HelicalScenario, CommandsThatProbeTheGearRefuseItAtTheHelixAngle) {
       EXPECT_FALSE(fs::exists(out + ext)) << name << " left " << out << ext;
     }
   }
+}
+
+// `gearmc export-plan` on a helical gear: the DMIS program holds every planned point on the
+// involute helicoid. Independent of gearmc's flank code: un-screwing a point (turning it by
+// -z tan(beta) / r about the axis, right hand; ISO 21771's screw of a helical gear) must land on
+// the transverse involute of the section z = 0, whose polar angle at radius r is the tooth's
+// centre +/- psi(r), psi(r) = s_t / d + inv(alpha_t) - inv(alpha_r), cos(alpha_r) = r_b / r
+// (ISO 21771 §5.3, half the transverse tooth thickness angle), values from
+// tests/gears/helical_reference.py; every normal is unit, with the axial component
+// -/+ sin(beta_b) = sin(15°) cos(20°) (− on an R flank of a right-hand gear).
+TEST(HelicalScenario, ExportPlanPutsThePlanOnTheHelicoid) {
+  const fs::path dir = fresh_temp_path("helical_plan");
+  fs::create_directories(dir);
+  const std::string s = (dir / "h.yaml").string();
+  write_text(s, helical_yaml("  hand: right\n"));
+  const std::string file = (dir / "plan.dmi").string();
+  const auto r = run_gearmc("export-plan " + s + " --out " + file);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = read_text(file);
+  EXPECT_NE(text.find("helix 15 deg right hand"), std::string::npos);
+  // tests/gears/helical_reference.py: d 128.374246370850, d_b 120.128927774273, s_t
+  // 7.107727627888, alpha_t 20.646896487046°.
+  const double kPi = std::numbers::pi;
+  const double d = 128.374246370850, r_b = 120.128927774273 / 2, s_t = 7.107727627888;
+  const double alpha_t = 20.646896487046 * kPi / 180;
+  const double inv_t = std::tan(alpha_t) - alpha_t;
+  const double turn = std::tan(15.0 * kPi / 180) / (d / 2);  // rad per mm of z, right hand
+  const double sin_beta_b = std::sin(15.0 * kPi / 180) * std::cos(20.0 * kPi / 180);
+  static const std::regex feature(R"(^F\(T(\d+)([LR])_I\d+_J\d+\)=FEAT/POINT,CART,(.*)$)");
+  std::istringstream in(text);
+  int points = 0;
+  double worst_angle = 0.0, worst_normal = 0.0;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_match(line, m, feature)) continue;
+    std::vector<double> v;
+    std::stringstream fields(m[3].str());
+    for (std::string x; std::getline(fields, x, ',');) v.push_back(std::stod(x));
+    ASSERT_EQ(v.size(), 6u);
+    const int tooth = std::stoi(m[1].str());
+    const double side = m[2].str() == "R" ? 1.0 : -1.0;
+    const double back = -v[2] * turn;
+    const double x = std::cos(back) * v[0] - std::sin(back) * v[1];
+    const double y = std::sin(back) * v[0] + std::cos(back) * v[1];
+    const double rho = std::hypot(x, y);
+    const double alpha_r = std::acos(r_b / rho);
+    const double psi = s_t / d + inv_t - (std::tan(alpha_r) - alpha_r);
+    const double centre = (tooth - 1) * 2 * kPi / 31;
+    const double angle = std::remainder(std::atan2(y, x) - centre - side * psi, 2 * kPi);
+    worst_angle = std::max(worst_angle, std::abs(angle) * rho);  // mm along the arc
+    const Eigen::Vector3d n(v[3], v[4], v[5]);
+    worst_normal = std::max(worst_normal, std::abs(n.norm() - 1.0));
+    worst_normal = std::max(worst_normal, std::abs(n.z() - (-side * sin_beta_b)));
+    ++points;
+  }
+  EXPECT_EQ(points, 31 * 2 * 10 * 5);  // every tooth, both flanks, the default 10 x 5 grid
+  EXPECT_LT(worst_angle, 2e-6);        // the file's 6 decimals (1 nm) and the printed inputs
+  EXPECT_LT(worst_normal, 2e-9);       // 9 decimals
 }
 
 }  // namespace
