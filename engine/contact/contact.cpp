@@ -51,6 +51,36 @@ struct AngleAnchor {
   }
 };
 
+// The sphere's part of the local model at the frame point s, shared by both kinds of flank:
+// fills m's point, reachability and f = w.n + q; the scalar products of the frame's t, m, e_z
+// with n and with w_perp, and 1/q (inline: the same operations as written out in place).
+struct SphereTerms {
+  double tn, mn, tw, mw, zn, zw, inv_q;
+};
+inline SphereTerms sphere_terms(const FlankFramePoint& s, const Eigen::Vector3d& p,
+                                const Eigen::Vector3d& n, double R, Local* m) {
+  const Eigen::Vector3d w = s.point - p;
+  const double wn = w.dot(n);
+  const Eigen::Vector3d w_perp = w - wn * n;
+  const double q2 = R * R - w_perp.squaredNorm();
+  m->point = s.point;
+  if (q2 <= 0.0) {
+    m->reachable = false;
+    m->f = -std::numeric_limits<double>::infinity();
+    return {};
+  }
+  m->reachable = true;
+  const double q = std::sqrt(q2);
+  m->f = wn + q;
+  return {s.t.x() * n.x() + s.t.y() * n.y(),
+          s.m.x() * n.x() + s.m.y() * n.y(),
+          s.t.x() * w_perp.x() + s.t.y() * w_perp.y(),
+          s.m.x() * w_perp.x() + s.m.y() * w_perp.y(),
+          n.z(),
+          w_perp.z(),
+          1.0 / q};
+}
+
 // The local model of f at (L, z) from S's partials in the flank's frame (t, m, e_z;
 // analytic_flank.h): every scalar product below is one of S_a.n, w_perp.S_a, S_a.S_b, written
 // with t.n, m.n, e_z.n and t.w_perp, m.w_perp, e_z.w_perp (t, m, e_z orthonormal, so e.g.
@@ -60,25 +90,10 @@ Local local_model(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Ei
                   FlankFramePoint* keep = nullptr) {
   const FlankFramePoint s = evaluate_frame(flank, L, z, anchor.at(flank, L));
   if (keep) *keep = s;
-  const Eigen::Vector3d w = s.point - p;
-  const double wn = w.dot(n);
-  const Eigen::Vector3d w_perp = w - wn * n;
-  const double q2 = R * R - w_perp.squaredNorm();
   Local m{};
-  m.point = s.point;
-  if (q2 <= 0.0) {
-    m.reachable = false;
-    m.f = -std::numeric_limits<double>::infinity();
-    return m;
-  }
-  m.reachable = true;
-  const double q = std::sqrt(q2);
-  const double inv_q = 1.0 / q;
-  m.f = wn + q;
-  const double tn = s.t.x() * n.x() + s.t.y() * n.y(), mn = s.m.x() * n.x() + s.m.y() * n.y();
-  const double tw = s.t.x() * w_perp.x() + s.t.y() * w_perp.y();
-  const double mw = s.m.x() * w_perp.x() + s.m.y() * w_perp.y();
-  const double zn = n.z(), zw = w_perp.z();
+  const SphereTerms k = sphere_terms(s, p, n, R, &m);
+  if (!m.reachable) return m;
+  const double tn = k.tn, mn = k.mn, tw = k.tw, mw = k.mw, zn = k.zn, zw = k.zw, inv_q = k.inv_q;
   // First derivatives: S_a.n, w_perp.S_a (a = L, z); the Hessian is symmetric, and
   // S_b_perp.S_a = S_a.S_b - (S_a.n)(S_b.n).
   const double nL = s.a * tn + s.d_L * mn, nz = zn + s.d_z * mn;
@@ -106,25 +121,10 @@ Local local_model_helical(const AnalyticFlank& flank, const Eigen::Vector3d& p,
   const HelicalFramePoint h = evaluate_helical_frame(flank, L, z, anchor.at(flank, L, z));
   const FlankFramePoint& s = h.f;
   if (keep) *keep = h;
-  const Eigen::Vector3d w = s.point - p;
-  const double wn = w.dot(n);
-  const Eigen::Vector3d w_perp = w - wn * n;
-  const double q2 = R * R - w_perp.squaredNorm();
   Local m{};
-  m.point = s.point;
-  if (q2 <= 0.0) {
-    m.reachable = false;
-    m.f = -std::numeric_limits<double>::infinity();
-    return m;
-  }
-  m.reachable = true;
-  const double q = std::sqrt(q2);
-  const double inv_q = 1.0 / q;
-  m.f = wn + q;
-  const double tn = s.t.x() * n.x() + s.t.y() * n.y(), mn = s.m.x() * n.x() + s.m.y() * n.y();
-  const double tw = s.t.x() * w_perp.x() + s.t.y() * w_perp.y();
-  const double mw = s.m.x() * w_perp.x() + s.m.y() * w_perp.y();
-  const double zn = n.z(), zw = w_perp.z();
+  const SphereTerms k = sphere_terms(s, p, n, R, &m);
+  if (!m.reachable) return m;
+  const double tn = k.tn, mn = k.mn, tw = k.tw, mw = k.mw, zn = k.zn, zw = k.zw, inv_q = k.inv_q;
   const double nL = s.a * tn + s.d_L * mn, nz = zn + h.z_t * tn + h.z_m * mn;
   const double wL = s.a * tw + s.d_L * mw, wz = zw + h.z_t * tw + h.z_m * mw;
   m.gradient[0] = nL - wL * inv_q;
