@@ -26,7 +26,6 @@ namespace fs = std::filesystem;
 
 int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream& err) {
   Scenario scenario = load_scenario_file(o.scenario_path);
-  require_spur_gear(scenario, "check");
   apply_overrides(o.overrides, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   if (scenario.claims.empty()) {

@@ -32,7 +32,6 @@ namespace fs = std::filesystem;
 int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::ostream& err) {
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
-  require_spur_gear(model, "diagnose");
   // A DMIS output file (the results of `gearmc export-plan`'s program): its points were
   // compensated with the ball the model names. With --columns, a CMM's point table, likewise.
   auto readings = std::make_unique<Readings>(

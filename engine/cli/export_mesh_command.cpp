@@ -15,7 +15,6 @@ namespace gearmc {
 int export_mesh_command(const ExportMeshOptions& o, std::ostream& out, std::ostream& err) {
   const Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
-  require_spur_gear(scenario, "export-mesh");
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   check_output_file(o.out, "--out");
   try {

@@ -63,7 +63,6 @@ void refuse_another_scenarios_folder(const fs::path& dir, const Scenario& scenar
 int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err) {
   Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
-  require_spur_gear(scenario, "run");
   apply_overrides(o.overrides, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   const MonteCarloRun mc(scenario);

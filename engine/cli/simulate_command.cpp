@@ -16,7 +16,6 @@ namespace gearmc {
 int simulate_command(const SimulateCommandOptions& o, std::ostream& out, std::ostream& err) {
   Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
-  require_spur_gear(scenario, "simulate");
   apply_overrides(o.overrides, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   check_output_file(o.out, "--out");

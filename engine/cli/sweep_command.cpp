@@ -25,7 +25,6 @@ namespace fs = std::filesystem;
 int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   const Scenario base = load_scenario_file(o.scenario_path);
-  require_spur_gear(base, "sweep");
   for (const std::string& w : base.warnings) err << "gearmc: warning: " << w << "\n";
   SweepOutcome s;
   s.statistic = parse_sweep_statistic(o.statistic);

@@ -34,7 +34,9 @@ NominalFlankCoordinates nominal_flank_coordinates(const InvoluteGear& gear, int 
   const double r_b = 0.5 * gear.base_diameter_mm();
   const double rho = x.head<2>().norm();
   const double alpha_x = std::atan2(std::sqrt(std::max(0.0, rho * rho - r_b * r_b)), r_b);
-  const double phi = std::remainder(std::atan2(x.y(), x.x()) - gear.tooth_centre_angle_rad(tooth),
+  // The polar angle in the transverse section z, turned back by the helix (0 on a spur gear).
+  const double phi = std::remainder(std::atan2(x.y(), x.x()) - gear.tooth_centre_angle_rad(tooth) -
+                                        x.z() * gear.helix_turn_per_mm(),
                                     2 * std::numbers::pi);
   const double s = side_sign(side);
   NominalFlankCoordinates c;

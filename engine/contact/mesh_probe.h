@@ -30,7 +30,10 @@ namespace gearmc {
 // plane (involutes of one base circle are parallel, so the distance along the normal is r_b
 // times the polar angle between them): L = r_b (theta_b - s phi + alpha_x),
 // offset = r_b (inv(alpha_x) + s phi - theta_b), phi = polar angle of x from the tooth centre,
-// alpha_x = acos(r_b / |x|), s = +1 for R, -1 for L. For |x| < r_b alpha_x is taken as 0.
+// alpha_x = acos(r_b / |x|), s = +1 for R, -1 for L. For |x| < r_b alpha_x is taken as 0. On a
+// helical gear phi is taken in x's transverse section (turned back by z helix_turn_per_mm): L
+// and the offset are then the transverse ones (the distance along the helicoid's normal is the
+// offset times cos(beta_b), and the normal's foot lies offset sin(beta_b) away in z).
 struct NominalFlankCoordinates {
   double roll_length_mm = 0.0;
   double z_mm = 0.0;

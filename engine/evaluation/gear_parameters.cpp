@@ -141,7 +141,8 @@ std::vector<BallContact> ball_contacts(const InvoluteGear& gear, double L, doubl
     BallContact c;
     c.normal_right = gear.flank_point(k, FlankSide::kRight, L, z).normal.head<2>().normalized();
     c.normal_left = gear.flank_point(next, FlankSide::kLeft, L, z).normal.head<2>().normalized();
-    const double angle = gear.tooth_centre_angle_rad(k) + half;
+    // The space's centre line in the section z (turned by the helix on a helical gear).
+    const double angle = gear.tooth_centre_angle_rad(k) + half + z * gear.helix_turn_per_mm();
     c.radial = Eigen::Vector2d(std::cos(angle), std::sin(angle));
     contacts.push_back(c);
   }

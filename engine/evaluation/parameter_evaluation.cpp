@@ -36,6 +36,10 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
   helix_end_ = b - c;
   const double r = gear.reference_diameter_mm() / 2, rb = gear.base_diameter_mm() / 2;
   reference_L_ = std::sqrt(r * r - rb * rb);
+  // ISO 1328-1 states profile, helix and pitch deviations in the transverse plane; a deviation
+  // along the helicoid's normal is the transverse one times cos(beta_b) (the helicoid's normal
+  // is cos(beta_b) n_t -/+ sin(beta_b) e_z, docs/contact.md): 1 on a spur gear, exactly.
+  transverse_per_normal_ = 1.0 / std::cos(gear.base_helix_angle_rad());
   ball_L_ = 0.5 * (profile_start_ + profile_end_);
 
   // Which parameters the plan allows.
@@ -133,12 +137,19 @@ void ParameterEvaluator::Gear::record(int flank_index, const PointMeasurement& m
   r.recorded = true;
   r.valid = m.valid();
   if (!r.valid) return;
+  fill(r, m);
+}
+
+void ParameterEvaluator::Gear::fill(PointRecord& r, const PointMeasurement& m) const {
   const Eigen::Vector3d& p = m.plan->nominal.point;
   const Eigen::Vector3d& n = m.plan->nominal.normal;
   const double R = e_.model_.stylus_radius_mm();
-  r.measured_um = 1e3 * ((m.recorded_centre - p).dot(n) - R);
-  r.base_um = 1e3 * (m.contact.contact - p).dot(n) + m.contact.normal_error_um;
-  r.contributions.assign(m.contributions.begin(), m.contributions.end());
+  const double k = e_.transverse_per_normal_;
+  r.measured_um = k * (1e3 * ((m.recorded_centre - p).dot(n) - R));
+  r.base_um = k * (1e3 * (m.contact.contact - p).dot(n) + m.contact.normal_error_um);
+  r.contributions.resize(m.contributions.size());
+  for (std::size_t e = 0; e < m.contributions.size(); ++e)
+    r.contributions[e] = k * m.contributions[e];
 }
 
 GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
@@ -152,11 +163,7 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       r.recorded = true;
       r.valid = m.valid();
       if (!r.valid) return;
-      const Eigen::Vector3d& p = m.plan->nominal.point;
-      const Eigen::Vector3d& n = m.plan->nominal.normal;
-      r.measured_um = 1e3 * ((m.recorded_centre - p).dot(n) - e_.model_.stylus_radius_mm());
-      r.base_um = 1e3 * (m.contact.contact - p).dot(n) + m.contact.normal_error_um;
-      r.contributions.assign(m.contributions.begin(), m.contributions.end());
+      fill(r, m);
     });
   }
 
@@ -189,7 +196,9 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
     ball_dense[s].assign(teeth, kNaN);
   }
   const std::vector<PlanFlank>& flanks = model.flanks();
-  const double alpha = gear.pressure_angle_rad();
+  // The pitch is an arc on the reference circle of the transverse section, where the involute's
+  // pressure angle is alpha_t (= alpha_n on a spur gear).
+  const double alpha = gear.transverse_pressure_angle_rad();
   for (std::size_t f = 0; f < flanks.size(); ++f) {
     const PlanFlank& flank = flanks[f];
     const int s = flank.side == FlankSide::kRight ? 1 : 0;
@@ -206,7 +215,8 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       const FlankPoint nominal = gear.flank_point(flank.tooth, flank.side, L, z);
       const double off_line = (surface.point(L, z) - nominal.point).dot(nominal.profile_tangent);
       const double at = L - off_line * rb / L;
-      return 1e3 * (surface.point(at, z) - nominal.point).dot(nominal.normal);
+      return e_.transverse_per_normal_ * 1e3 *
+             (surface.point(at, z) - nominal.point).dot(nominal.normal);
     };
     // One trace: its points (records with their abscissa), evaluated in every variant.
     struct Sample {

@@ -7,7 +7,9 @@
 // measurement error alone) — and `true_dense`, from a dense trace of the real surface (the gear's
 // actual parameter; true_points − true_dense is the sampling error of a sparse trace). Pitch from
 // the profile traces at the reference circle; runout from a ball in every tooth space touching
-// the profile traces at mid profile. Deviations µm along the nominal outward normal, lengths mm.
+// the profile traces at mid profile. Deviations µm in the transverse plane (ISO 1328-1; along
+// the nominal outward normal on a spur gear, that normal's component ÷ cos(beta_b) on a helical
+// one), lengths mm.
 #pragma once
 
 #include <array>
@@ -104,6 +106,9 @@ class ParameterEvaluator {
       std::vector<double> contributions;  // each effect's change of the reading, µm
     };
     std::vector<std::vector<PointRecord>> grid_;  // per flank, per grid point
+    // A measured point's deviations in the transverse plane (µm): the reading's, the contact's
+    // plus δRcomp, and each effect's change, from their components along the nominal normal.
+    void fill(PointRecord& r, const PointMeasurement& m) const;
   };
 
  private:
@@ -116,6 +121,7 @@ class ParameterEvaluator {
   double profile_start_ = 0, profile_end_ = 0, helix_start_ = 0, helix_end_ = 0;
   double profile_z_ = 0, helix_L_ = 0;   // where the traces run
   double reference_L_ = 0, ball_L_ = 0;  // pitch circle and ball contacts (roll lengths)
+  double transverse_per_normal_ = 1;     // 1 / cos(beta_b): normal to transverse deviation
   int grid_section_ = 0, grid_column_ = 0;
   std::vector<PlanFlank> scans_;  // dedicated scans per probed flank (empty: the grid)
   std::vector<BallContact> balls_;

@@ -21,8 +21,7 @@ struct MeasurementModel::ThreadExpressions {
 
 MeasurementModel::MeasurementModel(const Scenario& scenario)
     : scenario_(scenario),
-      gear_((require_spur_gear(scenario, ""), std::make_unique<InvoluteGear>(scenario.gear))) {
-  // (A sweep's variant can make a gear helical after its command's own check.)
+      gear_(std::make_unique<InvoluteGear>(scenario.gear)) {
   tolerances_ = resolve_scenario_tolerances(scenario_, *gear_);
   sampler_ =
       std::make_unique<GearSampler>(*gear_, tolerances_, scenario_.deviations, scenario_.seed);

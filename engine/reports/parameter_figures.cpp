@@ -191,10 +191,15 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       parameter_text(e.profile_start_mm(), 2) + " … " + parameter_text(e.profile_end_mm(), 2) +
       " mm, helix z " + parameter_text(e.helix_start_mm(), 2) + " … " +
       parameter_text(e.helix_end_mm(), 2) +
-      " mm), pitch at the reference circle, runout with a ball in every space. error = measured "
-      "− true, true = the same evaluation of the real surface on a dense trace; U = 2·√(u² + "
-      "bias²). Measurement error: measured − true at the same points; sampling error: true at "
-      "the points − dense true (standard deviations).");
+      " mm), pitch at the reference circle, runout with a ball in every space" +
+      (mc.gear().helical()
+           ? "; on this helical gear (β " + parameter_text(mc.scenario().gear.helix_angle_deg, 2) +
+                 "°) every deviation in the transverse plane, the reading along the helicoid's "
+                 "normal ÷ cos β_b"
+           : std::string()) +
+      ". error = measured − true, true = the same evaluation of the real surface on a dense "
+      "trace; U = 2·√(u² + bias²). Measurement error: measured − true at the same points; "
+      "sampling error: true at the points − dense true (standard deviations).");
   HtmlTable t;
   t.caption = "Parameters (µm)";
   t.header = {"parameter", "side",          "n",       "true mean", "measured mean", "bias", "u",

@@ -72,8 +72,6 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   InputWarnings* warnings = &scenario.warnings;
   const YamlMap gear_map = top.require_map("gear", child_keys("gear"));
   scenario.gear = read_gear(gear_map, warnings);
-  if (const auto beta = gear_map.find("helix_angle_deg"))
-    scenario.helix_location = beta->location();
   const std::optional<YamlMap> tolerances = top.get_map("tolerances", child_keys("tolerances"));
   if (tolerances) scenario.tolerances = read_tolerances(*tolerances, warnings);
   if (const auto deviations = top.get_map("deviations", child_keys("deviations"))) {
@@ -160,18 +158,6 @@ ToleranceSet resolve_scenario_tolerances(const Scenario& scenario, const Involut
 void apply_overrides(const ScenarioOverrides& overrides, Scenario& scenario) {
   if (overrides.seed) scenario.seed = *overrides.seed;
   if (overrides.gears) scenario.gears = *overrides.gears;
-}
-
-void require_spur_gear(const Scenario& scenario, const std::string& command) {
-  if (scenario.gear.helix_angle_deg == 0.0) return;
-  std::ostringstream beta;
-  beta << scenario.gear.helix_angle_deg;
-  throw InputError(
-      scenario.helix_location, "gear.helix_angle_deg", beta.str(),
-      "0 for " + (command.empty() ? std::string("this command") : "`gearmc " + command + "`") +
-          ": helical gears are modelled by `gearmc geometry` and `gearmc export-plan` only in "
-          "this version (dimensions, tolerances, the probing plan on the helicoid); simulated "
-          "measurement and evaluation of a helicoid follow");
 }
 
 }  // namespace gearmc

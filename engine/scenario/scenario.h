@@ -46,8 +46,6 @@ struct Scenario {
   std::string source_text;  // the YAML text itself (reports show it)
   std::uint64_t seed = 1;
   GearParameters gear;
-  // Where `gear: helix_angle_deg` is (file:line:column), for the commands that need a spur gear.
-  InputLocation helix_location;
   ToleranceSpec tolerances;
   DeviationModel deviations;
   // Deterministic normal deviation, muParser syntax in L, z, tooth, side (µm), added to the
@@ -72,11 +70,6 @@ struct Scenario {
   // located message "file:line:col: key: …"; the caller prints them (they are not errors).
   std::vector<std::string> warnings;
 };
-
-// Throws InputError (at gear.helix_angle_deg) when the scenario's gear is helical: in this
-// version `gearmc geometry` is the only command that models helical gears; `command` names the
-// one that refuses ("": "this command").
-void require_spur_gear(const Scenario& scenario, const std::string& command);
 
 // Reads and validates a scenario file (a regular file of at most kMaxScenarioBytes, UTF-8),
 // including the resolution of its tolerances for its gear. Throws InputError.
