@@ -59,6 +59,27 @@ std::string validate_gear_parameters(const GearParameters& p) {
     why << "root diameter " << gear.root_diameter_mm() << " mm is not below the tip diameter "
         << gear.tip_diameter_mm() << " mm";
   }
+  if (!why.str().empty()) return why.str();
+  // The modifications must fit on the flank: the reliefs within the active profile (L_Ff … L_a)
+  // and each end relief within half the face; a circular relief's amount below its length.
+  const FlankModifications& m = p.modifications;
+  const double active = gear.tip_roll_length_mm() - gear.form_roll_length_mm();
+  const double profile_reliefs = (m.tip_relief.present() ? m.tip_relief.length_mm : 0.0) +
+                                 (m.root_relief.present() ? m.root_relief.length_mm : 0.0);
+  if (profile_reliefs > active) {
+    why << "the tip and root reliefs span " << profile_reliefs
+        << " mm of roll length, more than the active profile's " << active << " mm (L_Ff "
+        << gear.form_roll_length_mm() << " … L_a " << gear.tip_roll_length_mm() << " mm)";
+  } else if (m.end_relief.present() && m.end_relief.length_mm > 0.5 * p.face_width_mm) {
+    why << "the end relief's length " << m.end_relief.length_mm
+        << " mm is more than half the face width " << p.face_width_mm << " mm";
+  }
+  for (const FlankRelief* r : {&m.tip_relief, &m.root_relief, &m.end_relief}) {
+    if (why.str().empty() && r->present() && !(1e-3 * r->amount_um < r->length_mm)) {
+      why << "a relief of " << r->amount_um << " µm over " << r->length_mm
+          << " mm is steeper than 45°: its amount must be below its length";
+    }
+  }
   return why.str();
 }
 
@@ -98,6 +119,8 @@ InvoluteGear::InvoluteGear(const GearParameters& p) : parameters_(p) {
   L_form_ = undercut_ ? 0.0 : L_form;
   const double r_a = d_a_ / 2.0, r_b = d_b_ / 2.0;
   L_tip_ = r_a > r_b ? std::sqrt(r_a * r_a - r_b * r_b) : 0.0;
+  if (p.modifications.any())
+    modification_.emplace(p.modifications, L_form_, L_tip_, p.face_width_mm);
 }
 
 double InvoluteGear::lead_mm() const { return beta_ == 0.0 ? kInf : kPi * d_ / std::tan(beta_); }

@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include "gears/flank_modifications.h"
+
 namespace gearmc {
 
 // Which flank of a tooth. R: outward normal turns counter-clockwise (the +Y flank of tooth 1).
@@ -49,6 +51,7 @@ struct GearParameters {
   BasicRack rack;
   std::optional<double> tip_diameter_mm;   // overrides d_a = d + 2 m_n (h_aP/m + x)
   std::optional<double> root_diameter_mm;  // overrides d_f = d - 2 m_n (h_fP/m - x)
+  FlankModifications modifications;        // the design flank (flank_modifications.h)
 };
 
 // inv(alpha) = tan(alpha) - alpha, alpha in rad.
@@ -131,11 +134,18 @@ class InvoluteGear {
   // the base cylinder, at height z + (+/-)(hand) L tan(beta_b).
   FlankPoint flank_point(int tooth, FlankSide side, double roll_length_mm, double z_mm) const;
 
+  // The designed modifications as curves (null when the gear has none: the flank is the
+  // involute, bit for bit).
+  const DesignModification* design_modification() const {
+    return modification_ ? &*modification_ : nullptr;
+  }
+
  private:
   GearParameters parameters_;
   double alpha_, beta_, m_t_, alpha_t_, beta_b_, turn_per_mm_;
   double d_, d_a_, d_f_, d_b_, p_b_, tau_, s_, theta_b_, L_form_, L_tip_;
   bool undercut_;
+  std::optional<DesignModification> modification_;
 };
 
 // Empty when the parameters make a gear; otherwise what is wrong, in one sentence.

@@ -39,13 +39,23 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       deviation_(deviation),
       eccentricity_(eccentricity_mm.x(), eccentricity_mm.y(), 0.0),
       expression_(expression),
+      modification_(gear.design_modification()),
       ranges_(deviation.derivative_ranges()),
       inverse_base_radius_(2.0 / gear.base_diameter_mm()),
       base_radius_(0.5 * gear.base_diameter_mm()),
       frame_turn_per_mm_(side_sign(side) * gear.helix_turn_per_mm()),
       cos_base_helix_(std::cos(gear.base_helix_angle_rad())),
       sin_base_helix_(std::sin(gear.base_helix_angle_rad())),
-      normal_z_(-side_sign(side) * hand_sign(gear.hand()) * sin_base_helix_) {}
+      normal_z_(-side_sign(side) * hand_sign(gear.hand()) * sin_base_helix_) {
+  if (modification_ != nullptr) {  // the sum's derivatives lie within the sum of the ranges
+    const ModificationCurve::Bounds p = modification_->profile.derivative_bounds();
+    const ModificationCurve::Bounds h = modification_->helix.derivative_bounds();
+    ranges_.dL = {ranges_.dL.lo + p.first_lo, ranges_.dL.hi + p.first_hi};
+    ranges_.dLL = {ranges_.dLL.lo + p.second_lo, ranges_.dLL.hi + p.second_hi};
+    ranges_.dz = {ranges_.dz.lo + h.first_lo, ranges_.dz.hi + h.first_hi};
+    ranges_.dzz = {ranges_.dzz.lo + h.second_lo, ranges_.dzz.hi + h.second_hi};
+  }
+}
 
 FlankSurfacePoint frame_to_surface(const FlankFramePoint& f) {
   const Eigen::Vector3d t(f.t.x(), f.t.y(), 0.0), n(f.m.x(), f.m.y(), 0.0);

@@ -1,7 +1,8 @@
 // The real flank of a perturbed gear as an analytic surface in the datum (CMM) frame:
 //   S(L, z) = P(L, z) + delta(L, z) n(L) + eps,
 // P and n the nominal involute point and outward normal (gears/involute_gear.h), delta the
-// normal deviation (random part + optional expression, mm) and eps the gear's eccentricity.
+// normal deviation (random part + the gear's design modification + optional expression, mm)
+// and eps the gear's eccentricity.
 // Of a helical gear P is the involute helicoid's point and delta the transverse deviation,
 // along the transverse normal n_t (flank_frame.h); nominal_normal is the helicoid's normal.
 // Gives the point, its first and second partial derivatives and the real unit normal, the
@@ -41,6 +42,8 @@ class AnalyticFlank {
   const InvoluteGear& gear() const { return gear_; }
   const FlankDeviation& deviation() const { return deviation_; }
   const NormalExpression* expression() const { return expression_; }
+  // The gear's design modification (null: none), part of delta (gears/flank_modifications.h).
+  const DesignModification* modification() const { return modification_; }
   const Eigen::Vector3d& eccentricity() const { return eccentricity_; }
   // 1 / r_b (1/mm): the partials divide by the base radius at every evaluation.
   double inverse_base_radius() const { return inverse_base_radius_; }
@@ -53,7 +56,8 @@ class AnalyticFlank {
   // The nominal normal's axial component: -side hand sin(beta_b) (InvoluteGear::flank_point).
   double normal_z() const { return normal_z_; }
   // The deviation's partials' ranges over all (L, z), µm/mm and µm/mm² (exact; computed once
-  // here, FlankDeviation::derivative_ranges); without the expression.
+  // here, FlankDeviation::derivative_ranges, widened by the design modification's bounds);
+  // without the expression.
   const FlankDeviation::Ranges& deviation_derivative_ranges() const { return ranges_; }
 
  private:
@@ -63,6 +67,7 @@ class AnalyticFlank {
   const FlankDeviation& deviation_;
   Eigen::Vector3d eccentricity_;
   const NormalExpression* expression_;
+  const DesignModification* modification_;
   FlankDeviation::Ranges ranges_;
   double inverse_base_radius_;
   double base_radius_;

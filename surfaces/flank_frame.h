@@ -35,6 +35,13 @@ inline FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, doub
   // Deviation and its partials, converted from µm to mm.
   double d, dL, dz, dLL, dzz, dLz = 0.0;
   flank.deviation().evaluate(L, z, &d, &dL, &dz, &dLL, &dzz);
+  if (const DesignModification* modification = flank.modification()) {
+    double v, d1, d2;
+    modification->profile.evaluate(L, &v, &d1, &d2);
+    d += v, dL += d1, dLL += d2;
+    modification->helix.evaluate(z, &v, &d1, &d2);
+    d += v, dz += d1, dzz += d2;
+  }
   if (const NormalExpression* expression = flank.expression()) {
     // Five-point differences (normal_expression.h: accurate to ~1e-6 µm/mm in the slopes).
     const NormalExpression::Derivatives e =
@@ -112,6 +119,9 @@ inline Eigen::Vector3d surface_point_at(const AnalyticFlank& flank, double L, do
                                         const BaseAngle& angle) {
   const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L, z, angle);
   double d = flank.deviation().normal_um(L, z);
+  if (const DesignModification* modification = flank.modification()) {
+    d += modification->value_um(L, z);
+  }
   if (const NormalExpression* expression = flank.expression()) {
     d += expression->value_um(L, z, flank.tooth(), side_sign(flank.side()));
   }

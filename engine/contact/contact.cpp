@@ -345,6 +345,9 @@ ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const
     // times them: nanometres).
     const FlankPoint nominal = flank_point_at(flank.gear(), flank.side(), L0, z0, angle_at_L0);
     double d = flank.deviation().normal_um(L0, z0);
+    if (const DesignModification* modification = flank.modification()) {
+      d += modification->value_um(L0, z0);
+    }
     if (const NormalExpression* expression = flank.expression()) {
       d += expression->value_um(L0, z0, flank.tooth(), side_sign(flank.side()));
     }

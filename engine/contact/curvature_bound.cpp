@@ -343,12 +343,16 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
   // The profile part over the extent, the helix part over its own domain (a planned point
   // beyond it fails `covers`' check of |delta0| and takes the per-point bound): 1 % and 1 nm of
   // room, so that a point at the extreme is not refused for a rounding.
-  const double deviation_um =
+  double deviation_um =
       std::abs(dev.offset_um) +
       trace_part_magnitude(dev.profile_form, dev.profile_slope_um_per_mm, dev.profile_mid_mm, L_min,
                            L_max) +
       trace_part_magnitude(dev.helix_form, dev.helix_slope_um_per_mm, dev.helix_mid_mm,
                            dev.helix_form.t0(), dev.helix_form.t1());
+  if (const DesignModification* modification = flank.modification()) {
+    deviation_um += modification->profile.magnitude_bound(L_min, L_max) +
+                    modification->helix.magnitude_bound(0.0, flank.gear().face_width_mm());
+  }
   out.deviation_max_mm = 1e-3 * (1.01 * deviation_um + 1e-3);
   if (flank.gear().helical()) {
     helical_flank_bound(flank, R, L_min, L_max, &out);

@@ -210,13 +210,17 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
     // µm/mm that is tens of nm): one Newton step on L puts it on the line, (S(L') − p)·t = 0
     // with |∂S/∂L| = L / r_b on the involute (the deviation changes it by a relative 1e-3);
     // what remains is second order in e (ΔL² times the involute's curvature: a few pm).
+    // Deviations are stated against the design flank (ISO 1328-1): the design modification m(L,
+    // z) is subtracted from every trace value (the real surface and the readings both carry it).
+    const DesignModification* design = gear.design_modification();
     const double rb = gear.base_diameter_mm() / 2;
     const auto true_deviation = [&](double L, double z) {
       const FlankPoint nominal = gear.flank_point(flank.tooth, flank.side, L, z);
       const double off_line = (surface.point(L, z) - nominal.point).dot(nominal.profile_tangent);
       const double at = L - off_line * rb / L;
-      return e_.transverse_per_normal_ * 1e3 *
-             (surface.point(at, z) - nominal.point).dot(nominal.normal);
+      const double d = e_.transverse_per_normal_ * 1e3 *
+                       (surface.point(at, z) - nominal.point).dot(nominal.normal);
+      return design ? d - design->value_um(L, z) : d;
     };
     // One trace: its points (records with their abscissa), evaluated in every variant.
     struct Sample {
@@ -257,19 +261,23 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       for (const Sample& sample : samples) {
         chart.x_mm.push_back(sample.x);
         const double t = true_deviation(sample.L, sample.z);
+        const double m = design ? design->value_um(sample.L, sample.z) : 0.0;
+        const double measured =
+            design ? sample.record->measured_um - m : sample.record->measured_um;
+        const double base = design ? sample.record->base_um - m : sample.record->base_um;
         chart.true_um.push_back(t);
-        chart.measured_um.push_back(sample.record->valid ? sample.record->measured_um : kNaN);
+        chart.measured_um.push_back(sample.record->valid ? measured : kNaN);
         if (!sample.record->valid) continue;
         x.push_back(sample.x);
-        d[0].push_back(sample.record->measured_um);
+        d[0].push_back(measured);
         d[1].push_back(t);
         for (int e = 0; e < effects; ++e) {
           const double c = e < static_cast<int>(sample.record->contributions.size())
                                ? sample.record->contributions[e]
                                : 0.0;
-          d[2 + e].push_back(sample.record->base_um + c);
+          d[2 + e].push_back(base + c);
         }
-        if (effects > 0) d[2 + effects].push_back(sample.record->base_um);
+        if (effects > 0) d[2 + effects].push_back(base);
       }
       const double a = profile ? e_.profile_start_ : e_.helix_start_;
       const double b = profile ? e_.profile_end_ : e_.helix_end_;

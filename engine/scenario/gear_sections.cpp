@@ -127,6 +127,48 @@ constexpr int kRunoutCheckGears = 8;
 
 }  // namespace
 
+namespace {
+
+// gear: modifications: the design flank (gears/flank_modifications.h). Each relief needs its
+// amount and length; `shape: linear` (a kink in the flank) is refused as not modelled yet.
+FlankModifications read_modifications(const YamlMap& m, InputWarnings* warnings) {
+  const RangeTable& r = gear_ranges();
+  FlankModifications out;
+  const auto relief = [&](const std::string& name, FlankRelief* into) {
+    const std::string path = "gear.modifications." + name;
+    const auto map = m.get_map(name, child_keys(path));
+    if (!map) return;
+    // Both values are range-checked before a missing one is reported.
+    const auto amount = get_ranged(*map, "amount_um", r.at(path + ".amount_um"), warnings);
+    const auto length = get_ranged(*map, "length_mm", r.at(path + ".length_mm"), warnings);
+    for (const std::string key : {"amount_um", "length_mm"}) {
+      if (!map->find(key)) (void)map->require(key, describe_range(r.at(path + "." + key)));
+    }
+    into->amount_um = *amount;
+    into->length_mm = *length;
+    const std::optional<std::string> shape = map->get_choice("shape", key_choices(path + ".shape"));
+    if (shape && *shape == "linear") {
+      throw map->find("shape")->error(
+          "circular: a linear relief (a kink in the flank, where the stylus can touch the ridge) "
+          "is not modelled yet in this version; the circular relief (an arc tangent to the "
+          "flank) is");
+    }
+  };
+  relief("tip_relief", &out.tip_relief);
+  relief("root_relief", &out.root_relief);
+  relief("end_relief", &out.end_relief);
+  const auto number = [&](const std::string& name) {
+    const std::string path = "gear.modifications." + name;
+    return get_ranged(m, name, r.at(path), warnings).value_or(number_default(path));
+  };
+  out.profile_crowning_um = number("profile_crowning_um");
+  out.helix_crowning_um = number("helix_crowning_um");
+  out.helix_slope_um = number("helix_slope_um");
+  return out;
+}
+
+}  // namespace
+
 // gear: the spur gear (ISO 21771 quantities; lengths in mm, angle in degrees, rack in modules).
 //   teeth (required, 5..1000), module_mm (required, > 0), pressure_angle_deg (0 < α < 45,
 //   default 20), profile_shift ([-1.5, 3], default 0), face_width_mm (required, > 0),
@@ -170,11 +212,8 @@ GearParameters read_gear(const YamlMap& gear, InputWarnings* warnings) {
             "false: internal (ring) gears are not modelled yet in this version (external gears "
             "only)");
   }
-  if (const auto modifications = gear.find("modifications")) {
-    throw modifications->error(
-        "no modifications: designed profile and helix modifications (tip and root relief, "
-        "crowning, end relief, helix slope) are not modelled yet in this version; deviations are "
-        "drawn about the unmodified involute");
+  if (const auto m = gear.get_map("modifications", child_keys("gear.modifications"))) {
+    p.modifications = read_modifications(*m, warnings);
   }
   p.profile_shift = get_ranged(gear, "profile_shift", r.at("gear.profile_shift"), warnings)
                         .value_or(number_default("gear.profile_shift"));

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "core/constants.h"
 #include "core/number_text.h"
@@ -34,33 +36,58 @@ const ParameterRange& RangeTable::at(const std::string& key) const {
 }
 
 const RangeTable& gear_ranges() {
-  static const RangeTable table{
-      "gear",
-      {{"gear.teeth", "", closed(5, 1000), 6, 500, "ISO 1328-1:2013 scope z 5–1000", "", true},
-       {"gear.module_mm", "mm", closed(0.01, 200), 0.2, 70,
-        "ISO 1328-1:2013 scope m_n 0.5–70 mm; fine-pitch gears down to 0.2 mm",
-        "a module in inches or in µm?"},
-       {"gear.pressure_angle_deg", "deg", NumberRange{5, 45, true, false}, 14.5, 30,
-        "ISO 53: 20°; 14.5°, 25° and 30° are also made",
-        "a value below 1 is an angle in radians (0.349 rad = 20°): give degrees"},
-       {"gear.helix_angle_deg", "deg", NumberRange{0, 45, true, false}, 0, 35,
-        "ISO 21771: beta at the reference diameter; helical gears are made with 8°–35°, "
-        "double-helical up to 45°",
-        "a value below 1 is an angle in radians (0.262 rad = 15°): give degrees"},
-       {"gear.profile_shift", "", closed(-1.5, 3), -1, 1.5,
-        "profile shift coefficients in practice -1…+1.5 (P1: 0.90116)", ""},
-       {"gear.face_width_mm", "mm", closed(0.01, 5000), 1, 1200,
-        "ISO 1328-1:2013 scope b 4–1200 mm", "a width in m or in µm?"},
-       {"gear.tip_diameter_mm", "mm", above(0, 100000), 1, 16000,
-        "ISO 1328-1:2013 scope d 5–15000 mm", ""},
-       {"gear.root_diameter_mm", "mm", above(0, 100000), 1, 16000,
-        "ISO 1328-1:2013 scope d 5–15000 mm", ""},
-       {"gear.basic_rack.addendum", "modules", above(0, 3), 0.8, 1.25,
-        "ISO 53 addendum 1.0 m; stub teeth 0.8 m", ""},
-       {"gear.basic_rack.dedendum", "modules", above(0, 3), 1.0, 1.4,
-        "ISO 53 dedendum 1.25 m (profiles A–D 1.25–1.4 m)", ""},
-       {"gear.basic_rack.root_radius", "modules", closed(0, 1), 0, 0.5,
-        "ISO 53 root radius 0.25–0.39 m", ""}}};
+  static const RangeTable table = [] {
+    RangeTable t{
+        "gear",
+        {{"gear.teeth", "", closed(5, 1000), 6, 500, "ISO 1328-1:2013 scope z 5–1000", "", true},
+         {"gear.module_mm", "mm", closed(0.01, 200), 0.2, 70,
+          "ISO 1328-1:2013 scope m_n 0.5–70 mm; fine-pitch gears down to 0.2 mm",
+          "a module in inches or in µm?"},
+         {"gear.pressure_angle_deg", "deg", NumberRange{5, 45, true, false}, 14.5, 30,
+          "ISO 53: 20°; 14.5°, 25° and 30° are also made",
+          "a value below 1 is an angle in radians (0.349 rad = 20°): give degrees"},
+         {"gear.helix_angle_deg", "deg", NumberRange{0, 45, true, false}, 0, 35,
+          "ISO 21771: beta at the reference diameter; helical gears are made with 8°–35°, "
+          "double-helical up to 45°",
+          "a value below 1 is an angle in radians (0.262 rad = 15°): give degrees"},
+         {"gear.profile_shift", "", closed(-1.5, 3), -1, 1.5,
+          "profile shift coefficients in practice -1…+1.5 (P1: 0.90116)", ""},
+         {"gear.face_width_mm", "mm", closed(0.01, 5000), 1, 1200,
+          "ISO 1328-1:2013 scope b 4–1200 mm", "a width in m or in µm?"},
+         {"gear.tip_diameter_mm", "mm", above(0, 100000), 1, 16000,
+          "ISO 1328-1:2013 scope d 5–15000 mm", ""},
+         {"gear.root_diameter_mm", "mm", above(0, 100000), 1, 16000,
+          "ISO 1328-1:2013 scope d 5–15000 mm", ""},
+         {"gear.basic_rack.addendum", "modules", above(0, 3), 0.8, 1.25,
+          "ISO 53 addendum 1.0 m; stub teeth 0.8 m", ""},
+         {"gear.basic_rack.dedendum", "modules", above(0, 3), 1.0, 1.4,
+          "ISO 53 dedendum 1.25 m (profiles A–D 1.25–1.4 m)", ""},
+         {"gear.basic_rack.root_radius", "modules", closed(0, 1), 0, 0.5,
+          "ISO 53 root radius 0.25–0.39 m", ""},
+         {"gear.modifications.profile_crowning_um", "µm", closed(0, 1000), 0, 30,
+          "profile crownings of a few µm (design practice, recalled)",
+          "a value in mm? (0.005 mm = 5 µm)"},
+         {"gear.modifications.helix_crowning_um", "µm", closed(0, 1000), 0, 50,
+          "helix crownings of a few to tens of µm (design practice, recalled)",
+          "a value in mm? (0.01 mm = 10 µm)"},
+         {"gear.modifications.helix_slope_um", "µm", closed(-1000, 1000), -50, 50,
+          "helix slope modifications of tens of µm over the face (design practice, recalled)",
+          "a value in mm? (0.01 mm = 10 µm)"}}};
+    // The three reliefs: an amount and a length each.
+    for (const auto& [name, length_why] :
+         {std::pair<std::string, std::string>{"tip_relief", "a fraction of the active profile"},
+          {"root_relief", "a fraction of the active profile"},
+          {"end_relief", "a fraction of the face width"}}) {
+      const std::string path = "gear.modifications." + name;
+      const std::string what = name.substr(0, name.find('_')) + " relief";
+      t.entries.push_back({path + ".amount_um", "µm", closed(0, 1000), 1, 100,
+                           what + "s of a few to tens of µm are usual (design practice, recalled)",
+                           "a value in mm? (0.01 mm = 10 µm)"});
+      t.entries.push_back(
+          {path + ".length_mm", "mm", above(0, 1000), 0.1, 50, length_why, "a length in µm?"});
+    }
+    return t;
+  }();
   return table;
 }
 

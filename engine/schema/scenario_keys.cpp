@@ -2,8 +2,10 @@
 // defaults are the readers' own: scenario.cpp and effect_config.cpp read them from here.
 #include "engine/schema/scenario_keys.h"
 
+#include <algorithm>
 #include <charconv>
 #include <stdexcept>
+#include <tuple>
 
 #include "engine/schema/parameter_ranges.h"
 #include "gears/tolerances.h"
@@ -96,14 +98,20 @@ std::vector<ScenarioKey> make_table() {
       number_key("gear.module_mm", kNum, std::nullopt, "required", "normal module m_n"),
       number_key("gear.pressure_angle_deg", kNum, 20, "", "normal pressure angle α_n"),
       number_key("gear.helix_angle_deg", kNum, 0, "",
-                 "helix angle β at the reference diameter (0: spur; helical gears: "
-                 "`gearmc geometry` and `export-plan` only in this version)"),
+                 "helix angle β at the reference diameter (0: spur)"),
       choice_key("gear.hand", {"right", "left"}, "required when helix_angle_deg > 0",
                  "hand of the helix (right: the section turns counter-clockwise going up +Z)"),
       boolean_key("gear.internal", false,
                   "an internal (ring) gear: not modelled yet, `true` is refused"),
       map_key("gear.modifications", "none",
-              "designed profile and helix modifications: not modelled yet, refused"),
+              "designed profile and helix modifications: the design flank deviations are "
+              "measured against"),
+      number_key("gear.modifications.profile_crowning_um", kNum, 0, "",
+                 "profile crowning over the active profile, µm at both ends"),
+      number_key("gear.modifications.helix_crowning_um", kNum, 0, "",
+                 "helix crowning over the face width, µm at both ends"),
+      number_key("gear.modifications.helix_slope_um", kNum, 0, "",
+                 "helix slope modification over the face width, µm (+ = more material at z = b)"),
       number_key("gear.profile_shift", kNum, 0, "", "profile shift coefficient x"),
       number_key("gear.face_width_mm", kNum, std::nullopt, "required", "face width b"),
       number_key("gear.tip_diameter_mm", kNum, std::nullopt, "from the rack and the shift",
@@ -200,6 +208,26 @@ std::vector<ScenarioKey> make_table() {
                  "ISO 14253-1 acceptance: within T, or within T narrowed by U"),
   };
   t.insert(t.end(), rest.begin(), rest.end());
+  // The three reliefs of gear.modifications, after its map key: amount, length, shape each.
+  std::vector<ScenarioKey> reliefs;
+  for (const auto& [name, what, along] :
+       {std::tuple<std::string, std::string, std::string>{
+            "tip_relief", "tip relief, ending at the tip circle", "along the roll length"},
+        {"root_relief", "root relief, ending at the form circle", "along the roll length"},
+        {"end_relief", "end relief at both faces", "along the face, at each end"}}) {
+    const std::string path = "gear.modifications." + name;
+    reliefs.push_back(map_key(path, "none", what));
+    reliefs.push_back(number_key(path + ".amount_um", kNum, std::nullopt, "required",
+                                 "material removed at the end, µm"));
+    reliefs.push_back(number_key(path + ".length_mm", kNum, std::nullopt, "required",
+                                 "its length " + along + ", mm"));
+    reliefs.push_back(choice_key(path + ".shape", {"circular", "linear"}, "circular",
+                                 "circular: an arc tangent to the flank; linear (a kink): not "
+                                 "modelled yet, refused"));
+  }
+  const auto after = std::find_if(
+      t.begin(), t.end(), [](const ScenarioKey& k) { return k.key == "gear.modifications"; });
+  t.insert(after + 1, reliefs.begin(), reliefs.end());
 
   // effects: each effect's map (absent = off) with `enabled` and its parameters.
   struct Effect {

@@ -99,6 +99,19 @@ inline Eigen::Vector2d brute_force_contact(const AnalyticFlank& flank, const Eig
   return {L, z};
 }
 
+// brute_force_contact's answer as points: the contact C on the flank and the stylus centre O on
+// the probing line p + h n.
+struct BruteForcePoints {
+  Eigen::Vector3d contact, centre;
+};
+inline BruteForcePoints brute_force_contact_points(const AnalyticFlank& flank,
+                                                   const Eigen::Vector3d& p,
+                                                   const Eigen::Vector3d& n, double R, double L0,
+                                                   double z0) {
+  const Eigen::Vector2d s = brute_force_contact(flank, p, n, R, L0, z0);
+  return {flank.point(s[0], s[1]), p + brute_force_contact_height(flank, p, n, R, s[0], s[1]) * n};
+}
+
 // The global first contact by search over the whole footprint: the contact height on a
 // (2 cells_z + 1)-node grid per unit of R, over [L0 - half_L, L0 + half_L] x [z0 - R, z0 + R],
 // then brute_force_contact's nested shrinking grids (from +/- 2 grid steps) around each of the

@@ -107,14 +107,11 @@ TEST(HelicalContact, RandomSmoothFieldsAgreeWithBruteForceAndStageOneProvesThem)
           const ContactResult r =
               solve_contact(flank, extent_of(gear), fp.point, fp.normal, R, L, z);
           ASSERT_EQ(r.status, ContactResult::Status::kOk);
-          const Eigen::Vector2d b =
-              testing_support::brute_force_contact(flank, fp.point, fp.normal, R, L, z);
-          const Eigen::Vector3d C = flank.point(b[0], b[1]);
-          const Eigen::Vector3d O = fp.point + testing_support::brute_force_contact_height(
-                                                   flank, fp.point, fp.normal, R, b[0], b[1]) *
-                                                   fp.normal;
+          const testing_support::BruteForcePoints b =
+              testing_support::brute_force_contact_points(flank, fp.point, fp.normal, R, L, z);
+          const Eigen::Vector3d& C = b.contact;
           EXPECT_LT((C - r.contact).norm(), 1e-6);  // 1 nm
-          EXPECT_LT((O - r.centre).norm(), 1e-6);
+          EXPECT_LT((b.centre - r.centre).norm(), 1e-6);
           EXPECT_NEAR((r.centre - r.contact).norm(), R, 1e-9);
           worst = std::max(worst, (C - r.contact).norm());
           const double kappa =

@@ -119,9 +119,10 @@ TEST(HelicalScenario, HandIsRequiredWithAHelixAngleAndRefusedWithout) {
   EXPECT_NE(sideways.err.find("gear.hand: got 'up'"), std::string::npos) << sideways.err;
 }
 
-// Internal gears and design modifications are known keys whose message says they are not
-// modelled yet (not "unknown key"); `internal: false` is the default and accepted.
-TEST(HelicalScenario, InternalGearsAndModificationsAreRefusedAsNotYetModelled) {
+// Internal gears are a known key whose message says they are not modelled yet (not "unknown
+// key"); `internal: false` is the default and accepted. Design modifications are read, placed at
+// their key when wrong, and a linear relief (a kink) is refused as not modelled yet.
+TEST(HelicalScenario, InternalGearsAreRefusedAndModificationsRead) {
   const fs::path dir = fresh_temp_path("helical_next");
   fs::create_directories(dir);
   write_text(dir / "external.yaml", helical_yaml("  hand: right\n  internal: false\n"));
@@ -133,12 +134,37 @@ TEST(HelicalScenario, InternalGearsAndModificationsAreRefusedAsNotYetModelled) {
                           "(ring) gears are not modelled yet"),
             std::string::npos)
       << ring.err;
-  write_text(dir / "relief.yaml",
-             helical_yaml("  hand: right\n  modifications: {tip_relief: {amount_um: 10}}\n"));
+  const std::string modified =
+      "  hand: right\n  modifications:\n"
+      "    tip_relief: {amount_um: 10, length_mm: 3}\n"
+      "    end_relief: {amount_um: 8, length_mm: 4, shape: circular}\n"
+      "    helix_crowning_um: 5\n";
+  write_text(dir / "relief.yaml", helical_yaml(modified));
   const auto relief = run_gearmc("geometry " + (dir / "relief.yaml").string());
-  EXPECT_EQ(relief.exit_code, 2);
-  EXPECT_NE(relief.err.find("gear.modifications"), std::string::npos) << relief.err;
-  EXPECT_NE(relief.err.find("are not modelled yet"), std::string::npos) << relief.err;
+  EXPECT_EQ(relief.exit_code, 0) << relief.err;
+  std::string linear = modified;
+  linear.replace(linear.find("shape: circular"), 15, "shape: linear");
+  write_text(dir / "linear.yaml", helical_yaml(linear));
+  const auto kink = run_gearmc("geometry " + (dir / "linear.yaml").string());
+  EXPECT_EQ(kink.exit_code, 2);
+  EXPECT_NE(kink.err.find("linear.yaml:10:53: gear.modifications.end_relief.shape: got 'linear', "
+                          "expected circular: a linear relief"),
+            std::string::npos)
+      << kink.err;
+  std::string no_length = modified;
+  no_length.replace(no_length.find(", length_mm: 3"), 14, "");
+  write_text(dir / "no_length.yaml", helical_yaml(no_length));
+  const auto missing = run_gearmc("geometry " + (dir / "no_length.yaml").string());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("gear.modifications.tip_relief.length_mm"), std::string::npos)
+      << missing.err;
+  std::string too_long = modified;
+  too_long.replace(too_long.find("length_mm: 4"), 12, "length_mm: 30");
+  write_text(dir / "too_long.yaml", helical_yaml(too_long));
+  const auto long_relief = run_gearmc("geometry " + (dir / "too_long.yaml").string());
+  EXPECT_EQ(long_relief.exit_code, 2);
+  EXPECT_NE(long_relief.err.find("more than half the face width"), std::string::npos)
+      << long_relief.err;
 }
 
 // Every command takes a helical gear: run (with the gear parameters), check, sweep, simulate,
