@@ -137,10 +137,11 @@ PointTableColumns parse_point_table_columns(const std::string& yaml_text, const 
                     "measured: {x, y, z} (the compensated points) or deviation_um (the measured "
                     "deviation along the normal, µm)");
   }
-  if (auto v = top.get_choice("unit", {"mm", "um", "in"})) {
-    c.unit = *v == "um"   ? TableLengthUnit::kUm
-             : *v == "in" ? TableLengthUnit::kInch
-                          : TableLengthUnit::kMm;
+  // µm and inch as exports and users write them, um and in as plain ASCII.
+  if (auto v = top.get_choice("unit", {"mm", "um", "µm", "in", "inch"})) {
+    c.unit = *v == "um" || *v == "µm"     ? TableLengthUnit::kUm
+             : *v == "in" || *v == "inch" ? TableLengthUnit::kInch
+                                          : TableLengthUnit::kMm;
   }
   if (auto v = top.find("decimal")) c.decimal = v->as_choice({".", ","})[0];
   if (auto v = top.find("separator")) {

@@ -167,6 +167,71 @@ double nominal_point_allowance_mm(const Scenario& model, const InvoluteGear& gea
   return std::max(sum_um, 10.0) * 1e-3;
 }
 
+// A label column whose values leave its range but would all fit once shifted by one constant
+// (1-based grid indices, 0-based teeth, an export that counts from another start): one message
+// for the whole file, at its first row out of range, with the shift that fixes it — instead of
+// refusing the file row by row.
+void refuse_shifted_labels(const Readings& readings, const std::string& path, int teeth, int n,
+                           int m, const std::string& grid) {
+  struct Label {
+    int field;
+    const char* name;
+    int lo, hi;
+    int ReadingRow::*value;
+    std::string range;
+  };
+  const Label labels[] = {
+      {kTooth, "tooth", 1, teeth, &ReadingRow::tooth,
+       "a tooth in 1 … " + std::to_string(teeth) + " (the model's gear has " +
+           std::to_string(teeth) + " teeth)"},
+      {kI, "i", 0, n - 1, &ReadingRow::i,
+       "a profile index i in 0 … " + std::to_string(n - 1) + grid},
+      {kJ, "j", 0, m - 1, &ReadingRow::j, "a face index j in 0 … " + std::to_string(m - 1) + grid}};
+  // Every shifted column is named in the one message (a file with 1-based i usually has 1-based
+  // j too), at the first shifted column's first row out of range.
+  struct Finding {
+    InputLocation where;
+    std::string key, value, expected;
+  };
+  std::optional<Finding> first;
+  std::string others;
+  for (const Label& label : labels) {
+    if (readings.rows.empty()) return;
+    int lowest = readings.rows.front().*label.value, highest = lowest;
+    std::size_t first_out = readings.rows.size();
+    for (std::size_t k = 0; k < readings.rows.size(); ++k) {
+      const int v = readings.rows[k].*label.value;
+      lowest = std::min(lowest, v);
+      highest = std::max(highest, v);
+      if ((v < label.lo || v > label.hi) && first_out == readings.rows.size()) first_out = k;
+    }
+    if (first_out == readings.rows.size()) continue;  // every value in range
+    // The one shift that brings every value into range, if there is one.
+    const long shift = highest > label.hi ? static_cast<long>(highest) - label.hi
+                                          : static_cast<long>(lowest) - label.lo;
+    if (static_cast<long>(lowest) - shift < label.lo ||
+        static_cast<long>(highest) - shift > label.hi) {
+      continue;  // no single shift fits: the row-by-row check says what is wrong
+    }
+    const std::string by = (shift > 0 ? "+" : "") + std::to_string(shift);
+    const char* hint = label.field == kTooth
+                           ? (shift == -1 ? " (0-based teeth? gearmc numbers teeth from 1)" : "")
+                           : (shift == 1 ? " (1-based indices? gearmc counts i and j from 0)" : "");
+    const std::string finding =
+        "every " + std::string(label.name) + " of this file lies in " + std::to_string(lowest) +
+        " … " + std::to_string(highest) + ": the whole column looks shifted by " + by + hint +
+        " — subtract " + std::to_string(shift) + " from every " + label.name;
+    if (!first) {
+      first = Finding{locate(readings, path, first_out, label.field), kFieldNames[label.field],
+                      std::to_string(readings.rows[first_out].*label.value),
+                      label.range + "; " + finding};
+    } else {
+      others += "; and " + finding;
+    }
+  }
+  if (first) throw InputError(first->where, first->key, first->value, first->expected + others);
+}
+
 }  // namespace
 
 void check_readings_against_model(const Scenario& model, const Readings& readings,
@@ -193,6 +258,7 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
                          " mm (stylus.radius_mm): the readings were taken with another ball; "
                          "set stylus.radius_mm in the model to the ball that measured");
   }
+  refuse_shifted_labels(readings, readings_path, teeth, n, m, grid);
   for (std::size_t k = 0; k < readings.rows.size(); ++k) {
     const ReadingRow& row = readings.rows[k];
     auto refuse = [&](int field, int value, const std::string& expected) {

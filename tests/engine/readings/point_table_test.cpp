@@ -108,6 +108,17 @@ TEST(PointTable, DeviationColumnInInchTableWithTabs) {
   expect_near(r.rows[0].p, {25.4, 50.8, 12.7}, 1e-12);
   expect_near(r.rows[0].c, {25.4, 50.8, 13.203}, 1e-12);
   EXPECT_NEAR(measured_deviation_um(r.rows[0], 0.5), 3.0, 1e-9);
+  // `inch` is `in`, `µm` is `um` (the spellings of real exports and users).
+  std::string inch = mapping;
+  inch.replace(inch.find("unit: in"), 8, "unit: inch");
+  const Readings r_inch =
+      parse_point_table(table, "t.txt", parse_point_table_columns(inch, "m.yaml"), 0.5);
+  expect_near(r_inch.rows[0].c, {25.4, 50.8, 13.203}, 1e-12);
+  std::string micro = mapping;
+  micro.replace(micro.find("unit: in"), 8, "unit: µm");
+  const Readings r_um =
+      parse_point_table(table, "t.txt", parse_point_table_columns(micro, "m.yaml"), 0.5);
+  expect_near(r_um.rows[0].p, {1e-3, 2e-3, 0.5e-3}, 1e-15);  // 1, 2, 0.5 µm
   EXPECT_NEAR(measured_deviation_um(r.rows[1], 0.5), -0.1, 1e-9);
   // The separator named in the mapping (as the word or a YAML tab escape) reads the same; ';'
   // finds no such row (one field per line).
@@ -334,7 +345,7 @@ TEST(PointTable, BadMappingsAreRefusedWithTheirPlace) {
        "(columns.normal.j names it)"},
       {with("decimal: \",\"", "decimal: \",\"\nseparator: \",\""),
        "columns.yaml:13:12: separator: got ',', expected ';' or tab: with decimal ','"},
-      {with("unit: um", "unit: µm"), "columns.yaml:11:7: unit: got 'µm', expected one of"},
+      {with("unit: um", "unit: micron"), "columns.yaml:11:7: unit: got 'micron', expected one of"},
       {with("  measured: {x: X_ist, y: Y_ist, z: Z_ist}\n", ""),
        "columns.yaml:2:1: columns.measured: expected measured: {x, y, z} (the compensated points) "
        "or deviation_um"},

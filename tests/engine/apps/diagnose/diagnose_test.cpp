@@ -66,6 +66,43 @@ TEST(DiagnoseInput, RowsOutsideTheModelsGearOrPlanAreRefused) {
       "a nominal point on the model's gear");
 }
 
+// A file whose labels are all shifted by one constant (1-based grid indices, 0-based teeth) gets
+// one message saying so, with the fix, at its first row out of range — not a refusal of that row
+// alone as if it were a typo.
+TEST(DiagnoseInput, LabelsShiftedAsAWholeAreNamedAsSuch) {
+  const Readings good = master_readings(reference_scenario());
+  const auto message = [&](auto change) {
+    Readings r = good;
+    for (ReadingRow& row : r.rows) change(row);
+    try {
+      diagnose(baseline(), r);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string one_based = message([](ReadingRow& row) {
+    ++row.i;
+    ++row.j;
+  });
+  EXPECT_NE(one_based.find("i: got '10', expected a profile index i in 0 … 9"), std::string::npos)
+      << one_based;
+  EXPECT_NE(one_based.find("every i of this file lies in 1 … 10: the whole column looks shifted "
+                           "by +1 (1-based indices? gearmc counts i and j from 0) — subtract 1 "
+                           "from every i; and every j of this file lies in 1 … 5"),
+            std::string::npos)
+      << one_based;
+  const std::string zero_based = message([](ReadingRow& row) { --row.tooth; });
+  EXPECT_NE(zero_based.find("every tooth of this file lies in 0 … 23: the whole column looks "
+                            "shifted by -1 (0-based teeth? gearmc numbers teeth from 1)"),
+            std::string::npos)
+      << zero_based;
+  // A shift that no single constant undoes is refused row by row as before.
+  const std::string spread = message([](ReadingRow& row) { row.i *= 2; });
+  EXPECT_EQ(spread.find("whole column"), std::string::npos) << spread;
+  EXPECT_NE(spread.find("i in 0 … 9"), std::string::npos) << spread;
+}
+
 // --- The diagnosis on readings with one hidden effect -----------------------------------------
 
 struct HiddenEffect {
