@@ -11,6 +11,8 @@
 #include <limits>
 #include <vector>
 
+#include "core/sort_doubles.h"
+
 namespace gearmc {
 
 // Standard normal CDF Φ(z) = erfc(−z/√2)/2 and its inverse (Acklam's rational approximation,
@@ -46,7 +48,7 @@ double regularized_gamma_q(double a, double x);
 template <class Cdf>
 double ks_distance(std::vector<double> values, const Cdf& cdf) {
   if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values.begin(), values.end());
+  sort_doubles(values);
   const double n = static_cast<double>(values.size());
   double d = 0.0;
   for (std::size_t i = 0; i < values.size(); ++i) {

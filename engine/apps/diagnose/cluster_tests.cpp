@@ -5,10 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/random_stream.h"
 #include "engine/apps/diagnose/selection.h"
@@ -163,8 +167,7 @@ PermutationTest cluster_swap_energy_test(std::span<const double> x, std::span<co
   for (std::size_t k = 0; k < pooled.size(); ++k) {
     total += (pooled[k].value - c) * (2.0 * static_cast<double>(k) - 2.0 * dn + 1.0);
   }
-  std::vector<char> swap(static_cast<std::size_t>(dc.count));
-  auto energy_with_swaps = [&]() {
+  auto energy_with_swaps = [&](const std::vector<char>& swap) {
     double sxx = 0.0, syy = 0.0, kx = 0.0, ky = 0.0;
     for (const Pooled& z : pooled) {
       const bool in_x = z.from_y == (swap[static_cast<std::size_t>(dc.index[z.point])] != 0);
@@ -180,15 +183,23 @@ PermutationTest cluster_swap_energy_test(std::span<const double> x, std::span<co
     return 2.0 * (sxy - sxx - syy) / (dn * dn);
   };
   // The observed value on the same path, so the all-swapped replicate ties it exactly.
-  const double observed = energy_with_swaps();
+  const double observed = energy_with_swaps(std::vector<char>(static_cast<std::size_t>(dc.count)));
   const double threshold = observed - kTieTolerance * scale;
 
-  int at_least = 0;
-  for (int r = 0; r < replicates; ++r) {
-    RandomStream rng(seed, static_cast<std::uint32_t>(r), kDiagnoseNullStream, sub_index);
-    for (char& s : swap) s = rng.uniform() < 0.5 ? 1 : 0;
-    if (energy_with_swaps() >= threshold) ++at_least;
-  }
+  // The replicates in parallel, each from its own stream; the count is an integer sum, the same
+  // for any number of threads.
+  const int at_least = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, replicates), 0,
+      [&](const tbb::blocked_range<int>& range, int count) {
+        std::vector<char> swap(static_cast<std::size_t>(dc.count));
+        for (int r = range.begin(); r < range.end(); ++r) {
+          RandomStream rng(seed, static_cast<std::uint32_t>(r), kDiagnoseNullStream, sub_index);
+          for (char& s : swap) s = rng.uniform() < 0.5 ? 1 : 0;
+          if (energy_with_swaps(swap) >= threshold) ++count;
+        }
+        return count;
+      },
+      std::plus<int>());
   out.p_value = (1.0 + at_least) / (replicates + 1.0);
   return out;
 }

@@ -51,8 +51,8 @@
 //     "none" when there is no gap; unexplained_structure when the gap tests still reject after
 //     the fit.
 // Units: residuals and RMS in µm, parameters in the units of their names (µm, ppm, µrad, K, deg).
-// Deterministic: the same inputs and seed give the same result (no threads, counter-based
-// streams).
+// Deterministic: the same inputs and seed give the same result for any number of threads (the
+// null replicates run in parallel, each from its own counter-based streams into its own slots).
 #pragma once
 
 #include <Eigen/Core>

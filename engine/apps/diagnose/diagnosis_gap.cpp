@@ -9,6 +9,8 @@
 #include <sstream>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 #include "core/special_functions.h"
 #include "engine/apps/diagnose/cluster_tests.h"
 #include "engine/apps/diagnose/diagnosis_stages.h"
@@ -270,16 +272,21 @@ void simulate_null(const State& state, Diagnosis& out) {
                           noise.source == NoiseFloorSource::kResidualMad;
   const std::vector<std::array<int, 3>> triplets =
       reestimate ? scan_triplets(residuals.points) : std::vector<std::array<int, 3>>{};
-  std::vector<double> chi2_before, chi2_after, ks_before, ks_after;
+  const int replicates = out.null_replicates;
+  std::vector<double> chi2_before(replicates), chi2_after(replicates), ks_before(replicates),
+      ks_after(replicates);
   const int orders = options.spectrum_max_order + 1;
-  std::vector<std::vector<double>> amp_before(orders), amp_after(orders);
-  Eigen::VectorXd eps(rows), eps_law_after(rows);
+  std::vector<std::vector<double>> amp_before(orders, std::vector<double>(replicates)),
+      amp_after(orders, std::vector<double>(replicates));
   // With no spread at all (σ = 0) the null is simulated at unit σ and the bands scaled to 0.
   const bool unit = !(law_before.variance_um2() > 0.0);
   ResidualLaw sim_before = law_before, sim_after = law_after;
   if (unit) sim_before = sim_after = ResidualLaw{1.0, 0.0, 0.0};
   const double band_scale = unit ? 0.0 : 1.0;
-  for (int k = 0; k < out.null_replicates; ++k) {
+  // The replicates in parallel: replicate k draws from its own counter-based streams and writes
+  // only its own slots, so the result is the same for any number of threads.
+  tbb::parallel_for(0, replicates, [&](int k) {
+    Eigen::VectorXd eps(rows), eps_law_after(rows);
     RandomStream rng(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream, kGapNullSubIndex);
     for (int i = 0; i < rows; ++i) eps[i] = sim_before.draw(rng);
     ResidualLaw l_before = sim_before, l_after = sim_after;
@@ -302,16 +309,16 @@ void simulate_null(const State& state, Diagnosis& out) {
         eps_law_after - q_after * (q_after.transpose() * eps_law_after);
     const GapStatistics gb = gap_statistics(eps, rows, l_before);
     const GapStatistics ga = gap_statistics(eps_after, rows - p_after, l_after);
-    chi2_before.push_back(gb.chi2_dof);
-    chi2_after.push_back(ga.chi2_dof);
-    ks_before.push_back(gb.ks);
-    ks_after.push_back(ga.ks);
+    chi2_before[k] = gb.chi2_dof;
+    chi2_after[k] = ga.chi2_dof;
+    ks_before[k] = gb.ks;
+    ks_after[k] = ga.ks;
     const std::vector<double> sb = spectrum.amplitudes(eps), sa = spectrum.amplitudes(eps_after);
     for (int o = 0; o < orders; ++o) {
-      amp_before[o].push_back(sb[o] * band_scale);
-      amp_after[o].push_back(sa[o] * band_scale);
+      amp_before[o][k] = sb[o] * band_scale;
+      amp_after[o][k] = sa[o] * band_scale;
     }
-  }
+  });
   if (out.null_replicates > 0) {
     out.gap_before.chi2_p = empirical_p_value(out.gap_before.chi2_dof, chi2_before);
     out.gap_before.ks_p = empirical_p_value(out.gap_before.ks, ks_before);

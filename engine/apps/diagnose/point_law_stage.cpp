@@ -11,6 +11,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <tbb/parallel_for.h>
+
 #include "engine/apps/diagnose/linear_model.h"
 #include "engine/apps/diagnose/selection.h"
 
@@ -246,15 +248,17 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
   stage.white_variance_um2 = white_variance(model.residual, triplets);
   stage.white_excess_rms_um = std::sqrt(std::max(0.0, stage.white_variance_um2 - v0));
   if (options.null_replicates > 0) {
-    std::vector<double> null_values;
-    Eigen::VectorXd e(n);
-    for (int k = 0; k < options.null_replicates; ++k) {
+    // In parallel: replicate k from its own stream into its own slot (any number of threads
+    // gives the same values).
+    std::vector<double> null_values(static_cast<std::size_t>(options.null_replicates));
+    tbb::parallel_for(0, options.null_replicates, [&](int k) {
+      Eigen::VectorXd e(n);
       RandomStream rng(options.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
                        kWhiteNullSubIndex);
       for (int i = 0; i < n; ++i) e[i] = law0.draw(rng);
       const Eigen::VectorXd e_perp = e - full.q * (full.q.transpose() * e);
-      null_values.push_back(white_variance(e_perp, triplets));
-    }
+      null_values[static_cast<std::size_t>(k)] = white_variance(e_perp, triplets);
+    });
     stage.white_p = empirical_p_value(stage.white_variance_um2, null_values);
   } else {
     const double m = static_cast<double>(triplets.size());

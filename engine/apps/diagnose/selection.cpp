@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "core/special_functions.h"
 #include "engine/apps/diagnose/linear_model.h"
 
@@ -58,9 +60,13 @@ double rss_after_selected(const StepDesign& d, const Eigen::VectorXd& y) {
 
 NullSelectionDistribution simulate(const StepDesign& d, int rows, double sigma_um, int replicates,
                                    std::uint64_t seed, int step) {
-  NullSelectionDistribution out;
-  Eigen::VectorXd eps(rows);
-  for (int k = 0; k < replicates; ++k) {
+  // The replicates in parallel, each from its own stream into its own slot, kept in replicate
+  // order: the same result for any number of threads.
+  std::vector<double> max_fs(static_cast<std::size_t>(std::max(replicates, 0)));
+  std::vector<double> min_ps(max_fs.size());
+  std::vector<char> tested(max_fs.size(), 0);
+  tbb::parallel_for(0, replicates, [&](int k) {
+    Eigen::VectorXd eps(rows);
     RandomStream rng(seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
                      static_cast<std::uint32_t>(step));
     for (int r = 0; r < rows; ++r) eps[r] = sigma_um * rng.normal();
@@ -74,9 +80,15 @@ NullSelectionDistribution simulate(const StepDesign& d, int rows, double sigma_u
       max_f = std::max(max_f, s.f);
       min_p = std::min(min_p, s.p);
     }
-    if (!any) continue;
-    out.max_f.push_back(max_f);
-    out.min_p.push_back(min_p);
+    max_fs[k] = max_f;
+    min_ps[k] = min_p;
+    tested[k] = any ? 1 : 0;
+  });
+  NullSelectionDistribution out;
+  for (std::size_t k = 0; k < max_fs.size(); ++k) {
+    if (!tested[k]) continue;
+    out.max_f.push_back(max_fs[k]);
+    out.min_p.push_back(min_ps[k]);
   }
   return out;
 }
