@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "core/input_error.h"
 #include "engine/apps/diagnose/diagnosis.h"
 #include "engine/apps/diagnose/diagnosis_json.h"
@@ -258,6 +260,22 @@ TEST(Diagnose, ThermalExpansionIsAmbiguousWithScaleAndSaysMeasureTheTemperature)
       EXPECT_NE(a.separate_by.find("temperature"), std::string::npos);
     }
   }
+}
+
+// The null replicates run in parallel (oneTBB); each draws from its own counter-based stream into
+// its own slot, so one thread and every thread give the same diagnosis.json byte for byte.
+TEST(Diagnose, OneThreadAndAllThreadsGiveTheSameDiagnosis) {
+  const Readings readings = hidden(
+      "probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.75, phase_deg: 90}]}\n"
+      "drift: {x_um: 0.4, y_um: -0.3, z_um: 0}\n");
+  std::string serial;
+  {
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    serial = diagnosis_json(diagnose(baseline(), readings));
+  }
+  const std::string parallel = diagnosis_json(diagnose(baseline(), readings));
+  EXPECT_EQ(serial, parallel);
+  EXPECT_GT(serial.size(), 1000u);  // a whole diagnosis, not an empty one
 }
 
 TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
