@@ -66,6 +66,37 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
                         {"tip_roll_length_L_a", mm(gear.tip_roll_length_mm())},
                         {"angular_pitch_deg", deg(gear.angular_pitch_rad())},
                         {"undercut", gear.undercut()}};
+  const FlankModifications& mods = p.modifications;
+  if (mods.any()) {  // where each designed modification starts (gears/flank_modifications.h)
+    ordered_json m = ordered_json::object();
+    const auto profile_relief = [&](const FlankRelief& r, double start_L) {
+      return ordered_json{{"amount_um", r.amount_um},
+                          {"length_mm", r.length_mm},
+                          {"shape", "circular"},
+                          {"starts_at_roll_length_mm", mm(start_L)},
+                          {"starts_at_diameter_mm", mm(gear.diameter_at_roll_length(start_L))}};
+    };
+    if (mods.tip_relief.present()) {
+      m["tip_relief"] =
+          profile_relief(mods.tip_relief, gear.tip_roll_length_mm() - mods.tip_relief.length_mm);
+    }
+    if (mods.root_relief.present()) {
+      m["root_relief"] =
+          profile_relief(mods.root_relief, gear.form_roll_length_mm() + mods.root_relief.length_mm);
+    }
+    if (mods.profile_crowning_um != 0.0) m["profile_crowning_um"] = mods.profile_crowning_um;
+    if (mods.end_relief.present()) {
+      m["end_relief"] = {
+          {"amount_um", mods.end_relief.amount_um},
+          {"length_mm", mods.end_relief.length_mm},
+          {"shape", "circular"},
+          {"unrelieved_z_mm",
+           {mm(mods.end_relief.length_mm), mm(p.face_width_mm - mods.end_relief.length_mm)}}};
+    }
+    if (mods.helix_crowning_um != 0.0) m["helix_crowning_um"] = mods.helix_crowning_um;
+    if (mods.helix_slope_um != 0.0) m["helix_slope_um"] = mods.helix_slope_um;
+    doc["modifications"] = m;
+  }
   doc["evaluation_ranges_mm"] = {
       {"profile_roll_length", {mm(ranges.profile_start_mm), mm(ranges.profile_end_mm)}},
       {"helix_z", {mm(ranges.helix_start_mm), mm(ranges.helix_end_mm)}}};

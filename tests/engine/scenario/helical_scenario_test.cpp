@@ -141,7 +141,21 @@ TEST(HelicalScenario, InternalGearsAreRefusedAndModificationsRead) {
       "    helix_crowning_um: 5\n";
   write_text(dir / "relief.yaml", helical_yaml(modified));
   const auto relief = run_gearmc("geometry " + (dir / "relief.yaml").string());
-  EXPECT_EQ(relief.exit_code, 0) << relief.err;
+  ASSERT_EQ(relief.exit_code, 0) << relief.err;
+  // `geometry` says where each modification starts: the tip relief 3 mm of roll below the tip,
+  // at the diameter 2 sqrt(r_b² + L²) of that roll length (d_b from
+  // tests/gears/helical_reference.py); the end relief leaves z 4 … 36 mm unrelieved.
+  const nlohmann::json g = nlohmann::json::parse(relief.out);
+  const double L_a = g["geometry_mm"]["tip_roll_length_L_a"].get<double>();
+  const double start = g["modifications"]["tip_relief"]["starts_at_roll_length_mm"].get<double>();
+  EXPECT_NEAR(start, L_a - 3.0, 1e-6);
+  const double r_b = 120.128927774273 / 2;
+  EXPECT_NEAR(g["modifications"]["tip_relief"]["starts_at_diameter_mm"].get<double>(),
+              2 * std::sqrt(r_b * r_b + start * start), 1e-5);
+  EXPECT_EQ(g["modifications"]["end_relief"]["unrelieved_z_mm"],
+            nlohmann::json::parse("[4.0, 36.0]"));
+  EXPECT_EQ(g["modifications"]["helix_crowning_um"], 5.0);
+  EXPECT_FALSE(g["modifications"].contains("root_relief"));
   std::string linear = modified;
   linear.replace(linear.find("shape: circular"), 15, "shape: linear");
   write_text(dir / "linear.yaml", helical_yaml(linear));
