@@ -20,6 +20,7 @@
 #include "engine/plan/probing_grid.h"
 #include "gears/deviations.h"
 #include "tests/support/p1_fixtures.h"
+#include "tests/support/sampled_curvature.h"
 
 namespace gearmc {
 namespace {
@@ -32,38 +33,6 @@ FlankExtent extent_of(const InvoluteGear& g) {
   return {g.form_roll_length_mm(), g.tip_roll_length_mm(), 0.0, g.face_width_mm()};
 }
 
-// The largest eigenvalue of H_uu at (L, z) (1/mm): u = (w.tau, w.e_z), h = w.n, w = S - p, tau
-// = e_z x n; H_uu = J^-T (h_xy - s.u_xy) J^-1 with J = d(u)/d(L, z) and s = J^-T (h_L, h_z), all
-// partials by central differences (step e) of flank.point. (Differential geometry of a graph;
-// the step's rounding error ~1e-14 mm / e^2 = 1e-8 /mm.)
-double fd_curvature(const AnalyticFlank& flank, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                    double L, double z) {
-  const Eigen::Vector3d tau = Eigen::Vector3d::UnitZ().cross(n).normalized();
-  auto uh = [&](double l, double zz) {
-    const Eigen::Vector3d w = flank.point(l, zz) - p;
-    return Eigen::Vector3d(w.dot(tau), w.z(), w.dot(n));
-  };
-  const double e = 1e-3;
-  const Eigen::Vector3d c = uh(L, z);
-  const Eigen::Vector3d Lp = uh(L + e, z), Lm = uh(L - e, z), zp = uh(L, z + e), zm = uh(L, z - e);
-  const Eigen::Vector3d pp = uh(L + e, z + e), pm = uh(L + e, z - e), mp = uh(L - e, z + e),
-                        mm = uh(L - e, z - e);
-  const Eigen::Vector3d dL = (Lp - Lm) / (2 * e), dz = (zp - zm) / (2 * e);
-  const Eigen::Vector3d dLL = (Lp - 2 * c + Lm) / (e * e), dzz = (zp - 2 * c + zm) / (e * e);
-  const Eigen::Vector3d dLz = (pp - pm - mp + mm) / (4 * e * e);
-  Eigen::Matrix2d J;
-  J << dL.x(), dz.x(), dL.y(), dz.y();
-  const Eigen::Matrix2d Jinv = J.inverse();
-  const Eigen::Vector2d s = Jinv.transpose() * Eigen::Vector2d(dL.z(), dz.z());
-  auto M = [&](const Eigen::Vector3d& d2) { return d2.z() - s.dot(d2.head<2>()); };
-  Eigen::Matrix2d m;
-  m << M(dLL), M(dLz), M(dLz), M(dzz);
-  const Eigen::Matrix2d H = Jinv.transpose() * m * Jinv;
-  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (H + H.transpose()))
-      .eigenvalues()
-      .maxCoeff();
-}
-
 // The largest sampled curvature over the footprint of the point at (L0, z0) (sphere radius R
 // projected on the flank: |L - L0| <= R r_b / L0, |z - z0| <= R), 9 x 9 samples.
 double sampled_footprint_curvature(const InvoluteGear& gear, const AnalyticFlank& flank,
@@ -73,7 +42,7 @@ double sampled_footprint_curvature(const InvoluteGear& gear, const AnalyticFlank
   for (int i = -4; i <= 4; ++i) {
     for (int j = -4; j <= 4; ++j) {
       const double L = pp.roll_length_mm + i * half_L / 4, z = pp.z_mm + j * kR / 4;
-      worst = std::max(worst, fd_curvature(flank, pp.point, pp.normal, L, z));
+      worst = std::max(worst, testing_support::fd_curvature(flank, pp.point, pp.normal, L, z));
     }
   }
   return worst;
