@@ -1,5 +1,6 @@
 // The base point's polar angle of a nominal flank point, the only transcendental part of
-// InvoluteGear::flank_point: phi_b = tooth angle +/- (theta_b - L / r_b) (involute_gear.h). A
+// InvoluteGear::flank_point: phi_b = tooth angle +/- (theta_b - sigma L / r_b) (involute_gear.h,
+// sigma = +1 external, -1 internal). A
 // caller that evaluates many points near one roll length (the contact solver: every evaluation
 // of one solve lies within about a stylus radius of its start) turns a known cos and sin by the
 // small angle between them instead of calling sincos again, and builds the flank point from
@@ -20,7 +21,7 @@ struct BaseAngle {
 // phi_b at roll length L (mm) of flank `side` of `tooth`: as InvoluteGear::flank_point computes it
 // for a spur gear.
 inline BaseAngle base_angle(const InvoluteGear& gear, int tooth, FlankSide side, double L) {
-  const double xi = L / (gear.base_diameter_mm() / 2.0);
+  const double xi = gear.roll_sign() * L / (gear.base_diameter_mm() / 2.0);
   const double phi_b =
       gear.tooth_centre_angle_rad(tooth) + side_sign(side) * (gear.base_half_angle_rad() - xi);
   return {std::cos(phi_b), std::sin(phi_b)};
@@ -30,16 +31,16 @@ inline BaseAngle base_angle(const InvoluteGear& gear, int tooth, FlankSide side,
 // helix_turn_per_mm (InvoluteGear::flank_point).
 inline BaseAngle base_angle(const InvoluteGear& gear, int tooth, FlankSide side, double L,
                             double z) {
-  const double xi = L / (gear.base_diameter_mm() / 2.0);
+  const double xi = gear.roll_sign() * L / (gear.base_diameter_mm() / 2.0);
   const double phi_b = gear.tooth_centre_angle_rad(tooth) +
                        side_sign(side) * (gear.base_half_angle_rad() - xi) +
                        z * gear.helix_turn_per_mm();
   return {std::cos(phi_b), std::sin(phi_b)};
 }
 
-// d phi_b / dL on flank `side`: -1 / r_b on R, +1 / r_b on L (rad/mm).
+// d phi_b / dL on flank `side`: -sigma / r_b on R, +sigma / r_b on L (rad/mm).
 inline double base_angle_per_mm(const InvoluteGear& gear, FlankSide side) {
-  return -side_sign(side) / (gear.base_diameter_mm() / 2.0);
+  return -side_sign(side) * gear.roll_sign() / (gear.base_diameter_mm() / 2.0);
 }
 
 // cos and sin of phi + d from those of phi (`at`), for |d| <= 1/32 rad: cos(phi + d) =
@@ -68,7 +69,7 @@ inline BaseAngle base_angle_near(const InvoluteGear& gear, int tooth, FlankSide 
 
 // InvoluteGear::flank_point from phi_b's cos and sin: the base point r_b e(phi_b), the normal
 // +/- e'(phi_b) (the string direction; R: counter-clockwise), the profile tangent e(phi_b), the
-// point base + L n (mm).
+// point base + sigma L n (mm): dP/dL = (L / r_b) e(phi_b) on either kind of gear.
 inline FlankPoint flank_point_at(const InvoluteGear& gear, FlankSide side, double L, double z,
                                  const BaseAngle& angle) {
   const double r_b = gear.base_diameter_mm() / 2.0;
@@ -77,8 +78,9 @@ inline FlankPoint flank_point_at(const InvoluteGear& gear, FlankSide side, doubl
   fp.base_point = Eigen::Vector3d(r_b * angle.cos, r_b * angle.sin, z);
   fp.normal = Eigen::Vector3d(sign * -angle.sin, sign * angle.cos, sign * 0.0);  // sign e'
   fp.profile_tangent = Eigen::Vector3d(angle.cos, angle.sin, 0.0);
-  fp.point = fp.base_point + L * fp.normal;
-  fp.profile_curvature_per_mm = L > 0.0 ? 1.0 / L : 0.0;
+  const double sigma = gear.roll_sign();
+  fp.point = fp.base_point + (sigma * L) * fp.normal;
+  fp.profile_curvature_per_mm = L > 0.0 ? sigma / L : 0.0;
   return fp;
 }
 

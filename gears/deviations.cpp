@@ -125,6 +125,9 @@ EvaluationRanges evaluation_ranges(const InvoluteGear& gear) {
   const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
   const double b = gear.face_width_mm();
   const double c = std::min(0.05 * b, gear.module_mm());
+  // From the form circle over 95 % of the active profile towards the tip; on an internal gear
+  // the tip has the smaller roll length, and the range is given in increasing L.
+  if (gear.internal()) return {L0 + 0.95 * (L1 - L0), L0, c, b - c};
   return {L0, L0 + 0.95 * (L1 - L0), c, b - c};
 }
 
@@ -305,31 +308,19 @@ struct FlankDistance {
 FlankDistance distance_to_real_flank(const InvoluteGear& gear, const PerturbedGear& g, int tooth,
                                      FlankSide side, const Eigen::Vector2d& X, double z) {
   const Eigen::Vector2d Xg = X - g.eccentricity_mm;  // into the gear's own frame
-  const double r_b = gear.base_diameter_mm() / 2.0;
-  const double rho = Xg.norm();
-  const double t = std::sqrt(std::max(0.0, rho * rho - r_b * r_b));
-  const double alpha_x = std::atan2(t, r_b);
-  double phi = std::atan2(Xg.y(), Xg.x()) - gear.tooth_centre_angle_rad(tooth);
   // A helical gear's section at z is the section at 0 turned by z helix_turn_per_mm.
-  if (gear.helical()) phi -= z * gear.helix_turn_per_mm();
-  phi = std::remainder(phi, 2.0 * kPi);
-  const double s = side_sign(side);
-  const double theta_b = gear.base_half_angle_rad();
-  const double distance = r_b * (involute_function(alpha_x) + s * phi - theta_b);
-  const double foot_L = r_b * (theta_b - s * phi + alpha_x);
+  const TransversePosition at = gear.transverse_position(
+      tooth, side, Xg, gear.helical() ? z * gear.helix_turn_per_mm() : 0.0);
+  const double foot_L = at.foot_roll_length_mm;
   const FlankDeviation& f = g.flank(tooth, side);
   double pv, p1, p2;
   f.profile_form.evaluate(foot_L, &pv, &p1, &p2);
   const double d_um = f.offset_um + f.profile_slope_um_per_mm * (foot_L - f.profile_mid_mm) + pv +
                       f.helix_slope_um_per_mm * (z - f.helix_mid_mm) + f.helix_form.value(z);
   const double dL_um_per_mm = f.profile_slope_um_per_mm + p1;
-  const Eigen::Vector2d e_rho = Xg / rho, e_phi(-e_rho.y(), e_rho.x());
-  const double sin_a = t / rho, cos_a = r_b / rho;
-  Eigen::Vector2d gradient = sin_a * e_rho + s * cos_a * e_phi;
-  if (sin_a > 0.0) {
-    gradient -= 1e-3 * dL_um_per_mm * (cos_a * cos_a / sin_a * e_rho - s * cos_a * e_phi);
-  }
-  return {distance - 1e-3 * d_um, gradient};
+  // d(distance - delta(foot)) / dX.
+  const Eigen::Vector2d gradient = at.distance_gradient - 1e-3 * dL_um_per_mm * at.foot_gradient;
+  return {at.distance_mm - 1e-3 * d_um, gradient};
 }
 
 }  // namespace

@@ -152,9 +152,11 @@ double ModificationCurve::magnitude_bound(double from, double to) const {
 DesignModification::DesignModification(const FlankModifications& m, double L_form, double L_tip,
                                        double b)
     : form_roll_length_mm(L_form), tip_roll_length_mm(L_tip), face_width_mm(b) {
-  profile.add_relief(L_tip - m.tip_relief.length_mm, +1, m.tip_relief);
-  profile.add_relief(L_form + m.root_relief.length_mm, -1, m.root_relief);
-  profile.add_crowning(L_form, L_tip, m.profile_crowning_um);
+  // The tip end is the larger roll length on an external gear, the smaller on an internal one.
+  const int tipward = L_tip >= L_form ? +1 : -1;
+  profile.add_relief(L_tip - tipward * m.tip_relief.length_mm, tipward, m.tip_relief);
+  profile.add_relief(L_form + tipward * m.root_relief.length_mm, -tipward, m.root_relief);
+  profile.add_crowning(std::min(L_form, L_tip), std::max(L_form, L_tip), m.profile_crowning_um);
   helix.add_relief(b - m.end_relief.length_mm, +1, m.end_relief);
   helix.add_relief(m.end_relief.length_mm, -1, m.end_relief);
   helix.add_crowning(0.0, b, m.helix_crowning_um);

@@ -1,14 +1,15 @@
 // Real flank surface S(L, z) = P + delta n + eps and its derivatives (see analytic_flank.h).
-// With t the unit profile tangent, r_b the base radius and the involute relations
-// dP/dL = (L / r_b) t, dn/dL = t / r_b, dt/dL = -n / r_b (all involutes of one base circle
-// share their normals), the partials are
-//   S_L  = t (L + delta) / r_b + delta_L n,           S_z  = e_z + delta_z n,
-//   S_LL = t (1 + 2 delta_L) / r_b + n (delta_LL - (L + delta) / r_b^2),
-//   S_Lz = t delta_z / r_b + delta_Lz n,              S_zz = delta_zz n.
+// With t the unit profile tangent, r_b the base radius, sigma the roll sign (+1 external, -1
+// internal: P = r_b e(phi_b) + sigma L n, phi_b moving by -side sigma / r_b per mm of L) and the
+// involute relations dP/dL = (L / r_b) t, dn/dL = sigma t / r_b, dt/dL = -sigma n / r_b (all
+// involutes of one base circle share their normals), the partials are
+//   S_L  = t (L + sigma delta) / r_b + delta_L n,     S_z  = e_z + delta_z n,
+//   S_LL = t (1 + 2 sigma delta_L) / r_b + n (delta_LL - sigma (L + sigma delta) / r_b^2),
+//   S_Lz = t sigma delta_z / r_b + delta_Lz n,        S_zz = delta_zz n.
 // A helical flank (flank_frame.h): the transverse section at z is the one at 0 turned by g z
 // (g = side sign * helix_turn_per_mm), so phi_b = phi_b(L) + g' z and t_z = g n, n_z = -g t with
 // n = n_t the transverse normal; P = r_b e(phi_b) + L n + z e_z gives P_z = e_z + g (r_b n - L t)
-// and S = P + delta n + eps
+// and S = P + delta n + eps (sigma = +1; an internal flank: P_z = e_z + g (r_b n - sigma L t))
 //   S_z  = e_z - g (L + delta) t + (g r_b + delta_z) n,
 //   S_Lz = (delta_z / r_b - g delta_L) t + (delta_Lz + g (L + delta) / r_b) n,
 //   S_zz = -g (2 delta_z + g r_b) t + (delta_zz - g^2 (L + delta)) n,
@@ -43,6 +44,7 @@ AnalyticFlank::AnalyticFlank(const InvoluteGear& gear, int tooth, FlankSide side
       ranges_(deviation.derivative_ranges()),
       inverse_base_radius_(2.0 / gear.base_diameter_mm()),
       base_radius_(0.5 * gear.base_diameter_mm()),
+      roll_sign_(gear.roll_sign()),
       frame_turn_per_mm_(side_sign(side) * gear.helix_turn_per_mm()),
       cos_base_helix_(std::cos(gear.base_helix_angle_rad())),
       sin_base_helix_(std::sin(gear.base_helix_angle_rad())),

@@ -48,6 +48,8 @@ class AnalyticFlank {
   // 1 / r_b (1/mm): the partials divide by the base radius at every evaluation.
   double inverse_base_radius() const { return inverse_base_radius_; }
   double base_radius() const { return base_radius_; }  // r_b, mm
+  // sigma: +1 on an external gear, -1 on an internal one (InvoluteGear::roll_sign).
+  double roll_sign() const { return roll_sign_; }
   // Helical flanks (0 on a spur flank): g = side sign * helix_turn_per_mm (rad/mm), the turn of
   // the flank's transverse frame per mm of z (flank_frame.h), and cos, sin of beta_b (cos 1).
   double frame_turn_per_mm() const { return frame_turn_per_mm_; }
@@ -71,6 +73,7 @@ class AnalyticFlank {
   FlankDeviation::Ranges ranges_;
   double inverse_base_radius_;
   double base_radius_;
+  double roll_sign_;
   double frame_turn_per_mm_, cos_base_helix_, sin_base_helix_, normal_z_;
 };
 

@@ -1,10 +1,11 @@
 // The real flank S(L, z) = P + delta n + eps (analytic_flank.h) at one (L, z) in the nominal
 // involute's orthonormal frame there, for the contact solver's hot path: t the profile tangent,
-// m the nominal outward normal n(L) (both transverse) and e_z. With a = (L + delta) / r_b
+// m the nominal outward normal n(L) (both transverse) and e_z. With sigma the roll sign (+1
+// external, -1 internal: P = r_b e(phi_b) + sigma L m) and a = (L + sigma delta) / r_b
 // (analytic_flank.cpp derives the partials):
 //   S_L  = a t + delta_L m,                   S_z  = e_z + delta_z m,
-//   S_LL = b t + c m  (b = (1 + 2 delta_L) / r_b, c = delta_LL - a / r_b),
-//   S_Lz = (delta_z / r_b) t + delta_Lz m,    S_zz = delta_zz m.
+//   S_LL = b t + c m  (b = (1 + 2 sigma delta_L) / r_b, c = delta_LL - sigma a / r_b),
+//   S_Lz = (sigma delta_z / r_b) t + delta_Lz m,    S_zz = delta_zz m.
 // A scalar product of any of them with a vector v is then a combination of t.v, m.v and v_z, so
 // the solver needs neither the six vectors of FlankSurfacePoint nor a second sincos: the
 // base point's angle is given (gears/base_angle.h). Lengths mm, deviation derivatives in mm/mm
@@ -19,11 +20,11 @@
 namespace gearmc {
 
 struct FlankFramePoint {
-  Eigen::Vector3d point;  // S(L, z), mm
-  Eigen::Vector2d t, m;   // transverse unit vectors (z component 0)
-  double a, b, c;         // see above
-  double d_L, d_z, d_Lz, d_zz, d_z_over_rb;
-  double deviation_um;  // delta(L, z), µm
+  Eigen::Vector3d point;                     // S(L, z), mm
+  Eigen::Vector2d t, m;                      // transverse unit vectors (z component 0)
+  double a, b, c;                            // see above
+  double d_L, d_z, d_Lz, d_zz, d_z_over_rb;  // d_z_over_rb: sigma delta_z / r_b
+  double deviation_um;                       // delta(L, z), µm
 };
 
 // S and its partials at (L, z) with phi_b's cos and sin at L given (base_angle.h). Inline: the
@@ -55,18 +56,19 @@ inline FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, doub
   }
   const double delta = 1e-3 * d;
   dL *= 1e-3, dz *= 1e-3, dLL *= 1e-3, dzz *= 1e-3, dLz *= 1e-3;
+  const double sigma = flank.roll_sign();
   FlankFramePoint out;
   out.point = nominal.point + delta * nominal.normal + flank.eccentricity();
   out.t = nominal.profile_tangent.head<2>();
   out.m = nominal.normal.head<2>();
-  out.a = (L + delta) * inv_rb;
-  out.b = (1.0 + 2.0 * dL) * inv_rb;
-  out.c = dLL - out.a * inv_rb;
+  out.a = (L + sigma * delta) * inv_rb;
+  out.b = (1.0 + 2.0 * (sigma * dL)) * inv_rb;
+  out.c = dLL - sigma * out.a * inv_rb;
   out.d_L = dL;
   out.d_z = dz;
   out.d_Lz = dLz;
   out.d_zz = dzz;
-  out.d_z_over_rb = dz * inv_rb;
+  out.d_z_over_rb = sigma * dz * inv_rb;
   out.deviation_um = d;
   return out;
 }
@@ -75,13 +77,13 @@ inline FlankFramePoint evaluate_frame(const AnalyticFlank& flank, double L, doub
 // delta is transverse, along m = n_t (as gear measuring instruments report it, ISO 1328-1: in
 // the transverse plane along the base tangent; the deviation normal to the flank is delta
 // cos(beta_b)), so S = P + delta m + eps stays in the frame (t, m, e_z). With g = side sign *
-// helix_turn_per_mm (rad/mm; t_z = g m, m_z = -g t, t_L = -m / r_b, m_L = t / r_b) and
-// P_z = e_z + g (r_b m - L t), the partials are (derived in analytic_flank.cpp)
+// helix_turn_per_mm (rad/mm; t_z = g m, m_z = -g t, t_L = -sigma m / r_b, m_L = sigma t / r_b)
+// and P_z = e_z + g (r_b m - sigma L t), the partials are (derived in analytic_flank.cpp)
 //   S_L  = a t + delta_L m                        (as for a spur flank)
-//   S_z  = e_z + z_t t + z_m m,                   z_t = -g r_b a,  z_m = g r_b + delta_z
+//   S_z  = e_z + z_t t + z_m m,         z_t = -sigma g r_b a,  z_m = g r_b + delta_z
 //   S_LL = b t + c m                              (as for a spur flank)
-//   S_Lz = lz_t t + lz_m m,  lz_t = delta_z / r_b - g delta_L,  lz_m = delta_Lz + g a
-//   S_zz = zz_t t + zz_m m,  zz_t = -g (2 delta_z + g r_b),  zz_m = delta_zz - g^2 r_b a.
+//   S_Lz = lz_t t + lz_m m,  lz_t = sigma delta_z / r_b - g delta_L,  lz_m = delta_Lz + g a
+//   S_zz = zz_t t + zz_m m,  zz_t = -g (2 delta_z + g r_b),  zz_m = delta_zz - sigma g^2 r_b a.
 // At g = 0 these are the spur partials.
 struct HelicalFramePoint {
   FlankFramePoint f;  // point, t, m, a, b, c and the deviation's partials
@@ -97,12 +99,13 @@ inline HelicalFramePoint evaluate_helical_frame(const AnalyticFlank& flank, doub
   const FlankFramePoint& f = out.f;
   const double g = flank.frame_turn_per_mm();
   const double g_rb = g * flank.base_radius();
-  out.z_t = -g_rb * f.a;
+  const double sigma = flank.roll_sign();
+  out.z_t = -(sigma * g_rb) * f.a;
   out.z_m = g_rb + f.d_z;
   out.lz_t = f.d_z_over_rb - g * f.d_L;
   out.lz_m = f.d_Lz + g * f.a;
   out.zz_t = -g * (2.0 * f.d_z + g_rb);
-  out.zz_m = f.d_zz - g * g_rb * f.a;
+  out.zz_m = f.d_zz - (sigma * g) * g_rb * f.a;
   return out;
 }
 

@@ -109,8 +109,8 @@ FlankMeshSpec whole_flank_spec(const InvoluteGear& gear, double roll_length_step
                                double z_step_mm) {
   GEARMC_CHECK(roll_length_step_mm > 0.0 && z_step_mm > 0.0, "mesh steps must be > 0");
   FlankMeshSpec spec;
-  spec.roll_length_min_mm = gear.form_roll_length_mm();
-  spec.roll_length_max_mm = gear.tip_roll_length_mm();
+  spec.roll_length_min_mm = gear.active_roll_length_min_mm();
+  spec.roll_length_max_mm = gear.active_roll_length_max_mm();
   spec.z_min_mm = 0.0;
   spec.z_max_mm = gear.face_width_mm();
   const double span_L = spec.roll_length_max_mm - spec.roll_length_min_mm;
@@ -268,33 +268,53 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
     for (const Eigen::Vector3d& x : section) v.push_back(mesh.add_vertex(to_point(x)));
   }
   // The inner rings of the end faces: section j's vertices projected radially (about the
-  // centre) onto the circle of half the section's smallest radius, bottom then top.
+  // centre) onto the circle of half the section's smallest radius, bottom then top. An internal
+  // gear's ring: the outer rings, on the circle of 1.1 times the section's largest radius (the
+  // rim), joined by the rim's cylinder.
+  const bool internal = gear.internal();
   const int bottom = nz * M, top = bottom + M;
   for (const int j : {0, nz - 1}) {
-    double smallest = kInf;
+    double smallest = kInf, largest = 0.0;
     for (int i = 0; i < M; ++i) {
       const TriangleMesh::Point& x = mesh.point(v[static_cast<size_t>(j * M + i)]);
       smallest = std::min(smallest, std::hypot(x[0] - centre.x(), x[1] - centre.y()));
+      largest = std::max(largest, std::hypot(x[0] - centre.x(), x[1] - centre.y()));
     }
-    const double r_in = 0.5 * smallest;
+    const double r_in = internal ? 1.1 * largest : 0.5 * smallest;
     for (int i = 0; i < M; ++i) {
       const TriangleMesh::Point& x = mesh.point(v[static_cast<size_t>(j * M + i)]);
       const double dx = x[0] - centre.x(), dy = x[1] - centre.y(), rho = std::hypot(dx, dy);
-      v.push_back(mesh.add_vertex(TriangleMesh::Point(centre.x() + r_in * dx / rho,
-                                                      centre.y() + r_in * dy / rho, x[2])));
+      v.push_back(mesh.add_vertex(
+          TriangleMesh::Point(centre.x() + r_in * dx / rho, centre.y() + r_in * dy / rho, x[2])));
     }
   }
 
   out.faces.reserve(2 * static_cast<size_t>(nz) * M);
   // Side walls: the section runs counter-clockwise, so (a, b, c) with a -> b along the section
-  // and c above b has the normal (b - a) x e_z pointing outwards.
+  // and c above b has the normal (b - a) x e_z pointing outwards; an internal gear's material
+  // lies outside its section, its walls face the axis: (a, c, b).
   for (int j = 0; j + 1 < nz; ++j) {
     for (int i = 0; i < M; ++i) {
       const int a = j * M + i, bb = j * M + (i + 1) % M, c = bb + M, d = a + M;
+      if (internal) {
+        add_triangle(mesh, v, a, c, bb);
+        add_triangle(mesh, v, a, d, c);
+      } else {
+        add_triangle(mesh, v, a, bb, c);
+        add_triangle(mesh, v, a, c, d);
+      }
+      out.faces.push_back(edge_label[i]);
+      out.faces.push_back(edge_label[i]);
+    }
+  }
+  if (internal) {  // the rim: the outer rings are convex and counter-clockwise, normals outward
+    const GearMeshFace rim{GearMeshFace::Region::kRim, 0, FlankSide::kLeft};
+    for (int i = 0; i < M; ++i) {
+      const int a = bottom + i, bb = bottom + (i + 1) % M, c = top + (i + 1) % M, d = top + i;
       add_triangle(mesh, v, a, bb, c);
       add_triangle(mesh, v, a, c, d);
-      out.faces.push_back(edge_label[i]);
-      out.faces.push_back(edge_label[i]);
+      out.faces.push_back(rim);
+      out.faces.push_back(rim);
     }
   }
   // End faces, with no vertex in more than a few triangles (a fan from the centre would put one
@@ -321,9 +341,15 @@ GearMesh mesh_gear(const InvoluteGear& gear, const PerturbedGear& perturbed,
     };
     for (int i = 0; i < M; ++i) {
       const int next = (i + 1) % M;
-      end_triangle(n + i, o + i, o + next);
-      end_triangle(n + i, o + next, n + next);
+      if (internal) {  // the annulus between the section (inside) and the outer ring
+        end_triangle(o + i, n + i, n + next);
+        end_triangle(o + i, n + next, o + next);
+      } else {
+        end_triangle(n + i, o + i, o + next);
+        end_triangle(n + i, o + next, n + next);
+      }
     }
+    if (internal) continue;  // a ring: no inner polygon
     int l = 0, r = M - 1;
     for (bool left = true; r - l >= 2; left = !left) {
       if (left) {

@@ -70,7 +70,8 @@ struct GearMeshSpec {
 // the tooth whose R flank the root follows (the space between tooth and tooth + 1); 0 on the
 // end faces. side is meaningful for flanks only.
 struct GearMeshFace {
-  enum class Region : std::uint8_t { kFlank, kTip, kRoot, kEndFace };
+  // kRim: the outer cylinder of an internal gear's ring (mesh_gear).
+  enum class Region : std::uint8_t { kFlank, kTip, kRoot, kEndFace, kRim };
   Region region = Region::kFlank;
   int tooth = 0;
   FlankSide side = FlankSide::kLeft;

@@ -43,6 +43,9 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
                   {{"addendum", p.rack.addendum},
                    {"dedendum", p.rack.dedendum},
                    {"root_radius", p.rack.root_radius}}}};
+  if (gear.internal()) {
+    doc["gear"]["internal"] = true;  // the tip circle inside the reference circle, the root outside
+  }
   if (gear.helical()) {  // ISO 21771 §4: the transverse section's values below are these
     doc["helix"] = {
         {"helix_angle_beta_deg", p.helix_angle_deg},
@@ -66,6 +69,11 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
                         {"tip_roll_length_L_a", mm(gear.tip_roll_length_mm())},
                         {"angular_pitch_deg", deg(gear.angular_pitch_rad())},
                         {"undercut", gear.undercut()}};
+  if (gear.internal()) {  // the rack's form circle is an approximation for a pinion-type cutter
+    doc["geometry_mm"]["form_diameter_from"] =
+        p.form_diameter_mm ? "form_diameter_mm"
+                           : "the rack (ISO 21771; a pinion-type cutter's differs)";
+  }
   const FlankModifications& mods = p.modifications;
   if (mods.any()) {  // where each designed modification starts (gears/flank_modifications.h)
     ordered_json m = ordered_json::object();
@@ -78,11 +86,13 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
     };
     if (mods.tip_relief.present()) {
       m["tip_relief"] =
-          profile_relief(mods.tip_relief, gear.tip_roll_length_mm() - mods.tip_relief.length_mm);
+          profile_relief(mods.tip_relief,
+                         gear.tip_roll_length_mm() - gear.roll_sign() * mods.tip_relief.length_mm);
     }
     if (mods.root_relief.present()) {
       m["root_relief"] =
-          profile_relief(mods.root_relief, gear.form_roll_length_mm() + mods.root_relief.length_mm);
+          profile_relief(mods.root_relief, gear.form_roll_length_mm() +
+                                               gear.roll_sign() * mods.root_relief.length_mm);
     }
     if (mods.profile_crowning_um != 0.0) m["profile_crowning_um"] = mods.profile_crowning_um;
     if (mods.end_relief.present()) {

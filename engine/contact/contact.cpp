@@ -362,8 +362,9 @@ ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const
     const double tw = t.x() * w_perp.x() + t.y() * w_perp.y();
     const double mw = m.x() * w_perp.x() + m.y() * w_perp.y();
     const double g_rb = flank.frame_turn_per_mm() * flank.base_radius();
-    const double a = (L0 + 1e-3 * d) * flank.inverse_base_radius();
-    const double z_t = -g_rb * a, z_m = g_rb;
+    const double sigma = flank.roll_sign();
+    const double a = (L0 + sigma * (1e-3 * d)) * flank.inverse_base_radius();
+    const double z_t = -(sigma * g_rb) * a, z_m = g_rb;
     const double gL = a * tw, gz = w_perp.z() + z_t * tw + z_m * mw;
     const double GLL = a * a, GLz = a * z_t, Gzz = 1.0 + z_t * z_t + z_m * z_m;
     const double inverse_det = 1.0 / (GLL * Gzz - GLz * GLz);
@@ -418,23 +419,16 @@ ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const
 }
 
 // Distance (mm) in the transverse plane from point X to the nominal flank `side` of `tooth`,
-// limited to the flank's real extent [L_form, L_tip]: closed form r_b (inv(alpha_X) + s phi -
-// theta_b) along the normal when the foot lies on the flank, else the distance to the end.
+// limited to the flank's real extent (the active profile): closed form along the normal when
+// the foot lies on the flank (InvoluteGear::transverse_position), else the distance to the end.
 double distance_to_flank(const InvoluteGear& gear, int tooth, FlankSide side,
                          const Eigen::Vector2d& X) {
-  const double r_b = 0.5 * gear.base_diameter_mm();
-  const double rho = X.norm();
-  const double t = std::sqrt(std::max(0.0, rho * rho - r_b * r_b));
-  const double alpha_x = std::atan2(t, r_b);
-  const double phi = std::remainder(std::atan2(X.y(), X.x()) - gear.tooth_centre_angle_rad(tooth),
-                                    2 * std::numbers::pi);
-  const double s = side_sign(side);
-  const double foot_L = r_b * (gear.base_half_angle_rad() - s * phi + alpha_x);
-  const double L_min = gear.form_roll_length_mm(), L_max = gear.tip_roll_length_mm();
-  if (foot_L >= L_min && foot_L <= L_max) {
-    return std::abs(r_b * (involute_function(alpha_x) + s * phi - gear.base_half_angle_rad()));
+  const TransversePosition at = gear.transverse_position(tooth, side, X);
+  const double L_min = gear.active_roll_length_min_mm(), L_max = gear.active_roll_length_max_mm();
+  if (at.foot_roll_length_mm >= L_min && at.foot_roll_length_mm <= L_max) {
+    return std::abs(at.distance_mm);
   }
-  const double L_end = foot_L < L_min ? L_min : L_max;
+  const double L_end = at.foot_roll_length_mm < L_min ? L_min : L_max;
   return (gear.flank_point(tooth, side, L_end, 0.0).point.head<2>() - X).norm();
 }
 
@@ -448,6 +442,7 @@ ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, F
   const int facing_tooth = side == FlankSide::kRight ? tooth % z + 1 : (tooth + z - 2) % z + 1;
   const FlankSide facing_side = side == FlankSide::kRight ? FlankSide::kLeft : FlankSide::kRight;
   const double r_root = 0.5 * gear.root_diameter_mm();
+  const bool internal = gear.internal();  // an internal gear's root lies outside its flanks
   // Along the approach the sphere moves away from the facing flank and up from the root; check
   // the path at a few stations (start, middle, end) — enough for a straight approach.
   const Eigen::Vector3d start = centre + approach_mm * n;
@@ -459,12 +454,16 @@ ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, F
   // a lower bound of the distance in space (the flank's tangent plane at the transverse foot
   // supports the locally convex tooth and lies d_t cos(beta_b) >= d_t cos(beta_a) away; the tip
   // edge, a helix of angle beta_a, at least d_t cos(beta_a)). The approach is then never passed
-  // as clear when it is not; it may be refused a few per cent early.
+  // as clear when it is not; it may be refused a few per cent early. An internal gear's flank is
+  // concave but still an involute helicoid of the base cylinder: the points at transverse
+  // distance d_t from it lie on a parallel helicoid d_t cos(beta_b) away (gear flanks of one base
+  // cylinder and lead are equidistant); its steepest helix, at the root side, gives the factor.
   const bool helical = gear.helical();
-  const double cos_tip_helix =
-      helical ? std::cos(std::atan(std::tan(gear.helix_angle_rad()) * gear.tip_diameter_mm() /
-                                   gear.reference_diameter_mm()))
-              : 1.0;
+  const double d_steepest = std::max(gear.tip_diameter_mm(), gear.root_diameter_mm());
+  const double cos_tip_helix = helical
+                                   ? std::cos(std::atan(std::tan(gear.helix_angle_rad()) *
+                                                        d_steepest / gear.reference_diameter_mm()))
+                                   : 1.0;
   for (double a : {0.0, 0.25, 0.5, 0.75, 1.0}) {
     const Eigen::Vector3d station = start + a * (centre - start);
     Eigen::Vector2d X = station.head<2>();
@@ -475,7 +474,7 @@ ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, F
     }
     const double d = distance_to_flank(gear, facing_tooth, facing_side, X);
     c.facing_flank_mm = std::min(c.facing_flank_mm, (helical ? cos_tip_helix * d : d) - R);
-    c.root_mm = std::min(c.root_mm, X.norm() - R - r_root);
+    c.root_mm = std::min(c.root_mm, internal ? r_root - X.norm() - R : X.norm() - R - r_root);
   }
   return c;
 }

@@ -224,13 +224,15 @@ ContactCertificate sampled_certificate(const AnalyticFlank& flank, const Eigen::
   const double r_b = 0.5 * flank.gear().base_diameter_mm();
   // A helical flank's grid is sheared along the generators of the helicoid: node (i, j) at
   // L = L_lo + i dL + shear (z_j - p_z), z_j. Along a generator the transverse section turns
-  // with z as L moves by shear = side * helix_turn_per_mm * r_b (= +/- tan(beta_b)), so the base
+  // with z as L moves by shear = sigma side helix_turn_per_mm r_b (= +/- tan(beta_b); sigma the
+  // roll sign, -1 on an internal gear), so the base
   // angle phi_b and with it the involute's frame stay fixed: the footprint, a disk in the plane
   // normal to n, is nearly a rectangle in (L', z) as it is for a spur flank in (L, z). Its z
   // half-extent is R cos(beta_b) (|u_e2| grows by 1 / cos(beta_b) per mm of z along a
   // generator); the grid takes 1.05 R.
   const double shear =
-      helical ? side_sign(flank.side()) * flank.gear().helix_turn_per_mm() * r_b : 0.0;
+      helical ? flank.roll_sign() * side_sign(flank.side()) * flank.gear().helix_turn_per_mm() * r_b
+              : 0.0;
   const double z_half = helical ? 1.05 * R : R;
   if (helical) {
     fr.mask_extent = true;

@@ -249,7 +249,10 @@ ExactBound helical_box_bound(const HelicalFlank& h, double L_lo, double L_hi, do
 // p on the nominal helicoid and n its normal there: S(L0, p_z) = p + delta0 m0 + eps.
 bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                            const Eigen::Vector3d& n, double L0, const ContactStart& start) {
-  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical()) return false;
+  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical() ||
+      flank.roll_sign() < 0.0) {
+    return false;  // stage 1's closed forms are those of an external (convex) flank
+  }
   const Eigen::Vector3d m0 = Eigen::Vector3d(n.x(), n.y(), 0.0) / flank.cos_base_helix();
   return (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
          (start.point - 1e-3 * start.deviation_um * m0 - flank.eccentricity() - p).squaredNorm() <=
@@ -337,7 +340,12 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
   out.R = R;
   out.L_min = L_min;
   out.L_max = L_max;
-  if (flank.expression() != nullptr || !(L_min > 0.0) || !(L_max > L_min)) return out;
+  // Stage 1's closed forms are those of an external (convex) involute flank: an internal one
+  // takes the sampled stage (contact_certificate.h).
+  if (flank.expression() != nullptr || !(L_min > 0.0) || !(L_max > L_min) ||
+      flank.roll_sign() < 0.0) {
+    return out;
+  }
 
   const FlankDeviation& dev = flank.deviation();
   // The profile part over the extent, the helix part over its own domain (a planned point

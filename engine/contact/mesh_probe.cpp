@@ -31,18 +31,13 @@ Eigen::Vector3d barycentric(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 
 NominalFlankCoordinates nominal_flank_coordinates(const InvoluteGear& gear, int tooth,
                                                   FlankSide side, const Eigen::Vector3d& x) {
-  const double r_b = 0.5 * gear.base_diameter_mm();
-  const double rho = x.head<2>().norm();
-  const double alpha_x = std::atan2(std::sqrt(std::max(0.0, rho * rho - r_b * r_b)), r_b);
-  // The polar angle in the transverse section z, turned back by the helix (0 on a spur gear).
-  const double phi = std::remainder(std::atan2(x.y(), x.x()) - gear.tooth_centre_angle_rad(tooth) -
-                                        x.z() * gear.helix_turn_per_mm(),
-                                    2 * std::numbers::pi);
-  const double s = side_sign(side);
+  // In the transverse section z, turned back by the helix (0 on a spur gear).
+  const TransversePosition at =
+      gear.transverse_position(tooth, side, x.head<2>(), x.z() * gear.helix_turn_per_mm());
   NominalFlankCoordinates c;
-  c.roll_length_mm = r_b * (gear.base_half_angle_rad() - s * phi + alpha_x);
+  c.roll_length_mm = at.foot_roll_length_mm;
   c.z_mm = x.z();
-  c.offset_mm = r_b * (involute_function(alpha_x) + s * phi - gear.base_half_angle_rad());
+  c.offset_mm = at.distance_mm;
   return c;
 }
 

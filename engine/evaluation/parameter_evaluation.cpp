@@ -29,8 +29,10 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
   const InvoluteGear& gear = model.gear();
   const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
   const double b = gear.face_width_mm();
+  // From the form circle towards the tip (on an internal gear towards smaller L).
   profile_start_ = L0;
   profile_end_ = L0 + spec.profile_end_fraction * (L1 - L0);
+  profile_sign_ = gear.roll_sign();
   const double c = spec.helix_end_exclusion_mm.value_or(std::min(0.05 * b, gear.module_mm()));
   helix_start_ = c;
   helix_end_ = b - c;
@@ -222,7 +224,11 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
                        (surface.point(at, z) - nominal.point).dot(nominal.normal);
       return design ? d - design->value_um(L, z) : d;
     };
-    // One trace: its points (records with their abscissa), evaluated in every variant.
+    // One trace: its points (records with their abscissa), evaluated in every variant. A profile
+    // trace's abscissa is sigma L (sigma = roll sign): it grows from the root to the tip on
+    // either kind of gear, so the slope deviation f_Halpha is the rise towards the tip (ISO
+    // 1328-1) and the ranges are increasing intervals; charts keep L itself.
+    const double ps = e_.profile_sign_;
     struct Sample {
       double x;
       const PointRecord* record;
@@ -237,14 +243,14 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
           const PlanPoint& q = scan.points[k];
           if ((q.j == 0) != profile) continue;
           samples.push_back(
-              {profile ? q.roll_length_mm : q.z_mm, &scans[f][k], q.roll_length_mm, q.z_mm});
+              {profile ? ps * q.roll_length_mm : q.z_mm, &scans[f][k], q.roll_length_mm, q.z_mm});
         }
       } else {
         for (std::size_t k = 0; k < flank.points.size(); ++k) {
           const PlanPoint& q = flank.points[k];
           if (profile ? q.j != e_.grid_section_ : q.i != e_.grid_column_) continue;
           samples.push_back(
-              {profile ? q.roll_length_mm : q.z_mm, &grid_[f][k], q.roll_length_mm, q.z_mm});
+              {profile ? ps * q.roll_length_mm : q.z_mm, &grid_[f][k], q.roll_length_mm, q.z_mm});
         }
       }
       std::sort(samples.begin(), samples.end(),
@@ -259,7 +265,7 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       chart.tooth = flank.tooth;
       chart.side = flank.side;
       for (const Sample& sample : samples) {
-        chart.x_mm.push_back(sample.x);
+        chart.x_mm.push_back(profile ? sample.L : sample.x);
         const double t = true_deviation(sample.L, sample.z);
         const double m = design ? design->value_um(sample.L, sample.z) : 0.0;
         const double measured =
@@ -279,13 +285,14 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
         }
         if (effects > 0) d[2 + effects].push_back(base);
       }
-      const double a = profile ? e_.profile_start_ : e_.helix_start_;
-      const double b = profile ? e_.profile_end_ : e_.helix_end_;
+      const double a = profile ? ps * e_.profile_start_ : e_.helix_start_;
+      const double b = profile ? ps * e_.profile_end_ : e_.helix_end_;
       const int n_dense = e_.spec_.truth_points;
       std::vector<double> xd(n_dense), dd(n_dense);
       for (int i = 0; i < n_dense; ++i) {
         xd[i] = a + (b - a) * i / (n_dense - 1);
-        dd[i] = profile ? true_deviation(xd[i], e_.profile_z_) : true_deviation(e_.helix_L_, xd[i]);
+        dd[i] = profile ? true_deviation(ps * xd[i], e_.profile_z_)
+                        : true_deviation(e_.helix_L_, xd[i]);
       }
       const auto dense = evaluate_trace_over(xd, dd, a, b);
       std::vector<std::optional<TraceResult>> results(variants);
@@ -306,19 +313,22 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
           dense->form_um);
       if (keep_traces) {
         chart.dense_x_mm = xd;
+        if (profile) {
+          for (double& v : chart.dense_x_mm) v *= ps;
+        }
         chart.dense_um = dd;
       }
-      chart.range_start_mm = a;
-      chart.range_end_mm = b;
+      chart.range_start_mm = profile ? e_.profile_start_ : a;
+      chart.range_end_mm = profile ? e_.profile_end_ : b;
       if (results[0]) chart.measured_line = *results[0];
       if (keep_traces)
         (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
       if (profile && x.size() >= 2) {
         const int k = flank.tooth - 1;
         for (int v = 0; v < variants; ++v) {
-          pitch_u[s][v][k] =
-              flank_arc_position_um(flank.side, interpolate_trace(x, d[v], e_.reference_L_), alpha);
-          ball_d[s][v][k] = interpolate_trace(x, d[v], e_.ball_L_);
+          pitch_u[s][v][k] = flank_arc_position_um(
+              flank.side, interpolate_trace(x, d[v], ps * e_.reference_L_), alpha);
+          ball_d[s][v][k] = interpolate_trace(x, d[v], ps * e_.ball_L_);
         }
         pitch_dense[s][k] = flank_arc_position_um(
             flank.side, true_deviation(e_.reference_L_, e_.profile_z_), alpha);

@@ -119,6 +119,7 @@ class ParameterEvaluator {
   std::vector<GearParameter> parameters_;
   std::vector<std::string> notes_;
   double profile_start_ = 0, profile_end_ = 0, helix_start_ = 0, helix_end_ = 0;
+  double profile_sign_ = 1;              // roll sign: a profile trace's abscissa is sigma L
   double profile_z_ = 0, helix_L_ = 0;   // where the traces run
   double reference_L_ = 0, ball_L_ = 0;  // pitch circle and ball contacts (roll lengths)
   double transverse_per_normal_ = 1;     // 1 / cos(beta_b): normal to transverse deviation

@@ -20,13 +20,13 @@ struct MeasurementModel::ThreadExpressions {
 };
 
 MeasurementModel::MeasurementModel(const Scenario& scenario)
-    : scenario_(scenario),
-      gear_(std::make_unique<InvoluteGear>(scenario.gear)) {
+    : scenario_(scenario), gear_(std::make_unique<InvoluteGear>(scenario.gear)) {
   tolerances_ = resolve_scenario_tolerances(scenario_, *gear_);
   sampler_ =
       std::make_unique<GearSampler>(*gear_, tolerances_, scenario_.deviations, scenario_.seed);
-  extent_ = std::make_unique<FlankExtent>(FlankExtent{
-      gear_->form_roll_length_mm(), gear_->tip_roll_length_mm(), 0.0, gear_->face_width_mm()});
+  extent_ = std::make_unique<FlankExtent>(FlankExtent{gear_->active_roll_length_min_mm(),
+                                                      gear_->active_roll_length_max_mm(), 0.0,
+                                                      gear_->face_width_mm()});
   if (!scenario_.normal_expression_um.empty()) {
     expressions_ = std::make_unique<ThreadExpressions>(scenario_.normal_expression_um);
   }

@@ -169,10 +169,11 @@ FlankModifications read_modifications(const YamlMap& m, InputWarnings* warnings)
 
 }  // namespace
 
-// gear: the spur gear (ISO 21771 quantities; lengths in mm, angle in degrees, rack in modules).
-//   teeth (required, 5..1000), module_mm (required, > 0), pressure_angle_deg (0 < α < 45,
-//   default 20), profile_shift ([-1.5, 3], default 0), face_width_mm (required, > 0),
-//   tip_diameter_mm, root_diameter_mm (> 0, optional overrides),
+// gear: the gear (ISO 21771 quantities; lengths in mm, angle in degrees, rack in modules).
+//   teeth (required, 5..1000; -1000..-5 an internal gear), module_mm (required, > 0),
+//   pressure_angle_deg (0 < α < 45, default 20), helix_angle_deg and hand, internal (bool),
+//   profile_shift ([-1.5, 3], default 0), face_width_mm (required, > 0),
+//   tip_diameter_mm, root_diameter_mm, form_diameter_mm (> 0, optional overrides),
 //   basic_rack: {addendum > 0, dedendum > 0, root_radius >= 0} (defaults: ISO 53 profile A).
 // The parameters together must make a gear (validate_gear_parameters); if not, the error is
 // placed at the `gear` key.
@@ -183,7 +184,23 @@ GearParameters read_gear(const YamlMap& gear, InputWarnings* warnings) {
     const ParameterRange& range = r.at("gear." + key);
     return gear.require(key, describe_range(range));
   };
-  p.teeth = static_cast<int>(read_ranged_int(required("teeth"), r.at("gear.teeth"), warnings));
+  // A negative tooth count is an internal gear (ISO 21771's sign convention): |z| in the range.
+  const YamlValue teeth = required("teeth");
+  bool negative_teeth = false;
+  try {
+    negative_teeth = teeth.as_int() < 0;
+  } catch (const InputError&) {
+  }  // read_ranged_int says what is wrong
+  if (negative_teeth) {
+    const std::int64_t z = -teeth.as_int();
+    if (!r.at("gear.teeth").valid.contains(static_cast<double>(z))) {
+      throw teeth.error(describe_range(r.at("gear.teeth")) +
+                        " (a negative count -z is an internal gear of z teeth)");
+    }
+    p.teeth = static_cast<int>(z);
+  } else {
+    p.teeth = static_cast<int>(read_ranged_int(teeth, r.at("gear.teeth"), warnings));
+  }
   p.module_mm = read_ranged(required("module_mm"), r.at("gear.module_mm"), warnings);
   p.pressure_angle_deg =
       get_ranged(gear, "pressure_angle_deg", r.at("gear.pressure_angle_deg"), warnings)
@@ -204,14 +221,14 @@ GearParameters read_gear(const YamlMap& gear, InputWarnings* warnings) {
                      "no hand on a spur gear (helix_angle_deg 0): give the helix angle too");
   }
   p.hand = hand && *hand == "left" ? Hand::kLeft : Hand::kRight;
-  // Keys of the gear model's next steps (docs/scenarios.md): known, so that their message says
-  // what is missing rather than "unknown key".
-  if (gear.get_bool("internal").value_or(false)) {
+  // An internal (ring) gear: `internal: true` or a negative tooth count (not both contradicting).
+  const std::optional<bool> internal = gear.get_bool("internal");
+  if (negative_teeth && internal && !*internal) {
     throw gear.find("internal")
-        ->error(
-            "false: internal (ring) gears are not modelled yet in this version (external gears "
-            "only)");
+        ->error("true or no `internal` key with teeth " + teeth.shown() +
+                " (a negative tooth count is an internal gear, ISO 21771)");
   }
+  p.internal = negative_teeth || internal.value_or(false);
   if (const auto m = gear.get_map("modifications", child_keys("gear.modifications"))) {
     p.modifications = read_modifications(*m, warnings);
   }
@@ -221,6 +238,8 @@ GearParameters read_gear(const YamlMap& gear, InputWarnings* warnings) {
   p.tip_diameter_mm = get_ranged(gear, "tip_diameter_mm", r.at("gear.tip_diameter_mm"), warnings);
   p.root_diameter_mm =
       get_ranged(gear, "root_diameter_mm", r.at("gear.root_diameter_mm"), warnings);
+  p.form_diameter_mm =
+      get_ranged(gear, "form_diameter_mm", r.at("gear.form_diameter_mm"), warnings);
   p.rack.addendum = number_default("gear.basic_rack.addendum");
   p.rack.dedendum = number_default("gear.basic_rack.dedendum");
   p.rack.root_radius = number_default("gear.basic_rack.root_radius");

@@ -60,8 +60,8 @@ std::shared_ptr<const TriangleMesh> read_flank_mesh(const YamlValue& value, cons
     }
     const NominalFlankCoordinates at =
         nominal_flank_coordinates(gear, tooth, side, Eigen::Vector3d(x[0], x[1], x[2]));
-    if (at.roll_length_mm >= gear.form_roll_length_mm() &&
-        at.roll_length_mm <= gear.tip_roll_length_mm() && at.z_mm >= 0.0 &&
+    if (at.roll_length_mm >= gear.active_roll_length_min_mm() &&
+        at.roll_length_mm <= gear.active_roll_length_max_mm() && at.z_mm >= 0.0 &&
         at.z_mm <= gear.face_width_mm()) {
       nearest = std::min(nearest, std::abs(at.offset_mm));
     }

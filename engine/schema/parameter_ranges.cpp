@@ -58,6 +58,8 @@ const RangeTable& gear_ranges() {
           "ISO 1328-1:2013 scope d 5–15000 mm", ""},
          {"gear.root_diameter_mm", "mm", above(0, 100000), 1, 16000,
           "ISO 1328-1:2013 scope d 5–15000 mm", ""},
+         {"gear.form_diameter_mm", "mm", above(0, 100000), 1, 16000,
+          "ISO 1328-1:2013 scope d 5–15000 mm", ""},
          {"gear.basic_rack.addendum", "modules", above(0, 3), 0.8, 1.25,
           "ISO 53 addendum 1.0 m; stub teeth 0.8 m", ""},
          {"gear.basic_rack.dedendum", "modules", above(0, 3), 1.0, 1.4,

@@ -101,8 +101,7 @@ std::vector<ScenarioKey> make_table() {
                  "helix angle β at the reference diameter (0: spur)"),
       choice_key("gear.hand", {"right", "left"}, "required when helix_angle_deg > 0",
                  "hand of the helix (right: the section turns counter-clockwise going up +Z)"),
-      boolean_key("gear.internal", false,
-                  "an internal (ring) gear: not modelled yet, `true` is refused"),
+      boolean_key("gear.internal", false, "an internal (ring) gear (also: a negative tooth count)"),
       map_key("gear.modifications", "none",
               "designed profile and helix modifications: the design flank deviations are "
               "measured against"),
@@ -118,6 +117,9 @@ std::vector<ScenarioKey> make_table() {
                  "tip diameter override"),
       number_key("gear.root_diameter_mm", kNum, std::nullopt, "from the rack and the shift",
                  "root diameter override"),
+      number_key("gear.form_diameter_mm", kNum, std::nullopt, "from the rack and the shift",
+                 "form diameter override: where the involute starts on the root side (a ring "
+                 "gear's from its pinion-type cutter)"),
       map_key("gear.basic_rack", "ISO 53 profile A", "the basic rack, in modules"),
       number_key("gear.basic_rack.addendum", kNum, 1.0, "", "rack addendum h_aP/m"),
       number_key("gear.basic_rack.dedendum", kNum, 1.25, "", "rack dedendum h_fP/m"),

@@ -238,7 +238,10 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
                                   const std::string& readings_path) {
   const int teeth = model.gear.teeth;
   const InvoluteGear gear(model.gear);
-  const double tip_radius = gear.tip_diameter_mm() / 2.0, module = gear.module_mm();
+  // The teeth's outermost radius: the tip's, of an internal gear the root's.
+  const double tip_radius = std::max(gear.tip_diameter_mm(), gear.root_diameter_mm()) / 2.0;
+  const double module = gear.module_mm();
+  const std::string outermost = gear.internal() ? "root radius" : "tip radius";
   const double face = gear.face_width_mm();
   const int n = model.probing.grid.points_along_profile;
   const int m = model.probing.grid.sections_across_face;
@@ -287,7 +290,7 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
           locate(readings, readings_path, k, kPx), "px,py,pz",
           number_text(row.p.x()) + "," + number_text(row.p.y()) + "," + number_text(row.p.z()),
           "a nominal point on the model's gear: radius √(px² + py²) ≤ " +
-              number_text(tip_radius + module) + " mm (tip radius + one module) and " +
+              number_text(tip_radius + module) + " mm (" + outermost + " + one module) and " +
               number_text(-module) + " ≤ pz ≤ " + number_text(face + module) + " mm");
     }
   }

@@ -1,9 +1,10 @@
 // Prints gearmc's stylus contacts on helical flanks with steep designed modifications, for the
-// independent reference helical_contact_reference.py (mpmath) to check: two gears (right hand
-// beta 15°, left hand beta 25°), two deterministic fields each (tip and root relief, helix
-// crowning and a profile slope; a wavy field with a steep bump), both flanks of two teeth, a
-// grid of planned points, stylus radii 0.5 and 1 mm: 384 points. Lines:
-//   gear ID TEETH M_N ALPHA_N BETA HAND X
+// independent reference helical_contact_reference.py (mpmath) to check: two external gears
+// (right hand beta 15°, left hand beta 25°) and two internal ones (spur z 60; left hand beta
+// 18°, z 71), two deterministic fields each (tip and root relief, helix crowning and a profile
+// slope; a wavy field with a steep bump), both flanks of two teeth (internal: one), a grid of
+// planned points, stylus radii 0.5 and 1 mm: 576 points. Lines:
+//   gear ID TEETH M_N ALPHA_N BETA HAND X KIND       (KIND: external | internal)
 //   expr ID EXPRESSION (µm, transverse; muParser)
 //   point GEAR EXPR TOOTH SIDE L0 Z0 R px py pz nx ny nz STATUS Cx Cy Cz Ox Oy Oz   (mm)
 #include <cstdio>
@@ -22,8 +23,10 @@ struct Case {
   GearParameters parameters;
 };
 
-GearParameters gear_parameters(int teeth, double m_n, double beta, Hand hand, double x, double b) {
+GearParameters gear_parameters(int teeth, double m_n, double beta, Hand hand, double x, double b,
+                               bool internal = false) {
   GearParameters p;
+  p.internal = internal;
   p.teeth = teeth;
   p.module_mm = m_n;
   p.pressure_angle_deg = 20.0;
@@ -54,14 +57,20 @@ int run() {
   const std::vector<Case> cases = {
       {"g1", gear_parameters(31, 4.0, 15.0, Hand::kRight, 0.2, 40.0)},
       {"g2", gear_parameters(23, 3.0, 25.0, Hand::kLeft, -0.1, 30.0)},
+      {"g3", gear_parameters(60, 2.0, 0.0, Hand::kRight, 0.1, 20.0, true)},
+      {"g4", gear_parameters(71, 2.0, 18.0, Hand::kLeft, 0.2, 25.0, true)},
   };
   const FlankDeviation none;
   for (const Case& c : cases) {
     const InvoluteGear gear(c.parameters);
-    std::printf("gear %s %d %.17g 20 %.17g %s %.17g\n", c.id.c_str(), c.parameters.teeth,
+    std::printf("gear %s %d %.17g 20 %.17g %s %.17g %s\n", c.id.c_str(), c.parameters.teeth,
                 c.parameters.module_mm, c.parameters.helix_angle_deg,
-                c.parameters.hand == Hand::kRight ? "right" : "left", c.parameters.profile_shift);
-    const double L_form = gear.form_roll_length_mm(), L_tip = gear.tip_roll_length_mm();
+                c.parameters.hand == Hand::kRight ? "right" : "left", c.parameters.profile_shift,
+                gear.internal() ? "internal" : "external");
+    // The active profile as an increasing interval (on an internal gear the tip is its low end:
+    // the expressions' "tip" and "root" terms then sit at the other ends, as steep as before).
+    const double L_form = gear.active_roll_length_min_mm();
+    const double L_tip = gear.active_roll_length_max_mm();
     const double b = gear.face_width_mm();
     const double L_mid = 0.5 * (L_form + L_tip), span = L_tip - L_form;
     char text[2][400];
@@ -79,7 +88,7 @@ int run() {
       const std::string expr_id = c.id + "e" + std::to_string(e + 1);
       std::printf("expr %s %s\n", expr_id.c_str(), text[e]);
       const NormalExpression expression(text[e]);
-      for (int tooth : {1, 9}) {
+      for (int tooth : gear.internal() ? std::vector<int>{5} : std::vector<int>{1, 9}) {
         for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
           const AnalyticFlank flank(gear, tooth, side, none, Eigen::Vector2d::Zero(), &expression);
           for (int i = 0; i < 6; ++i) {

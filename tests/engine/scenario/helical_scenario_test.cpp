@@ -122,18 +122,34 @@ TEST(HelicalScenario, HandIsRequiredWithAHelixAngleAndRefusedWithout) {
 // Internal gears are a known key whose message says they are not modelled yet (not "unknown
 // key"); `internal: false` is the default and accepted. Design modifications are read, placed at
 // their key when wrong, and a linear relief (a kink) is refused as not modelled yet.
-TEST(HelicalScenario, InternalGearsAreRefusedAndModificationsRead) {
+TEST(HelicalScenario, ImpossibleRingGearsAreRefusedAndModificationsRead) {
   const fs::path dir = fresh_temp_path("helical_next");
   fs::create_directories(dir);
   write_text(dir / "external.yaml", helical_yaml("  hand: right\n  internal: false\n"));
   EXPECT_EQ(run_gearmc("geometry " + (dir / "external.yaml").string()).exit_code, 0);
+  // The example's data as a ring gear: its tip circle d - 2 m_n (1 + x) = 118.77 mm falls inside
+  // the base circle d_b = 120.13 mm (tests/gears/helical_reference.py): no involute to measure.
   write_text(dir / "ring.yaml", helical_yaml("  hand: right\n  internal: true\n"));
   const auto ring = run_gearmc("geometry " + (dir / "ring.yaml").string());
   EXPECT_EQ(ring.exit_code, 2);
-  EXPECT_NE(ring.err.find("ring.yaml:8:13: gear.internal: got 'true', expected false: internal "
-                          "(ring) gears are not modelled yet"),
+  EXPECT_NE(ring.err.find("ring.yaml:2:1: gear: expected parameters that make a gear, but tip "
+                          "diameter 118.774 mm"),
             std::string::npos)
       << ring.err;
+  EXPECT_NE(ring.err.find("of the internal gear is not above the base diameter 120.129 mm"),
+            std::string::npos)
+      << ring.err;
+  // A negative tooth count is an internal gear (ISO 21771); with `internal: false` it is a
+  // contradiction, said at the key.
+  std::string negative = helical_yaml("  hand: right\n  internal: false\n");
+  negative.replace(negative.find("teeth: 31"), 9, "teeth: -31");
+  write_text(dir / "negative.yaml", negative);
+  const auto contradiction = run_gearmc("geometry " + (dir / "negative.yaml").string());
+  EXPECT_EQ(contradiction.exit_code, 2);
+  EXPECT_NE(contradiction.err.find("negative.yaml:8:13: gear.internal: got 'false', expected true "
+                                   "or no `internal` key with teeth -31"),
+            std::string::npos)
+      << contradiction.err;
   const std::string modified =
       "  hand: right\n  modifications:\n"
       "    tip_relief: {amount_um: 10, length_mm: 3}\n"
