@@ -79,16 +79,14 @@ struct ContactStart {
       : ContactStart(s.point, s.nominal_normal, s.deviation_um) {}
 };
 
-// Whether stage 1's closed form applies at the planned point: an external gear's flank (the
-// closed forms are those of the convex involute; an internal flank takes stage 2), no
-// expression field, p = P(L0,
+// Whether stage 1's closed form applies at the planned point: no expression field, p = P(L0,
 // p_z) + 0 on the nominal flank and n = n(L0), transverse; `start` = S(L0, p_z) = P + delta
 // n(L0) + eps.
 inline bool nominal_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                           const Eigen::Vector3d& n, double L0, const ContactStart& start) {
   const double delta0 = 1e-3 * start.deviation_um;
-  return flank.expression() == nullptr && flank.roll_sign() > 0.0 &&
-         (start.nominal_normal - n).squaredNorm() <= 1e-24 && std::abs(n.z()) <= 1e-12 &&
+  return flank.expression() == nullptr && (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
+         std::abs(n.z()) <= 1e-12 &&
          (start.point - delta0 * n - flank.eccentricity() - p).squaredNorm() <= 1e-18 && L0 > 0.0;
 }
 

@@ -24,6 +24,14 @@ struct ParameterBox {
   double L_lo, L_hi, Phi, D;
 };
 
+// The involute's own term of M_LL's numerator, -sigma a^2 / r_b (a = (L + sigma delta) / r_b),
+// bounded above over a in [a_lo, a_hi]: -a_lo^2 / r_b on an external flank (convex: it lowers
+// the bound), +a_hi^2 / r_b on an internal one (concave: the sphere's curvature 1/L is what the
+// flank takes from the sphere's 1/R).
+double involute_term_ub(double sigma, double a_lo, double a_hi, double inv_rb) {
+  return sigma > 0.0 ? -a_lo * a_lo * inv_rb : a_hi * a_hi * inv_rb;
+}
+
 // The deviation's partials' ranges in mm/mm and 1/mm (FlankDeviation::derivative_ranges, µm).
 struct DeviationIntervals {
   Interval dL, dz, dLL, dzz;
@@ -66,18 +74,24 @@ bool footprint_within(double L0, double half, double R, double r_b, double c_tau
 
 // Stage 1's bound of H_uu over `box`. With phi the angle of the involute normal n(L) from n
 // (phi = (L - L0) / r_b, n(L) = cos phi n + sin phi t0, t0 the profile tangent at L0), a = (L +
-// delta) / r_b and the partials of S (analytic_flank.cpp):
-//   (u_L, h_L) = Rot(a, delta_L),  (u_LL, h_LL) = Rot((1 + 2 delta_L) / r_b, delta_LL - a / r_b),
-//   (u_Lz, h_Lz) = Rot(delta_z / r_b, delta_Lz),  (u_zz, h_zz) = Rot(0, delta_zz),
+// sigma delta) / r_b (sigma the roll sign: +1 external, -1 internal) and the partials of S
+// (analytic_flank.cpp):
+//   (u_L, h_L) = Rot(a, delta_L),
+//   (u_LL, h_LL) = Rot((1 + 2 sigma delta_L) / r_b, delta_LL - sigma a / r_b),
+//   (u_Lz, h_Lz) = Rot(sigma delta_z / r_b, delta_Lz),  (u_zz, h_zz) = Rot(0, delta_zz),
 //   u_z(tau) = delta_z sin phi, u_z(z) = 1,
 // so M_xy = h_xy - (h_L / u_L) u_xy = cross((u_L, h_L), (u_xy, h_xy)) / u_L loses the rotation:
-//   M_LL = (a (delta_LL - a / r_b) - delta_L (1 + 2 delta_L) / r_b) / u_L,
-//   M_Lz = (a delta_Lz - delta_L delta_z / r_b) / u_L,  M_zz = a delta_zz / u_L,
+//   M_LL = (a (delta_LL - sigma a / r_b) - delta_L (1 + 2 sigma delta_L) / r_b) / u_L,
+//   M_Lz = (a delta_Lz - sigma delta_L delta_z / r_b) / u_L,  M_zz = a delta_zz / u_L,
 // and H_uu = J^-T M J^-1 with J = [[u_L, u_z], [0, 1]]. sin phi and cos phi are bounded over the
-// box symmetric about L0, so the sign of t0 does not matter. Every bound below is monotone in
-// the box (wider [L_lo, L_hi], larger Phi and D give a larger bound), so a box containing
-// another gives a bound valid for both.
-ExactBound curvature_over_box(const ParameterBox& box, const DeviationIntervals& dv, double r_b) {
+// box symmetric about L0, so the sign of t0 does not matter; the footprint's margins
+// (footprint_margins) hold for either sigma: N(L) = ∫ (l / r_b) cos((l - L0) / r_b) dl does not
+// see the direction the involute bends. Every bound below is monotone in the box (wider [L_lo,
+// L_hi], larger Phi and D give a larger bound), so a box containing another gives a bound valid
+// for both. The sigma terms other than the involute's own (involute_term_ub) enter through
+// moduli, bounded alike for both signs.
+ExactBound curvature_over_box(const ParameterBox& box, const DeviationIntervals& dv, double r_b,
+                              double sigma) {
   ExactBound out;
   const double inv_rb = 1.0 / r_b;  // divisions by r_b and u_L below are multiplications
   const double Phi = box.Phi, D = box.D, dL_mag = dv.dL_mag, dz_mag = dv.dz_mag;
@@ -89,7 +103,8 @@ ExactBound curvature_over_box(const ParameterBox& box, const DeviationIntervals&
   const double inv_uL = 1.0 / uL_lo;
   const double slope_term = dL_mag * (1.0 + 2.0 * dL_mag) * inv_rb;
   // M_LL = (a (delta_LL - a / r_b) - delta_L (1 + 2 delta_L) / r_b) / u_L
-  const double num_LL_ub = a_hi * std::max(dv.dLL.hi, 0.0) - a_lo * a_lo * inv_rb + slope_term;
+  const double num_LL_ub =
+      a_hi * std::max(dv.dLL.hi, 0.0) + involute_term_ub(sigma, a_lo, a_hi, inv_rb) + slope_term;
   const double M_LL_ub = num_LL_ub >= 0.0 ? num_LL_ub * inv_uL : num_LL_ub / (a_hi + dL_mag * Phi);
   const double M_LL_mag = (a_hi * dv.dLL.magnitude() + a_hi * a_hi * inv_rb + slope_term) * inv_uL;
   const double M_Lz_mag = dL_mag * dz_mag * inv_rb * inv_uL;        // delta_Lz = 0
@@ -141,7 +156,7 @@ ExactBound exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
       const ParameterBox box{std::max(L0 - half, L_min), std::min(L0 + half, L_max),
                              half * (1.0 / r_b), D};
       if (box.L_lo <= 0.0) return {};
-      return curvature_over_box(box, dv, r_b);
+      return curvature_over_box(box, dv, r_b, flank.roll_sign());
     }
   }
   return {};
@@ -180,12 +195,14 @@ namespace {
 // partials' bounds (mm, mm/mm, 1/mm).
 struct HelicalFlank {
   double r_b, cb, sb, G;    // base radius, cos and sin of beta_b, tan(beta_b)
+  double sigma;             // roll sign: +1 external, -1 internal
   double D_l, D_z, D_lz;    // |delta_lambda|, |delta_zeta|, |delta_lz|
   double D_ll_hi, D_zz_hi;  // upper bounds of delta_ll, delta_zz'
   double e_norm, c_tau;     // |eps|, >= |eps.t0|
   explicit HelicalFlank(const AnalyticFlank& flank, const Eigen::Vector3d& n) {
     const InvoluteGear& gear = flank.gear();
     r_b = 0.5 * gear.base_diameter_mm();
+    sigma = flank.roll_sign();
     const double beta_b = gear.base_helix_angle_rad();
     cb = std::cos(beta_b), sb = std::sin(beta_b);
     G = std::abs(gear.helix_turn_per_mm()) * r_b;
@@ -221,8 +238,9 @@ ExactBound helical_box_bound(const HelicalFlank& h, double L_lo, double L_hi, do
   if (!(a_lo > 0.0) || !(L_hi >= L_lo)) return {};
   const double Zp_lo = std::max(0.0, G - h.D_z);
   const double N_lo = a_lo * std::sqrt(1.0 + Zp_lo * Zp_lo);
-  const double num_ll_ub =
-      a_hi * std::max(h.D_ll_hi, 0.0) - a_lo * a_lo / r_b + h.D_l * (1.0 + 2.0 * h.D_l) / r_b;
+  const double num_ll_ub = a_hi * std::max(h.D_ll_hi, 0.0) +
+                           involute_term_ub(h.sigma, a_lo, a_hi, 1.0 / r_b) +
+                           h.D_l * (1.0 + 2.0 * h.D_l) / r_b;
   const double K_ll = std::max(num_ll_ub, 0.0) / (N_lo * a_lo * a_lo);
   const double K_lz = (a_hi * h.D_lz + (G + h.D_z) * h.D_l / r_b) / (N_lo * a_lo);
   const double K_zz = a_hi * std::max(h.D_zz_hi, 0.0) / N_lo;
@@ -249,10 +267,7 @@ ExactBound helical_box_bound(const HelicalFlank& h, double L_lo, double L_hi, do
 // p on the nominal helicoid and n its normal there: S(L0, p_z) = p + delta0 m0 + eps.
 bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                            const Eigen::Vector3d& n, double L0, const ContactStart& start) {
-  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical() ||
-      flank.roll_sign() < 0.0) {
-    return false;  // stage 1's closed forms are those of an external (convex) flank
-  }
+  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical()) return false;
   const Eigen::Vector3d m0 = Eigen::Vector3d(n.x(), n.y(), 0.0) / flank.cos_base_helix();
   return (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
          (start.point - 1e-3 * start.deviation_um * m0 - flank.eccentricity() - p).squaredNorm() <=
@@ -340,12 +355,7 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
   out.R = R;
   out.L_min = L_min;
   out.L_max = L_max;
-  // Stage 1's closed forms are those of an external (convex) involute flank: an internal one
-  // takes the sampled stage (contact_certificate.h).
-  if (flank.expression() != nullptr || !(L_min > 0.0) || !(L_max > L_min) ||
-      flank.roll_sign() < 0.0) {
-    return out;
-  }
+  if (flank.expression() != nullptr || !(L_min > 0.0) || !(L_max > L_min)) return out;
 
   const FlankDeviation& dev = flank.deviation();
   // The profile part over the extent, the helix part over its own domain (a planned point
@@ -397,8 +407,8 @@ FlankCurvatureBound flank_curvature_bound(const AnalyticFlank& flank, double R, 
     out.half_width_mm2 = K;
     out.max_turn_rad = K / (L_min * r_b);
     out.max_deviation_mm = D_at(L_min);
-    const ExactBound b =
-        curvature_over_box({L_min, L_max, out.max_turn_rad, out.max_deviation_mm}, dv, r_b);
+    const ExactBound b = curvature_over_box({L_min, L_max, out.max_turn_rad, out.max_deviation_mm},
+                                            dv, r_b, flank.roll_sign());
     out.kappa = b.kappa;
     out.inverse_jacobian = b.inverse_jacobian;
     return out;
