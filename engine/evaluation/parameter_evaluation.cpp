@@ -320,7 +320,12 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       }
       chart.range_start_mm = profile ? e_.profile_start_ : a;
       chart.range_end_mm = profile ? e_.profile_end_ : b;
-      if (results[0]) chart.measured_line = *results[0];
+      if (results[0]) {
+        chart.measured_line = *results[0];
+        // The chart's abscissa is L: the line's slope per mm of L is sigma times that per mm of
+        // sigma L (its intercept is at the range's start either way).
+        if (profile) chart.measured_line.slope_um_per_mm *= ps;
+      }
       if (keep_traces)
         (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
       if (profile && x.size() >= 2) {

@@ -17,6 +17,9 @@
 //    ends P1's 5 % margins hit exactly: z = 3.94 and 74.95 mm, L = 44.32 mm; there the mesh's
 //    vertex normals converge only with order 1);
 //  * BM_HelicalContact: the same with the gear made helical (beta 15°, right hand);
+//  * BM_InternalContact: the same with the gear made an internal one (its teeth 60, its profile
+//    shift and diameter overrides dropped, so that the ring has an involute: P1's normal module,
+//    face width, grid and tolerances);
 //  * BM_GearDraw: drawing one perturbed gear (the sampler's share of a Monte-Carlo run);
 //  * BM_ReferenceRun: the whole reference scenario (50 gears x 2400 points), all threads.
 // Run: build/tests/bench/contact_bench --benchmark_repetitions=5
@@ -41,8 +44,15 @@ namespace gearmc {
 namespace {
 
 // P1's reference scenario, its gear made helical when helix_angle_deg > 0 (right hand).
-Scenario reference_with_helix(double helix_angle_deg) {
+Scenario reference_with_helix(double helix_angle_deg, bool internal = false) {
   Scenario s = reference_scenario();
+  if (internal) {
+    s.gear.internal = true;
+    s.gear.teeth = 60;
+    s.gear.profile_shift = 0.0;
+    s.gear.tip_diameter_mm.reset();
+    s.gear.root_diameter_mm.reset();
+  }
   if (helix_angle_deg > 0.0) {
     s.gear.helix_angle_deg = helix_angle_deg;
     s.gear.hand = Hand::kRight;
@@ -51,8 +61,8 @@ Scenario reference_with_helix(double helix_angle_deg) {
 }
 
 struct Fixture {
-  explicit Fixture(double helix_angle_deg = 0.0)
-      : scenario(reference_with_helix(helix_angle_deg)) {}
+  explicit Fixture(double helix_angle_deg = 0.0, bool internal = false)
+      : scenario(reference_with_helix(helix_angle_deg, internal)) {}
   Scenario scenario;
   InvoluteGear gear{scenario.gear};
   ToleranceSet tolerances = resolve_scenario_tolerances(scenario, gear);
@@ -60,12 +70,12 @@ struct Fixture {
 };
 
 // The body of BM_AnalyticContact and BM_HelicalContact: `helix_angle_deg` 0 is P1's spur gear.
-void analytic_contact(benchmark::State& state, double helix_angle_deg) {
-  Fixture f(helix_angle_deg);
+void analytic_contact(benchmark::State& state, double helix_angle_deg, bool internal = false) {
+  Fixture f(helix_angle_deg, internal);
   const PerturbedGear g = f.sampler.draw(3);
   const ProbingGridCoordinates grid = probing_grid_coordinates(f.gear, f.scenario.probing.grid);
-  const FlankExtent extent{f.gear.form_roll_length_mm(), f.gear.tip_roll_length_mm(), 0.0,
-                           f.gear.face_width_mm()};
+  const FlankExtent extent{f.gear.active_roll_length_min_mm(), f.gear.active_roll_length_max_mm(),
+                           0.0, f.gear.face_width_mm()};
   // The planned points are nominal, the same for every gear: computed once, outside the timing,
   // as a run's probing plan computes them once (engine/measurement/measurement_model.h). Each solve
   // takes the base point's angle from its planned point, as the run does.
@@ -124,6 +134,10 @@ BENCHMARK(BM_AnalyticContact)->Unit(benchmark::kMillisecond);
 // (helical_exact_bound), not per flank.
 void BM_HelicalContact(benchmark::State& state) { analytic_contact(state, 15.0); }
 BENCHMARK(BM_HelicalContact)->Unit(benchmark::kMillisecond);
+
+// P1's gear as a ring gear (internal, 60 teeth, x 0): concave flanks, stage 1 per flank.
+void BM_InternalContact(benchmark::State& state) { analytic_contact(state, 0.0, true); }
+BENCHMARK(BM_InternalContact)->Unit(benchmark::kMillisecond);
 
 // One flank of gear 3 and the 40 x 20 planned points on it, with the analytic answers.
 struct OneFlank {

@@ -163,6 +163,17 @@ TEST(InternalScenario, ProfileSlopeIsTheRiseFromTheRootToTheTip) {
       EXPECT_NEAR(values(r, GearParameter::kfHbeta, side)[k].measured, 0.0, 5e-3);
     }
   }
+  // The chart's mean line, drawn over L from the range's start to its end, is the deviation
+  // itself there: -0.5 (L - 30) µm at L = 38.0911 and at L = 23.2268 mm.
+  ASSERT_FALSE(r.parameters->chart.profile.empty());
+  for (const FlankTrace& t : r.parameters->chart.profile) {
+    EXPECT_NEAR(t.range_start_mm, 38.091087, 1e-5);
+    const double at_start = t.measured_line.intercept_um;
+    const double at_end =
+        at_start + t.measured_line.slope_um_per_mm * (t.range_end_mm - t.range_start_mm);
+    EXPECT_NEAR(at_start, -0.5 * (t.range_start_mm - 30), 5e-3);
+    EXPECT_NEAR(at_end, -0.5 * (t.range_end_mm - 30), 5e-3);
+  }
 }
 
 // Tooth 3 turned counter-clockwise by a: its R flank moves along its (counter-clockwise) normal by
