@@ -13,10 +13,11 @@ bool FlankModifications::any() const {
 
 void ModificationCurve::add_relief(double start, int direction, const FlankRelief& relief) {
   if (!relief.present()) return;
-  Term t{Term::Kind::kRelief};
+  Term t{relief.linear ? Term::Kind::kLinearRelief : Term::Kind::kRelief};
   t.start = start;
   t.direction = direction >= 0 ? 1.0 : -1.0;
   t.length = relief.length_mm;
+  t.amount = relief.amount_um;
   const double c = 1e-3 * relief.amount_um;
   // The circle through the start (tangent there) with sagitta c over the chord's half l.
   t.rho = (relief.length_mm * relief.length_mm + c * c) / (2.0 * c);
@@ -40,9 +41,30 @@ void ModificationCurve::add_slope(double mid, double slope_um_per_mm) {
   terms_.push_back(t);
 }
 
+std::vector<double> ModificationCurve::kinks() const {
+  std::vector<double> out;
+  for (const Term& term : terms_) {
+    if (term.kind == Term::Kind::kLinearRelief) out.push_back(term.start);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 void ModificationCurve::evaluate_term(const Term& term, double t, double* v, double* d1,
                                       double* d2) {
   switch (term.kind) {
+    case Term::Kind::kLinearRelief: {  // m = -c x / l beyond the start (x > 0), 0 before
+      const double x = term.direction * (t - term.start);
+      if (!(x > 0.0)) {
+        *v = *d1 = *d2 = 0.0;
+        return;
+      }
+      const double slope = -term.amount / term.length;  // µm per mm of x
+      *v = slope * x;
+      *d1 = term.direction * slope;
+      *d2 = 0.0;
+      return;
+    }
     case Term::Kind::kRelief: {
       const double x = term.direction * (t - term.start);
       if (!(x > 0.0)) {
@@ -105,6 +127,12 @@ ModificationCurve::Bounds ModificationCurve::derivative_bounds() const {
   for (const Term& term : terms_) {
     double lo1 = 0, hi1 = 0, lo2 = 0, hi2 = 0;
     switch (term.kind) {
+      case Term::Kind::kLinearRelief: {
+        const double end = term.direction * (-term.amount / term.length);
+        lo1 = std::min(0.0, end);
+        hi1 = std::max(0.0, end);
+        break;  // m'' = 0 on both sides of the kink (the kink itself is the solver's)
+      }
       case Term::Kind::kRelief: {
         // m' runs monotonically from 0 to its value at x = l (then stays); m'' from -1/rho to
         // -rho² / s(l)³ on the arc, 0 before and after it.
@@ -161,6 +189,7 @@ DesignModification::DesignModification(const FlankModifications& m, double L_for
   helix.add_relief(m.end_relief.length_mm, -1, m.end_relief);
   helix.add_crowning(0.0, b, m.helix_crowning_um);
   helix.add_slope(0.5 * b, m.helix_slope_um / b);
+  profile_kinks = profile.kinks();
 }
 
 }  // namespace gearmc

@@ -15,7 +15,10 @@
 // - helix slope modification H: m = H (z - b/2) / b (+ = more material towards z = b).
 // All are C1 with bounded second derivatives (a curvature jump where a relief starts), so the
 // contact solver's Newton steps and its curvature certificate hold as on an unmodified flank.
-// A linear relief (a kink in the flank) is not modelled.
+// - linear relief (tip and root only): m = -c x / l, a straight line from the start: the flank
+//   has a kink (a convex ridge) there; the curve reports it (kinks()), and where the ball rests
+//   on the ridge the contact solver maximises along it (engine/contact/contact.cpp).
+// A linear end relief (a kink across the face) is not modelled.
 #pragma once
 
 #include <vector>
@@ -26,6 +29,7 @@ namespace gearmc {
 struct FlankRelief {
   double amount_um = 0.0;  // C, material removed at the end
   double length_mm = 0.0;  // l: roll length (profile) or face width (helix) it spans
+  bool linear = false;     // a straight relief (a kink at its start) instead of the arc
   bool present() const { return amount_um > 0.0 && length_mm > 0.0; }
 };
 
@@ -44,9 +48,11 @@ struct FlankModifications {
 // derivative.
 class ModificationCurve {
  public:
-  // A circular relief starting at `start` and reaching `amount_um` at start + direction × length
-  // (direction +1: towards larger t, -1: towards smaller t).
+  // A circular (or linear) relief starting at `start` and reaching `amount_um` at start +
+  // direction × length (direction +1: towards larger t, -1: towards smaller t).
   void add_relief(double start, int direction, const FlankRelief& relief);
+  // Where the curve has a kink (the starts of its linear reliefs), increasing.
+  std::vector<double> kinks() const;
   // Crowning C over [from, to] (both > from), m = -C (2 (t - mid) / (to - from))².
   void add_crowning(double from, double to, double amount_um);
   // m += slope_um_per_mm × (t - mid).
@@ -66,7 +72,7 @@ class ModificationCurve {
 
  private:
   struct Term {
-    enum class Kind { kRelief, kCrowning, kSlope } kind;
+    enum class Kind { kRelief, kLinearRelief, kCrowning, kSlope } kind;
     double start = 0, direction = 1, length = 0, rho = 0;  // relief (mm)
     double from = 0, to = 0, amount = 0;                   // crowning (µm over [from, to])
     double mid = 0, slope = 0;                             // slope (µm/mm)
@@ -82,6 +88,8 @@ struct DesignModification {
                      double tip_roll_length_mm, double face_width_mm);
   ModificationCurve profile, helix;
   double form_roll_length_mm, tip_roll_length_mm, face_width_mm;
+  // The roll lengths where a linear relief starts: the flank's ridges (profile.kinks()).
+  std::vector<double> profile_kinks;
   // m(L, z), µm.
   double value_um(double L, double z) const { return profile.value(L) + helix.value(z); }
 };

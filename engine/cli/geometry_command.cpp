@@ -80,7 +80,7 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
     const auto profile_relief = [&](const FlankRelief& r, double start_L) {
       return ordered_json{{"amount_um", r.amount_um},
                           {"length_mm", r.length_mm},
-                          {"shape", "circular"},
+                          {"shape", r.linear ? "linear" : "circular"},
                           {"starts_at_roll_length_mm", mm(start_L)},
                           {"starts_at_diameter_mm", mm(gear.diameter_at_roll_length(start_L))}};
     };

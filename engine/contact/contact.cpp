@@ -8,6 +8,7 @@
 #include "surfaces/flank_frame.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -16,6 +17,7 @@
 namespace gearmc {
 namespace {
 
+constexpr double kHuge = 1e300;
 constexpr double kStepTolerance = 1e-10;  // mm in (L, z): C to far below a nanometre
 constexpr int kMaxIterations = 60;
 constexpr double kNewtonRegion = 1e-4;  // mm: steps this small skip the line search
@@ -320,6 +322,92 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
 
 namespace {
 
+// The first contact on the ridge of a linear relief (a kink of the flank at roll length c, its
+// start): where the Newton iteration cannot converge (the contact height f has a crease there),
+// f(c, z) is maximised over z by sampling and golden sections (f along the ridge is smooth), and
+// the point is certified like any other: the relief removes material beyond c, so the flank's
+// graph over the plane normal to n is the smaller of its two smooth branches (each continued
+// across c) and its crease is concave; f = min(f1, f2) with both branches' curvature within
+// stage 1's bound (the derivative ranges hold both slopes) is then strongly concave, and at the
+// ridge point the smallest supergradient is the point of the segment between the two one-sided
+// gradients nearest to zero (in u, each side's gradient turned by its own Jacobian); that is the
+// gradient certify_contact's concavity bound takes. Returns false when no ridge point is
+// reachable or proven.
+template <bool kHelical>
+bool solve_on_ridge(const AnalyticFlank& flank, const FlankExtent& extent, const Eigen::Vector3d& p,
+                    const Eigen::Vector3d& n, double R, double L0, double z0,
+                    const ContactStart& start, double c, ContactResult* result) {
+  const double z_lo = std::max(extent.z_min, z0 - 1.5 * R);
+  const double z_hi = std::min(extent.z_max, z0 + 1.5 * R);
+  if (!(z_hi > z_lo)) return false;
+  const auto height = [&](double z) { return contact_height(flank, p, n, R, c, z); };
+  constexpr int kSamples = 64;
+  double best_z = z_lo, best = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= kSamples; ++k) {
+    const double z = z_lo + (z_hi - z_lo) * k / kSamples;
+    const double h = height(z);
+    if (h > best) best = h, best_z = z;
+  }
+  if (!std::isfinite(best)) return false;
+  // Golden sections on the bracket around the best sample (f along the ridge is smooth and, over
+  // the footprint, concave: the sphere's curvature dominates).
+  const double step = (z_hi - z_lo) / kSamples;
+  double a = std::max(z_lo, best_z - step), b = std::min(z_hi, best_z + step);
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = height(x1), f2 = height(x2);
+  while (b - a > 1e-12) {
+    if (f1 < f2) {
+      a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = height(x2);
+    } else {
+      b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = height(x1);
+    }
+  }
+  const double z = 0.5 * (a + b);
+  // The one-sided gradients and their Jacobians J = d(u)/d(L, z), u = (w.tau, w.e2).
+  const Eigen::Vector3d tau = Eigen::Vector3d::UnitZ().cross(n).normalized();
+  const Eigen::Vector3d e2 = n.cross(tau);
+  Eigen::Vector2d g_u[2];
+  double j_norm = 0.0;
+  // One ulp on either side of c: one is the relief's branch (x > 0), the other the inner one.
+  const double sides[2] = {std::nextafter(c, -kHuge), std::nextafter(c, kHuge)};
+  for (int s = 0; s < 2; ++s) {
+    const FlankSurfacePoint fp = flank.evaluate(sides[s], z);
+    const AngleAnchor anchor{
+        sides[s],
+        kHelical ? base_angle(flank.gear(), flank.tooth(), flank.side(), sides[s], z)
+                 : base_angle(flank.gear(), flank.tooth(), flank.side(), sides[s]),
+        base_angle_per_mm(flank.gear(), flank.side()), z,
+        kHelical ? flank.gear().helix_turn_per_mm() : 0.0};
+    const Local m = model_at<kHelical>(flank, p, n, R, sides[s], z, anchor);
+    if (!m.reachable) return false;
+    Eigen::Matrix2d J;
+    J << fp.d_dL.dot(tau), fp.d_dz.dot(tau), fp.d_dL.dot(e2), fp.d_dz.dot(e2);
+    g_u[s] = J.transpose().inverse() * m.gradient;
+    j_norm = std::max(j_norm, J.norm());
+  }
+  // The point of the segment [g_u0, g_u1] nearest to zero.
+  const Eigen::Vector2d d = g_u[1] - g_u[0];
+  const double lambda =
+      d.squaredNorm() > 0.0 ? std::clamp(-g_u[0].dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  const double g_min = (g_u[0] + lambda * d).norm();
+  // certify_contact multiplies the gradient it is given by its bound of |J^-1| >= 1 / |J|.
+  const double t_star = height(z);
+  const ContactCertificate cert =
+      certify_contact(flank, p, n, R, L0, start, Eigen::Vector2d(c, z), t_star, g_min * j_norm,
+                      extent.roll_length_min, extent.roll_length_max);
+  if (cert.verdict != ContactCertificate::Verdict::kCertified) return false;
+  result->status = ContactResult::Status::kOk;
+  result->failure = ContactFailure::kNone;
+  result->roll_length_mm = c;
+  result->z_mm = z;
+  result->contact = flank.point(c, z);
+  result->centre = p + t_star * n;
+  result->reported = result->centre - R * n;
+  result->delta_um = 1e3 * (result->contact - result->reported).norm();
+  result->normal_error_um = 1e3 * (result->reported - result->contact).dot(n);
+  return true;
+}
+
 template <bool kHelical>
 ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const Eigen::Vector3d& p,
                     const Eigen::Vector3d& n, double R, double L0, double z0,
@@ -409,6 +497,19 @@ ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const
   result.roll_length_mm = s.x[0];
   result.z_mm = s.x[1];
   result.status = s.status;
+  if (result.status != ContactResult::Status::kOk &&
+      result.status != ContactResult::Status::kEdge) {
+    // A linear relief's ridge near the stopping point: the contact may rest on it.
+    if (const DesignModification* modification = flank.modification()) {
+      for (const double c : modification->profile_kinks) {
+        if (c <= extent.roll_length_min || c >= extent.roll_length_max) continue;
+        if (std::abs(c - s.x[0]) > 2.0 * R + 1.0) continue;
+        if (solve_on_ridge<kHelical>(flank, extent, p, n, R, L0, z0, start, c, &result)) {
+          return result;
+        }
+      }
+    }
+  }
   if (result.status != ContactResult::Status::kOk) return result;
   result.contact = s.point;  // S(x), evaluated where the solver stopped
   result.centre = p + s.height * n;

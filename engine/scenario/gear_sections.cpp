@@ -130,7 +130,8 @@ constexpr int kRunoutCheckGears = 8;
 namespace {
 
 // gear: modifications: the design flank (gears/flank_modifications.h). Each relief needs its
-// amount and length; `shape: linear` (a kink in the flank) is refused as not modelled yet.
+// amount and length; `shape: linear` (a kink in the flank) for the tip and root reliefs, refused
+// for the end relief (a kink across the face: not modelled).
 FlankModifications read_modifications(const YamlMap& m, InputWarnings* warnings) {
   const RangeTable& r = gear_ranges();
   FlankModifications out;
@@ -147,12 +148,13 @@ FlankModifications read_modifications(const YamlMap& m, InputWarnings* warnings)
     into->amount_um = *amount;
     into->length_mm = *length;
     const std::optional<std::string> shape = map->get_choice("shape", key_choices(path + ".shape"));
-    if (shape && *shape == "linear") {
+    if (shape && *shape == "linear" && name == "end_relief") {
       throw map->find("shape")->error(
-          "circular: a linear relief (a kink in the flank, where the stylus can touch the ridge) "
-          "is not modelled yet in this version; the circular relief (an arc tangent to the "
-          "flank) is");
+          "circular: a linear end relief (a kink across the face) is not modelled in this "
+          "version; linear tip and root reliefs are, and the circular end relief (an arc tangent "
+          "to the flank) is");
     }
+    into->linear = shape && *shape == "linear";
   };
   relief("tip_relief", &out.tip_relief);
   relief("root_relief", &out.root_relief);

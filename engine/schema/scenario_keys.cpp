@@ -223,9 +223,12 @@ std::vector<ScenarioKey> make_table() {
                                  "material removed at the end, µm"));
     reliefs.push_back(number_key(path + ".length_mm", kNum, std::nullopt, "required",
                                  "its length " + along + ", mm"));
-    reliefs.push_back(choice_key(path + ".shape", {"circular", "linear"}, "circular",
-                                 "circular: an arc tangent to the flank; linear (a kink): not "
-                                 "modelled yet, refused"));
+    reliefs.push_back(choice_key(
+        path + ".shape", {"circular", "linear"}, "circular",
+        name == "end_relief"
+            ? "circular: an arc tangent to the flank; linear (a kink across the face): not "
+              "modelled, refused"
+            : "circular: an arc tangent to the flank; linear: a straight line from a kink"));
   }
   const auto after = std::find_if(
       t.begin(), t.end(), [](const ScenarioKey& k) { return k.key == "gear.modifications"; });

@@ -56,6 +56,47 @@ TEST(FlankModifications, CircularReliefIsAnArcTangentAtItsStartWithTheAmountAtIt
   EXPECT_NEAR(root.value(start - 0.2), curve.value(start + 0.2), 1e-12);  // mirror images
 }
 
+// A linear relief: 0 before its start, -C x / l beyond it (C at x = l, the same line past it),
+// its slope -C / l on the relieved side and 0 on the other, no curvature; its start is the
+// curve's kink, and the gear's design lists the kinks of its tip and root reliefs (external: the
+// tip relief's at L_a - l; internal: at L_a + l, the tip being the small roll length).
+TEST(FlankModifications, LinearReliefIsAStraightLineFromItsKink) {
+  const double start = 20.0, length = 2.0, amount_um = 30.0;
+  ModificationCurve tip, root;
+  tip.add_relief(start, +1, FlankRelief{amount_um, length, true});
+  root.add_relief(start, -1, FlankRelief{amount_um, length, true});
+  for (const double x : {0.25, 1.0, 2.0, 2.5}) {
+    EXPECT_NEAR(tip.value(start + x), -amount_um * x / length, 1e-12) << x;
+    EXPECT_NEAR(root.value(start - x), -amount_um * x / length, 1e-12) << x;
+    double v, d1, d2;
+    tip.evaluate(start + x, &v, &d1, &d2);
+    EXPECT_NEAR(d1, -amount_um / length, 1e-12);
+    EXPECT_EQ(d2, 0.0);
+    root.evaluate(start - x, &v, &d1, &d2);
+    EXPECT_NEAR(d1, amount_um / length, 1e-12);  // dm/dt: the relief deepens towards smaller t
+  }
+  EXPECT_EQ(tip.value(start), 0.0);
+  EXPECT_EQ(tip.value(start - 0.5), 0.0);
+  ASSERT_EQ(tip.kinks().size(), 1u);
+  EXPECT_EQ(tip.kinks()[0], start);
+  const ModificationCurve::Bounds b = tip.derivative_bounds();
+  EXPECT_NEAR(b.first_lo, -amount_um / length, 1e-12);
+  EXPECT_EQ(b.first_hi, 0.0);
+  EXPECT_EQ(b.second_lo, 0.0);
+  EXPECT_EQ(b.second_hi, 0.0);
+  for (const bool internal : {false, true}) {
+    GearParameters p;
+    p.teeth = 60, p.internal = internal, p.module_mm = 2.0, p.face_width_mm = 20.0;
+    p.modifications.tip_relief = {amount_um, length, true};
+    p.modifications.root_relief = {10.0, 1.0, false};  // circular: no kink
+    ASSERT_EQ(validate_gear_parameters(p), "");
+    const InvoluteGear g(p);
+    ASSERT_EQ(g.design_modification()->profile_kinks.size(), 1u);
+    EXPECT_NEAR(g.design_modification()->profile_kinks[0],
+                g.tip_roll_length_mm() + (internal ? length : -length), 1e-12);
+  }
+}
+
 TEST(FlankModifications, CrowningIsTheParabolaWithItsAmountAtBothEnds) {
   ModificationCurve curve;
   curve.add_crowning(10.0, 30.0, 6.0);
@@ -118,7 +159,9 @@ TEST(FlankModifications, DerivativesAndTheCertificatesBoundsHold) {
       double vp, d1p, d2p, vm, d1m, d2m;
       curve->evaluate(t + h, &vp, &d1p, &d2p);
       curve->evaluate(t - h, &vm, &d1m, &d2m);
-      if (std::abs(d2p - d2m) < 1e-9) EXPECT_NEAR(d2, (d1p - d1m) / (2 * h), 1e-3) << t;
+      if (std::abs(d2p - d2m) < 1e-9) {
+        EXPECT_NEAR(d2, (d1p - d1m) / (2 * h), 1e-3) << t;
+      }
       EXPECT_LE(std::abs(v), magnitude + 1e-12);
       EXPECT_GE(d1, bounds.first_lo - 1e-12);
       EXPECT_LE(d1, bounds.first_hi + 1e-12);

@@ -184,7 +184,9 @@ TEST(InternalContact, StageOneBoundsAreUpperBoundsOfTheSampledCurvature) {
             EXPECT_GE(sampled, 0.9 / L1_);  // the concave involute's curvature is there
             least_margin = std::min(least_margin, kappa - sampled);
             if (kappa < 1.0 / R) ++proven, proven_plain += dev.profile_form.coefficients().empty();
-            if (std::isfinite(bound.kappa)) EXPECT_GE(bound.kappa, kappa - 1e-12);
+            if (std::isfinite(bound.kappa)) {
+              EXPECT_GE(bound.kappa, kappa - 1e-12);
+            }
           }
         }
       }

@@ -121,7 +121,8 @@ TEST(HelicalScenario, HandIsRequiredWithAHelixAngleAndRefusedWithout) {
 
 // Internal gears are a known key whose message says they are not modelled yet (not "unknown
 // key"); `internal: false` is the default and accepted. Design modifications are read, placed at
-// their key when wrong, and a linear relief (a kink) is refused as not modelled yet.
+// their key when wrong, and a linear end relief (a kink across the face) is refused as not
+// modelled; a linear tip relief is read and `geometry` says its shape.
 TEST(HelicalScenario, ImpossibleRingGearsAreRefusedAndModificationsRead) {
   const fs::path dir = fresh_temp_path("helical_next");
   fs::create_directories(dir);
@@ -178,9 +179,16 @@ TEST(HelicalScenario, ImpossibleRingGearsAreRefusedAndModificationsRead) {
   const auto kink = run_gearmc("geometry " + (dir / "linear.yaml").string());
   EXPECT_EQ(kink.exit_code, 2);
   EXPECT_NE(kink.err.find("linear.yaml:10:53: gear.modifications.end_relief.shape: got 'linear', "
-                          "expected circular: a linear relief"),
+                          "expected circular: a linear end relief (a kink across the face) is not "
+                          "modelled"),
             std::string::npos)
       << kink.err;
+  std::string linear_tip = modified;
+  linear_tip.replace(linear_tip.find("length_mm: 3}"), 13, "length_mm: 3, shape: linear}");
+  write_text(dir / "linear_tip.yaml", helical_yaml(linear_tip));
+  const auto tip = run_gearmc("geometry " + (dir / "linear_tip.yaml").string());
+  ASSERT_EQ(tip.exit_code, 0) << tip.err;
+  EXPECT_EQ(nlohmann::json::parse(tip.out)["modifications"]["tip_relief"]["shape"], "linear");
   std::string no_length = modified;
   no_length.replace(no_length.find(", length_mm: 3"), 14, "");
   write_text(dir / "no_length.yaml", helical_yaml(no_length));

@@ -69,7 +69,9 @@ TEST(InternalScenario, EveryCommandRunsOnARingGear) {
   for (const auto& [args, written] : commands) {
     const auto r = run_gearmc(args);
     EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
-    if (!written.empty()) EXPECT_TRUE(fs::exists(written)) << args;
+    if (!written.empty()) {
+      EXPECT_TRUE(fs::exists(written)) << args;
+    }
   }
   const nlohmann::json summary = nlohmann::json::parse(read_text(out + "_run/summary.json"));
   EXPECT_EQ(summary["failed_contacts"], 0);

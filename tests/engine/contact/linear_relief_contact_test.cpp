@@ -1,0 +1,76 @@
+// The stylus contact on flanks with linear tip and root reliefs (gears/flank_modifications.h: a
+// straight relief from a kink, the flank's ridge), spur, helical and internal, against the
+// nested brute-force search of tests/support/p1_fixtures.h (no Newton, no certificate; a
+// shrinking grid finds the crease's maximum as any other): planned points across the kinks,
+// among them points whose ball rests on the ridge itself (the contact's roll length is the
+// kink's). Every contact is kOk and within 1 nm of the search.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "engine/contact/contact.h"
+#include "engine/contact/contact_certificate.h"
+#include "tests/support/helical_fixtures.h"
+#include "tests/support/p1_fixtures.h"
+
+namespace gearmc {
+namespace {
+
+FlankExtent extent_of(const InvoluteGear& g) {
+  return {g.active_roll_length_min_mm(), g.active_roll_length_max_mm(), 0.0, g.face_width_mm()};
+}
+
+TEST(LinearReliefContact, AgreesWithBruteForceAcrossAndOnTheRidge) {
+  int checked = 0, on_ridge = 0;
+  double worst = 0.0;
+  for (int kind = 0; kind < 3; ++kind) {  // spur, helical, internal
+    GearParameters p = kind == 1 ? testing_support::helical_gear_parameters()
+                                 : testing_support::p1_gear_parameters();
+    if (kind == 2) {
+      p = GearParameters{};
+      p.teeth = 60, p.internal = true, p.module_mm = 2.0, p.face_width_mm = 20.0;
+    }
+    p.modifications.tip_relief = {30.0, 2.0, true};
+    p.modifications.root_relief = {15.0, 1.0, true};
+    ASSERT_EQ(validate_gear_parameters(p), "");
+    const InvoluteGear gear(p);
+    const DesignModification& design = *gear.design_modification();
+    ASSERT_EQ(design.profile_kinks.size(), 2u);
+    const FlankDeviation none;
+    for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      const AnalyticFlank flank(gear, 2, side, none, Eigen::Vector2d(0.001, -0.002));
+      for (const double c : design.profile_kinks) {
+        // Around each kink: far on both sides, and within the ridge's band (a few µm: the ball
+        // rests on the ridge where the two branches' normals straddle the probing line).
+        for (const double dL : {-1.5, -0.3, -0.004, -0.001, 0.0, 0.001, 0.004, 0.3, 1.5}) {
+          const double L = c + dL;
+          if (L <= extent_of(gear).roll_length_min || L >= extent_of(gear).roll_length_max)
+            continue;
+          for (const double z : {3.0, 0.5 * gear.face_width_mm()}) {
+            for (const double R : {0.5, 1.0}) {
+              const FlankPoint fp = gear.flank_point(2, side, L, z);
+              const ContactResult r =
+                  solve_contact(flank, extent_of(gear), fp.point, fp.normal, R, L, z);
+              ASSERT_EQ(r.status, ContactResult::Status::kOk)
+                  << kind << " c " << c << " dL " << dL << " z " << z << " R " << R;
+              const testing_support::BruteForcePoints s =
+                  testing_support::brute_force_contact_points(flank, fp.point, fp.normal, R, L, z);
+              EXPECT_LT((s.centre - r.centre).norm(), 1e-6) << kind << " " << dL << " " << R;
+              EXPECT_LT((s.contact - r.contact).norm(), 1e-6) << kind << " " << dL << " " << R;
+              worst = std::max(worst, (s.centre - r.centre).norm());
+              on_ridge += r.roll_length_mm == c;
+              ++checked;
+            }
+          }
+        }
+      }
+    }
+  }
+  std::printf("linear reliefs: %d contacts, %d on a ridge, worst |O - O_brute| %.3g nm\n", checked,
+              on_ridge, 1e6 * worst);
+  EXPECT_GT(on_ridge, 0);  // the ridge cases are exercised
+}
+
+}  // namespace
+}  // namespace gearmc
