@@ -19,6 +19,7 @@
 #include "engine/contact/contact_certificate.h"
 #include "engine/plan/probing_grid.h"
 #include "gears/deviations.h"
+#include "tests/support/alternating_form.h"
 #include "tests/support/p1_fixtures.h"
 #include "tests/support/sampled_curvature.h"
 
@@ -48,12 +49,7 @@ double sampled_footprint_curvature(const InvoluteGear& gear, const AnalyticFlank
   return worst;
 }
 
-// A form of `count` coefficients alternating -amplitude, +amplitude (µm) over [t0, t1] (mm).
-CubicBSpline alternating_form(double t0, double t1, int count, double amplitude) {
-  std::vector<double> c;
-  for (int i = 0; i < count; ++i) c.push_back(i % 2 ? amplitude : -amplitude);
-  return CubicBSpline(t0, t1, c);
-}
+using testing_support::alternating_form;
 
 // A wavier field than P1's: profile and helix forms of +-20 µm every ~1.5 mm (curvatures of
 // the order of 0.3 /mm, still below 1/R).

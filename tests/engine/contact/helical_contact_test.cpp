@@ -25,6 +25,7 @@
 #include "engine/contact/contact_certificate.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
+#include "tests/support/alternating_form.h"
 #include "tests/support/helical_fixtures.h"
 #include "tests/support/p1_fixtures.h"
 #include "tests/support/sampled_curvature.h"
@@ -133,12 +134,7 @@ TEST(HelicalContact, RandomSmoothFieldsAgreeWithBruteForceAndStageOneProvesThem)
   EXPECT_GE(stage_one, 120);
 }
 
-// A form of `count` coefficients alternating -amplitude, +amplitude (µm) over [t0, t1] (mm).
-CubicBSpline alternating_form(double t0, double t1, int count, double amplitude) {
-  std::vector<double> c;
-  for (int i = 0; i < count; ++i) c.push_back(i % 2 ? amplitude : -amplitude);
-  return CubicBSpline(t0, t1, c);
-}
+using testing_support::alternating_form;
 
 // Stage 1 on helical flanks is a proof: the per-point bound (helical_exact_bound) is at least
 // the largest sampled curvature over the footprint (9 x 9 samples over |L' - L0| <= R r_b / L0,

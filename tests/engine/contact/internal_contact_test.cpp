@@ -14,6 +14,7 @@
 #include "engine/contact/contact.h"
 #include "engine/contact/contact_certificate.h"
 #include "gears/normal_expression.h"
+#include "tests/support/alternating_form.h"
 #include "tests/support/p1_fixtures.h"
 #include "tests/support/sampled_curvature.h"
 
@@ -131,12 +132,7 @@ TEST(InternalContact, WavyFieldGivesTheFirstContactNotALocalPeak) {
   EXPECT_GT(restarted, 0);  // the field does put a higher point beside some local maxima
 }
 
-// A form of `count` coefficients alternating -amplitude, +amplitude (µm) over [t0, t1] (mm).
-CubicBSpline alternating_form(double t0, double t1, int count, double amplitude) {
-  std::vector<double> c;
-  for (int i = 0; i < count; ++i) c.push_back(i % 2 ? amplitude : -amplitude);
-  return CubicBSpline(t0, t1, c);
-}
+using testing_support::alternating_form;
 
 // Stage 1 on concave flanks is a proof: the per-point bound is at least the largest curvature of
 // the flank's graph over the plane normal to n, sampled by central differences of the flank's
