@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "gears/involute_gear.h"
+#include "tests/support/nearest_flank_point.h"
 
 namespace gearmc {
 namespace {
@@ -143,20 +144,11 @@ TEST(HelicalGear, BallInEveryToothSpaceIsIso21771sDimensionOverBalls) {
       const Eigen::Vector3d centre(r_M * std::cos(angle), r_M * std::sin(angle), z0);
       for (const auto& [tooth, side] :
            {std::pair<int, FlankSide>{k, FlankSide::kRight}, {k % c.z + 1, FlankSide::kLeft}}) {
-        double L = std::sqrt(r_M * r_M - r_b * r_b), z = z0, half = 3.0;
-        double best = 1e9;
-        for (int level = 0; level < 16; ++level) {
-          double bL = L, bz = z;
-          for (int a = -20; a <= 20; ++a) {
-            for (int b = -20; b <= 20; ++b) {
-              const double Lc = L + half * a / 20, zc = z + half * b / 20;
-              const double d = (g.flank_point(tooth, side, Lc, zc).point - centre).norm();
-              if (d < best) best = d, bL = Lc, bz = zc;
-            }
-          }
-          L = bL, z = bz, half *= 0.25;
-        }
-        EXPECT_NEAR(best, D_M / 2, 1e-9) << c.z << " " << c.beta_deg << " tooth " << tooth;
+        const testing_support::NearestFlankPoint near = testing_support::nearest_flank_point(
+            g, tooth, side, centre, std::sqrt(r_M * r_M - r_b * r_b), z0);
+        const double L = near.roll_length_mm;
+        EXPECT_NEAR(near.distance_mm, D_M / 2, 1e-9)
+            << c.z << " " << c.beta_deg << " tooth " << tooth;
         EXPECT_GT(L, g.form_roll_length_mm());  // the ball touches the involute itself
         EXPECT_LT(L, g.tip_roll_length_mm());
       }
