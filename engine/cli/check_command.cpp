@@ -96,7 +96,8 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
         << (run.no_values ? " of the first gear" : "") << " gave a value (failed "
         << run.failed_contacts << ", edge " << run.edge_contacts << ", collisions "
         << run.collisions
-        << "); check the stylus radius against the tooth space and any normal_um expression";
+        << "); check the stylus (radius, shaft) against the tooth space and any normal_um "
+           "expression";
     throw InputError({scenario.source_path, 0, 0}, msg.str());
   }
 

@@ -168,7 +168,8 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
     msg << (scenario.source_path.empty() ? "the reference scenario" : scenario.source_path)
         << ": none of the " << r.contacts << " contacts gave a value (failed " << r.failed_contacts
         << ", edge " << r.edge_contacts << ", collisions " << r.collisions
-        << "); check the stylus radius against the tooth space and any normal_um expression "
+        << "); check the stylus (radius, shaft) against the tooth space and any normal_um "
+           "expression "
            "(it must be finite on the whole flank)";
     throw InputError({scenario.source_path, 0, 0}, msg.str());
   }

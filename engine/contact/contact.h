@@ -82,27 +82,6 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
                             double z0, const BaseAngle& angle_at_L0,
                             const FlankCurvatureBound* flank_bound = nullptr);
 
-// Whether the stylus, on its way from `approach_mm` outside the planned point to the contact
-// centre O (both along n), stays clear of the rest of the tooth space of the flank `tooth`,
-// `side`: the facing flank of the neighbouring tooth (and its tip corner), the root circle.
-// Uses the nominal geometry (deviations are microns; the clearance test is about the
-// stylus size). Sets status kCollision and the reason when it does not.
-void check_tooth_space(const InvoluteGear& gear, int tooth, FlankSide side,
-                       const Eigen::Vector3d& n, double R, double approach_mm,
-                       ContactResult* result);
-
-// The clearances check_tooth_space tests (mm; negative = the sphere overlaps; of a helical gear
-// the facing flank's a lower bound, see the .cpp): the smallest,
-// over the stations of the approach from centre + approach_mm n to `centre`, of the distance
-// to the facing flank minus R and of the distance from the axis minus R minus the root radius.
-struct ToothSpaceClearance {
-  double facing_flank_mm, root_mm;
-  double smallest() const { return facing_flank_mm < root_mm ? facing_flank_mm : root_mm; }
-};
-ToothSpaceClearance tooth_space_clearance(const InvoluteGear& gear, int tooth, FlankSide side,
-                                          const Eigen::Vector3d& centre, const Eigen::Vector3d& n,
-                                          double R, double approach_mm);
-
 // The objective f(L, z) above (mm), -infinity where the sphere cannot reach the point. Exposed
 // for independent checks.
 double contact_height(const AnalyticFlank& flank, const Eigen::Vector3d& p,

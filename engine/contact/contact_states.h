@@ -15,6 +15,7 @@ enum class CollisionKind : std::uint8_t {
   kNeighbourFlank,   // the facing flank of the tooth space
   kRoot,             // the root circle
   kTouchingAtStart,  // a mesh flank already touches the sphere where the approach starts
+  kShaft,            // the stylus shaft meets a flank or the root above the ball
 };
 
 // Why a contact failed (kNotConverged) or is not proven the first contact (kUncertified).
@@ -39,6 +40,8 @@ constexpr std::string_view spelling(CollisionKind kind) {
       return "root";
     case CollisionKind::kTouchingAtStart:
       return "touching_at_start";
+    case CollisionKind::kShaft:
+      return "shaft";
   }
   return "?";
 }

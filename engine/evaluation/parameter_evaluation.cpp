@@ -7,6 +7,7 @@
 
 #include "core/constants.h"
 #include "engine/contact/contact.h"
+#include "engine/contact/tooth_space.h"
 #include "engine/effects/measurement_effect.h"
 #include "surfaces/analytic_flank.h"
 
@@ -96,7 +97,7 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
         q.order = order++;
         q.clearance_mm =
             tooth_space_clearance(gear, f.tooth, f.side, q.nominal.point + R * q.nominal.normal,
-                                  q.nominal.normal, R, kProbeApproachMm)
+                                  q.nominal.normal, model.stylus_shape(), kProbeApproachMm)
                 .smallest();
       };
       const int np = spec.profile_points, nh = spec.helix_points;

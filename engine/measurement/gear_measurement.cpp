@@ -62,7 +62,8 @@ void GearMeasurement::measure_flank(
     // exceeds that shift (plus 1 µm) cannot collide: the exact check is skipped.
     if (r.status == ContactResult::Status::kOk &&
         q.clearance_mm - std::abs((r.centre - fp.point).dot(fp.normal) - R) < 1e-3) {
-      check_tooth_space(gear, flank.tooth, flank.side, fp.normal, R, kProbeApproachMm, &r);
+      check_tooth_space(gear, flank.tooth, flank.side, fp.normal, model_.stylus_shape(),
+                        kProbeApproachMm, &r);
     }
     m.contributions = {};
     if (r.status == ContactResult::Status::kOk) {

@@ -66,7 +66,7 @@ MeasurementModel::MeasurementModel(const Scenario& scenario)
           q.nominal = gear_->flank_point(tooth, side, q.roll_length_mm, q.z_mm);
           q.clearance_mm =
               tooth_space_clearance(*gear_, tooth, side, q.nominal.point + R * q.nominal.normal,
-                                    q.nominal.normal, R, kProbeApproachMm)
+                                    q.nominal.normal, stylus_shape(), kProbeApproachMm)
                   .smallest();
         }
       }

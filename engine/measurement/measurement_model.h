@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/contact/tooth_space.h"
 #include "engine/plan/probing_grid.h"
 #include "engine/scenario/scenario.h"
 #include "gears/deviations.h"
@@ -54,6 +55,11 @@ class MeasurementModel {
   const ToleranceSet& tolerances() const { return tolerances_; }
   const EffectChain& effects() const { return *scenario_.effects; }
   double stylus_radius_mm() const { return scenario_.stylus_radius_mm; }
+  // Ball and shaft, for the tooth-space collision checks.
+  StylusShape stylus_shape() const {
+    return {scenario_.stylus_radius_mm, 0.5 * scenario_.stylus_shaft_diameter_mm,
+            scenario_.stylus_shaft_axis};
+  }
 
   // The probed flanks in (tooth, side) order: the scenario's teeth (all when none are listed),
   // left before right.

@@ -119,8 +119,9 @@ std::vector<std::string> contact_warnings(const RunResults& r) {
       << bad << " of " << r.contacts << " (" << std::fixed << std::setprecision(1) << percent
       << " %: failed " << r.failed_contacts << ", edge " << r.edge_contacts << ", collisions "
       << r.collisions
-      << "); the statistics describe only the other points — check the stylus radius against "
-         "the tooth space and any normal_um expression";
+      << "); the statistics describe only the other points — check the stylus (radius, shaft) "
+         "against the tooth space (`run --points` gives each point's status) and any normal_um "
+         "expression";
     warnings.push_back(w.str());
   }
   if (r.runout_redrawn_gears > 0) {

@@ -100,6 +100,19 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
     scenario.stylus_radius_mm =
         get_ranged(*stylus, "radius_mm", probing_ranges().at("stylus.radius_mm"), warnings)
             .value_or(scenario.stylus_radius_mm);
+    if (const auto shaft = get_ranged(*stylus, "shaft_diameter_mm",
+                                      probing_ranges().at("stylus.shaft_diameter_mm"), warnings)) {
+      if (*shaft >= 2.0 * scenario.stylus_radius_mm) {
+        std::ostringstream expected;
+        expected << "a shaft thinner than the ball (diameter " << 2.0 * scenario.stylus_radius_mm
+                 << " mm)";
+        throw stylus->find("shaft_diameter_mm")->error(expected.str());
+      }
+      scenario.stylus_shaft_diameter_mm = *shaft;
+    }
+    if (const auto axis = stylus->get_choice("shaft_axis", key_choices("stylus.shaft_axis"))) {
+      scenario.stylus_shaft_axis = *axis == "radial" ? ShaftAxis::kRadial : ShaftAxis::kZ;
+    }
   }
   if (const auto run = top.get_map("run", child_keys("run"))) {
     scenario.gears =

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/input_error.h"
+#include "engine/contact/tooth_space.h"
 #include "engine/plan/probing_grid.h"
 #include "engine/scenario/claims.h"
 #include "engine/scenario/evaluation_spec.h"
@@ -53,8 +54,12 @@ struct Scenario {
   std::string normal_expression_um;
   ProbingPlanSpec probing;        // `probing:` (P1: N 10, M 5, 5 % margins, all teeth, both)
   double stylus_radius_mm = 0.5;  // `stylus: radius_mm` (P1: 0.5 mm)
-  int gears = 50;                 // `run: gears` (P1: 50)
-  std::vector<FlankMeshSurface> surfaces;  // `surfaces:` (none: every flank is analytic)
+  // `stylus: shaft_diameter_mm`: the stem's diameter, 0 = the shaft is not checked for
+  // collisions (engine/contact/tooth_space.h).
+  double stylus_shaft_diameter_mm = 0.0;
+  ShaftAxis stylus_shaft_axis = ShaftAxis::kZ;  // `stylus: shaft_axis` (z: from above)
+  int gears = 50;                               // `run: gears` (P1: 50)
+  std::vector<FlankMeshSurface> surfaces;       // `surfaces:` (none: every flank is analytic)
   // `effects:` — the measurement effects, in physical order (empty: δRcomp alone), read by the
   // effects module (parse_effects) from the section the scenario hands over. Shared, read-only;
   // never null (a default Scenario holds an empty chain). Code that uses the chain includes

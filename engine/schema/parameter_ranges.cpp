@@ -129,6 +129,8 @@ const RangeTable& probing_ranges() {
         "P1: 0.05 away from every edge", "a percentage? (5 % is 0.05)"},
        {"stylus.radius_mm", "mm", closed(0.01, 50), 0.05, 5,
         "stylus balls are 0.1–10 mm in diameter (P1: R 0.5 mm)", "a diameter, or µm?"},
+       {"stylus.shaft_diameter_mm", "mm", above(0, 100), 0.2, 6,
+        "stylus stems are 0.2–6 mm in diameter, thinner than their ball", "a radius, or µm?"},
        {"run.gears", "", closed(1, 100000000), 1, 1000000, "P1: 50 gears", "", true},
        {"evaluation.profile_points", "", closed(0, 5000), 0, 1000,
         "gear CMMs scan 100–1000 points per trace; 0 = the probing grid's section", "", true},

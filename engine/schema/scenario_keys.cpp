@@ -180,6 +180,13 @@ std::vector<ScenarioKey> make_table() {
       choice_key("probing.order", {"tooth_by_tooth", "side_by_side"}, "tooth_by_tooth",
                  "the order of the flanks in time (drift)"),
       number_key("stylus.radius_mm", kNum, 0.5, "", "stylus tip radius R"),
+      number_key("stylus.shaft_diameter_mm", kNum, std::nullopt, "the shaft is not checked",
+                 "the stylus shaft's (stem's) diameter, less than the ball's: the shaft (along "
+                 "`shaft_axis`) is checked for collisions with the tooth space"),
+      choice_key("stylus.shaft_axis", {"z", "radial"}, "z",
+                 "where the shaft points from the ball: z, parallel to the gear axis up past the "
+                 "top face (probing from above); radial, horizontal along the radius out of the "
+                 "tooth space (into a ring gear's from the axis)"),
       number_key("run.gears", kInt, 50, "", "gears simulated by `run`"),
 
       bounded_integer("surfaces.tooth", std::nullopt, "required", 1, 0,

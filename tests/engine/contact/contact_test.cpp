@@ -10,6 +10,7 @@
 //  * random smooth fields: Newton's C and O agree with a nested brute-force grid search to 1 nm;
 //  * symmetry: the same deviation on either flank of any tooth gives the same delta.
 #include "engine/contact/contact.h"
+#include "engine/contact/tooth_space.h"
 #include "tests/support/p1_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -230,7 +231,7 @@ TEST(Contact, AStylusTooBigForTheToothSpaceCollides) {
       for (double R : {0.5, 3.0}) {
         ContactResult r = probe(gear, none, 6, side, pp.roll_length_mm, pp.z_mm, R);
         ASSERT_EQ(r.status, ContactResult::Status::kOk);
-        check_tooth_space(gear, 6, side, pp.normal, R, 1.0, &r);
+        check_tooth_space(gear, 6, side, pp.normal, StylusShape{R}, 1.0, &r);
         if (r.status == ContactResult::Status::kCollision) {
           (R == 0.5 ? small_collisions : big_collisions)++;
           EXPECT_EQ(spelling(r.collision), "neighbour_flank");
@@ -243,11 +244,13 @@ TEST(Contact, AStylusTooBigForTheToothSpaceCollides) {
   // The lowest profile point collides for R 3 mm; the highest does not (the space opens up).
   ContactResult low = probe(gear, none, 6, FlankSide::kRight, 22.6, 40.0, 3.0);
   check_tooth_space(gear, 6, FlankSide::kRight,
-                    gear.flank_point(6, FlankSide::kRight, 22.6, 40).normal, 3.0, 1.0, &low);
+                    gear.flank_point(6, FlankSide::kRight, 22.6, 40).normal, StylusShape{3.0}, 1.0,
+                    &low);
   EXPECT_EQ(low.status, ContactResult::Status::kCollision);
   ContactResult high = probe(gear, none, 6, FlankSide::kRight, 44.0, 40.0, 3.0);
   check_tooth_space(gear, 6, FlankSide::kRight,
-                    gear.flank_point(6, FlankSide::kRight, 44.0, 40).normal, 3.0, 1.0, &high);
+                    gear.flank_point(6, FlankSide::kRight, 44.0, 40).normal, StylusShape{3.0}, 1.0,
+                    &high);
   EXPECT_EQ(high.status, ContactResult::Status::kOk);
 }
 

@@ -23,6 +23,7 @@
 
 #include "engine/contact/contact.h"
 #include "engine/contact/contact_certificate.h"
+#include "engine/contact/tooth_space.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
 #include "tests/support/alternating_form.h"
@@ -260,8 +261,8 @@ TEST(HelicalContact, ToothSpaceClearanceIsALowerBoundInSpace) {
           for (double R : {1.0, 2.0}) {
             const FlankPoint fp = gear.flank_point(tooth, side, L, z);
             const Eigen::Vector3d centre = fp.point + R * fp.normal;
-            const ToothSpaceClearance c =
-                tooth_space_clearance(gear, tooth, side, centre, fp.normal, R, kProbeApproachMm);
+            const ToothSpaceClearance c = tooth_space_clearance(
+                gear, tooth, side, centre, fp.normal, StylusShape{R}, kProbeApproachMm);
             // The smallest over the same five stations, in space.
             double truth = 1e300;
             const Eigen::Vector3d start = centre + kProbeApproachMm * fp.normal;

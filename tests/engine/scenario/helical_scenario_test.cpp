@@ -359,5 +359,58 @@ TEST(HelicalScenario, DiagnoseFindsTheAxialEffectsOnAHelicoid) {
   EXPECT_LT(z_se, 2.0);  // a real measurement of z scale, not a wide guess
 }
 
+// The stylus shaft through `run`: a 0.8 mm stem on a 2 mm ball parallel to the axis collides on
+// the helical gear (the space turns under it; tests/engine/contact/stylus_shaft_test.cpp checks
+// where against brute force and first order), never within the top 2 mm of the face (on this
+// gear it clears from 2.5 mm below the top on one flank side, 18.5 mm on the other); a radial
+// stem of the same size never does, nor does a gear without `shaft_diameter_mm`; the contacts
+// the shaft leaves alone keep their values byte for byte.
+TEST(HelicalScenario, AnAxialStylusShaftCollidesWhereTheSpaceTurnsUnderIt) {
+  const fs::path dir = fresh_temp_path("helical_shaft");
+  fs::create_directories(dir);
+  const std::string probing =
+      "probing: {points_along_profile: 5, sections_across_face: 9, teeth: [1, 2]}\n"
+      "run: {gears: 1}\n";
+  std::map<std::string, std::vector<std::vector<std::string>>> rows;  // stylus -> points.csv
+  for (const std::string stylus :
+       {"{radius_mm: 1.0}", "{radius_mm: 1.0, shaft_diameter_mm: 0.8}",
+        "{radius_mm: 1.0, shaft_diameter_mm: 0.8, shaft_axis: radial}"}) {
+    const std::string s = (dir / ("s" + std::to_string(rows.size()) + ".yaml")).string();
+    write_text(s, helical_yaml("  hand: right\n") + probing + "stylus: " + stylus + "\n");
+    const std::string out = (dir / ("out" + std::to_string(rows.size()))).string();
+    const auto r = run_gearmc("run " + s + " --points --out " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::istringstream csv(read_text(out + "/points.csv"));
+    std::string line;
+    auto& table = rows[stylus];
+    while (std::getline(csv, line)) {
+      if (line.empty() || line[0] == '#' || line.rfind("gear,", 0) == 0) continue;
+      std::vector<std::string> fields;
+      std::stringstream ss(line);
+      for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+      ASSERT_EQ(fields.size(), 23u) << line;
+      table.push_back(fields);
+    }
+  }
+  const auto& plain = rows["{radius_mm: 1.0}"];
+  const auto& axial = rows["{radius_mm: 1.0, shaft_diameter_mm: 0.8}"];
+  const auto& radial = rows["{radius_mm: 1.0, shaft_diameter_mm: 0.8, shaft_axis: radial}"];
+  ASSERT_EQ(plain.size(), 2u * 2 * 5 * 9);
+  ASSERT_EQ(axial.size(), plain.size());
+  ASSERT_EQ(radial.size(), plain.size());
+  int shaft = 0;
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    EXPECT_EQ(plain[k].back(), "ok");
+    EXPECT_EQ(radial[k], plain[k]);  // the radial stem never meets the widening space
+    if (axial[k].back() == "shaft") {
+      ++shaft;
+      EXPECT_LT(std::stod(axial[k][7]), 40.0 - 2.0) << "pz of a shaft collision";
+    } else {
+      EXPECT_EQ(axial[k], plain[k]);
+    }
+  }
+  EXPECT_GT(shaft, 0);
+}
+
 }  // namespace
 }  // namespace gearmc

@@ -404,6 +404,13 @@ TEST(ScenarioErrorTest, BadProbingValues) {
   expect_at(parse_error(kGear + "probing:\n  profile_spacing: angle\n"), 6, 20);
   expect_at(parse_error(kGear + "stylus: {radius_mm: -1}\n"), 5, 21);
   expect_at(parse_error(kGear + "run: {gears: 0}\n"), 5, 14);
+  // A stem as thick as the ball (diameter 1 mm for R 0.5 mm), and an unknown axis.
+  const InputError thick = parse_error(kGear + "stylus: {radius_mm: 0.5, shaft_diameter_mm: 1}\n");
+  expect_at(thick, 5, 45);
+  EXPECT_NE(std::string(thick.what()).find("a shaft thinner than the ball (diameter 1 mm)"),
+            std::string::npos)
+      << thick.what();
+  expect_at(parse_error(kGear + "stylus: {shaft_diameter_mm: 0.3, shaft_axis: x}\n"), 5, 46);
   const InputError typo = parse_error(kGear + "stylus: {radius: 1}\n");
   EXPECT_NE(std::string(typo.what()).find("did you mean 'radius_mm'"), std::string::npos)
       << typo.what();

@@ -367,6 +367,7 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
                                           "distribution",
                                           "eccentricity",
                                           "stylus_axis",
+                                          "shaft_axis",
                                           "pitch",
                                           "thickness",
                                           "profile",
