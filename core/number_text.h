@@ -11,4 +11,7 @@ namespace gearmc {
 // Shortest round-trip text of `value` ("inf", "-inf", "nan" for the non-finite values).
 std::string shortest_text(double value);
 
+// A derived number in a message, to `digits` significant digits ("0.1235").
+std::string short_text(double value, int digits = 4);
+
 }  // namespace gearmc

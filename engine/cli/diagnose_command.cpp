@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "engine/apps/diagnose/fitted_scenario.h"
 #include "engine/apps/diagnose/readings_check.h"
 #include "engine/readings/dmis_results.h"
+#include "engine/readings/point_matching.h"
 #include "engine/readings/point_table.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/reports/svg_plot.h"
@@ -34,12 +36,27 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
   const Scenario model = load_scenario_file(o.model_path);
   // A DMIS output file (the results of `gearmc export-plan`'s program): its points were
   // compensated with the ball the model names. With --columns, a CMM's point table, likewise.
-  auto readings = std::make_unique<Readings>(
-      !o.columns_path.empty()
-          ? read_point_table(o.measured_path, read_point_table_columns(o.columns_path),
-                             model.stylus_radius_mm)
-      : is_dmis_file(o.measured_path) ? read_dmis_results(o.measured_path, model.stylus_radius_mm)
+  // A label-free table (columns x, y, z): its points are matched to the model's flanks first.
+  std::optional<MatchingSummary> matching;
+  std::unique_ptr<Readings> readings;
+  if (!o.columns_path.empty()) {
+    const PointTableColumns columns = read_point_table_columns(o.columns_path);
+    if (columns.label_free) {
+      const InvoluteGear gear(model.gear);
+      MatchingSummary summary;
+      readings = std::make_unique<Readings>(match_unlabelled_points(
+          gear, read_unlabelled_points(o.measured_path, columns, model.stylus_radius_mm),
+          nominal_point_allowance_mm(model, gear), &summary));
+      matching = summary;
+    } else {
+      readings = std::make_unique<Readings>(
+          read_point_table(o.measured_path, columns, model.stylus_radius_mm));
+    }
+  } else {
+    readings = std::make_unique<Readings>(
+        is_dmis_file(o.measured_path) ? read_dmis_results(o.measured_path, model.stylus_radius_mm)
                                       : read_readings(o.measured_path));
+  }
   for (const std::string& w : model.warnings) err << "gearmc: warning: " << w << "\n";
   for (const std::string& w : readings->warnings) err << "gearmc: warning: " << w << "\n";
 
@@ -104,6 +121,14 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
     with["provenance"] = provenance_json(made);
     for (auto& [key, value] : j.items()) with[key] = value;
     json = with.dump(2) + "\n";
+  }
+  if (matching) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(json);
+    j["matching"] = {{"points", matching->points},
+                     {"max_distance_um", matching->max_distance_um},
+                     {"rms_distance_um", matching->rms_distance_um},
+                     {"refused", matching->refused}};
+    json = j.dump(2) + "\n";
   }
   if (!fitted_problem.empty()) {
     nlohmann::ordered_json j = nlohmann::ordered_json::parse(json);

@@ -15,6 +15,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gears/involute_gear.h"
@@ -50,6 +51,11 @@ struct Readings {
   // Free comment lines written after the header's key lines (e.g. what made the file); the
   // reader skips free comments, so they are not read back.
   std::vector<std::string> comments;
+  // The rows were matched to the model's gear (point_matching.h): their tooth, flank and nominal
+  // point come from the projection, i and j count sections and points in them (not the model's
+  // probing grid), and feet[k] holds row k's (roll length, z) on its flank (mm).
+  bool labels_from_matching = false;
+  std::vector<std::pair<double, double>> feet;
 };
 
 // e = ((c − p)·n − R)·1000 µm, less ref_dev_um when given: the measurement error of the point

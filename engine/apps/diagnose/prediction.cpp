@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <tuple>
 
 #include "core/input_error.h"
@@ -73,6 +75,59 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
     return index;
   };
 
+  // Rows matched to the gear off the model's plan (point_matching.h: a scan, another program's
+  // points): the model's contact at their own nominal points, measured per (gear, tooth, flank)
+  // as the plan's flanks are (the flank's mesh when the model has one for it and probes it). One
+  // flank's points at a time; what is kept is the centre and contact point (memory at 10^6).
+  struct OwnContact {
+    Eigen::Vector3d centre, contact;
+    enum : std::uint8_t { kNone, kOk, kNoValue } state = kNone;
+  };
+  std::vector<OwnContact> own;
+  if (readings.labels_from_matching && readings.feet.size() == readings.rows.size()) {
+    own.resize(readings.rows.size());
+    const InvoluteGear& gear = pipeline.gear();
+    std::map<std::tuple<int, int, int>, std::vector<std::size_t>> groups;
+    for (std::size_t k = 0; k < readings.rows.size(); ++k) {
+      const ReadingRow& row = readings.rows[k];
+      const auto& plan = model_points(row.gear);
+      const auto found = plan.find(plan_key(row.tooth, row.side, row.i, row.j));
+      if (found != plan.end() && (found->second.p - row.p).norm() <= kSamePointMm) continue;
+      groups[{nominal ? 0 : row.gear, row.tooth, row.side == FlankSide::kRight ? 1 : 0}].push_back(
+          k);
+    }
+    std::map<int, std::unique_ptr<GearMeasurement>> measured;
+    for (const auto& [key, members] : groups) {
+      const ReadingRow& first = readings.rows[members.front()];
+      PlanFlank flank;
+      flank.tooth = first.tooth;
+      flank.side = first.side;
+      for (const PlanFlank& f : pipeline.flanks()) {
+        if (f.tooth == flank.tooth && f.side == flank.side) flank.mesh = f.mesh;
+      }
+      flank.points.reserve(members.size());
+      for (const std::size_t k : members) {
+        const ReadingRow& row = readings.rows[k];
+        PlanPoint& q = flank.points.emplace_back();
+        q.grid_position() = GridPosition{row.tooth, row.side, row.i, row.j};
+        q.roll_length_mm = readings.feet[k].first;
+        q.z_mm = readings.feet[k].second;
+        q.nominal = gear.flank_point(row.tooth, row.side, q.roll_length_mm, q.z_mm);
+        // The point was measured: its path is taken as clear (no collision check).
+        q.clearance_mm = std::numeric_limits<double>::infinity();
+      }
+      auto& g = measured[std::get<0>(key)];
+      if (!g) g = std::make_unique<GearMeasurement>(pipeline, std::get<0>(key), EffectMode::kNone);
+      std::size_t next = 0;
+      g->measure_flank(flank, [&](const PointMeasurement& m) {
+        OwnContact& c = own[members[next++]];
+        c.state = m.valid() ? OwnContact::kOk : OwnContact::kNoValue;
+        c.centre = m.contact.centre;
+        c.contact = m.contact.contact;
+      });
+    }
+  }
+
   const EffectChain& effects = *scenario.effects;
   const EffectValues values = effects.nominal();
   out.points.reserve(readings.rows.size());
@@ -89,13 +144,23 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
     context.teeth = pipeline.gear().teeth();
 
     Eigen::Vector3d centre = row.p + R * row.n;  // nominal contact
-    const auto& plan = model_points(row.gear);
-    const auto found = plan.find(plan_key(row.tooth, row.side, row.i, row.j));
-    if (found != plan.end() && found->second.contact.status == ContactResult::Status::kOk &&
-        (found->second.p - row.p).norm() <= kSamePointMm) {
-      const ContactResult& contact = found->second.contact;
-      centre = contact.centre;
-      context.contact_normal = (contact.centre - contact.contact).normalized();
+    const OwnContact* mine =
+        own.empty() ? nullptr : &own[static_cast<std::size_t>(&row - readings.rows.data())];
+    const ContactResult* planned = nullptr;
+    if (!mine || mine->state == OwnContact::kNone) {
+      mine = nullptr;
+      const auto& plan = model_points(row.gear);
+      const auto found = plan.find(plan_key(row.tooth, row.side, row.i, row.j));
+      if (found != plan.end() && (found->second.p - row.p).norm() <= kSamePointMm) {
+        planned = &found->second.contact;
+      }
+    }
+    if (mine && mine->state == OwnContact::kOk) {
+      centre = mine->centre;
+      context.contact_normal = (mine->centre - mine->contact).normalized();
+    } else if (planned && planned->status == ContactResult::Status::kOk) {
+      centre = planned->centre;
+      context.contact_normal = (planned->centre - planned->contact).normalized();
     } else {
       point.model_contact = false;
       ++out.nominal_fallback;

@@ -19,10 +19,13 @@
 //    own radius-compensation error along n, second order in its form slopes, is not predicted).
 //  * kModelGears: the model's perturbed gear k as drawn from its seed — only meaningful for
 //    readings simulated from a scenario with the same gear model and seed (tests).
-// The contact is computed with the readings' stylus radius (the ball that measured). A row whose
-// (tooth, flank, i, j) is not in the model's probing plan, whose nominal point differs from the
-// plan's by more than 0.1 µm, or whose model contact is not a valid one, is predicted with the
-// nominal contact c = p + R n (counted in `nominal_fallback`; exact for a nominal flank).
+// The contact is computed with the readings' stylus radius (the ball that measured). Rows
+// matched to the gear (Readings::labels_from_matching, point_matching.h) whose nominal point is
+// not a planned one get the model's contact at their own point, measured as the plan's are. A
+// labelled row whose (tooth, flank, i, j) is not in the model's probing plan, whose nominal
+// point differs from the plan's by more than 0.1 µm, or any row whose model contact is not a
+// valid one, is predicted with the nominal contact c = p + R n (counted in `nominal_fallback`;
+// exact for a nominal flank).
 //
 // Each point's PointContext (what the effects' signatures see) comes from the row itself: p, n,
 // φ = atan2(−n_y, −n_x), and the place in its gear's measurement: order − (first order of that

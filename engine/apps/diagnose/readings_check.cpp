@@ -59,14 +59,6 @@ InputLocation locate(const Readings& readings, const std::string& path, std::siz
 // 3.8999999999999999).
 std::string number_text(double v) { return shortest_text(v); }
 
-// A derived number in a message, to 4 significant digits.
-std::string short_text(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
-
 // File, line and column of the header's stylus radius value, by reading the file again.
 InputLocation locate_radius(const std::string& path) {
   InputLocation where{path.empty() ? "<readings>" : path, 0, 0};
@@ -153,6 +145,8 @@ std::string describe_gear_of_points(const std::vector<ReadingRow>& rows, double 
 // tolerances let the real flank deviate (runout, profile and helix total, thickness allowance
 // and tolerance, when the tolerance set has them), at least 10 µm (nominal points written with
 // 4 decimals, rounding).
+}  // namespace
+
 double nominal_point_allowance_mm(const Scenario& model, const InvoluteGear& gear) {
   double sum_um = 0.0;
   try {
@@ -166,6 +160,8 @@ double nominal_point_allowance_mm(const Scenario& model, const InvoluteGear& gea
   }
   return std::max(sum_um, 10.0) * 1e-3;
 }
+
+namespace {
 
 // A label column whose values leave its range but would all fit once shifted by one constant
 // (1-based grid indices, 0-based teeth, an export that counts from another start): one message
@@ -261,7 +257,10 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
                          " mm (stylus.radius_mm): the readings were taken with another ball; "
                          "set stylus.radius_mm in the model to the ball that measured");
   }
-  refuse_shifted_labels(readings, readings_path, teeth, n, m, grid);
+  // Rows labelled by matching (point_matching.h) lie on the model's flanks by construction; their
+  // i and j count sections and points, not the model's grid.
+  const bool matched = readings.labels_from_matching;
+  if (!matched) refuse_shifted_labels(readings, readings_path, teeth, n, m, grid);
   for (std::size_t k = 0; k < readings.rows.size(); ++k) {
     const ReadingRow& row = readings.rows[k];
     auto refuse = [&](int field, int value, const std::string& expected) {
@@ -276,10 +275,10 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
              "a tooth in 1 … " + std::to_string(teeth) + " (the model's gear has " +
                  std::to_string(teeth) + " teeth)");
     }
-    if (row.i < 0 || row.i >= n) {
+    if (!matched && (row.i < 0 || row.i >= n)) {
       refuse(kI, row.i, "a profile index i in 0 … " + std::to_string(n - 1) + grid);
     }
-    if (row.j < 0 || row.j >= m) {
+    if (!matched && (row.j < 0 || row.j >= m)) {
       refuse(kJ, row.j, "a face index j in 0 … " + std::to_string(m - 1) + grid);
     }
     // The nominal point must lie on the model's gear: within one module of its tip cylinder.
@@ -297,6 +296,7 @@ void check_readings_against_model(const Scenario& model, const Readings& reading
   // The nominal points and normals must be the model gear's: each point on its tooth's nominal
   // flank (at the point's own radius and height) within what the tolerances allow, each normal
   // within 1° of that flank's normal. Readings of another gear are refused with what they fit.
+  if (matched) return;
   const double allowed_mm = nominal_point_allowance_mm(model, gear);
   const double rb = gear.base_diameter_mm() / 2.0;
   constexpr double kMaxNormalAngleDeg = 1.0;

@@ -40,6 +40,12 @@ inline constexpr double kMaxStylusRadiusMm = 100.0;
 // The largest gear index a readings row may carry (a batch of a million gears).
 inline constexpr int kMaxGearIndex = 999999;
 
+// How far (mm) a reading's nominal point may lie from the model's nominal flank (and a
+// label-free point from the flank it is matched to, point_matching.h): what the model's
+// tolerances let the real flank deviate (runout, profile and helix total, thickness allowance
+// and tolerance, when the tolerance set has them), at least 10 µm.
+double nominal_point_allowance_mm(const Scenario& model, const InvoluteGear& gear);
+
 void check_readings_against_model(const Scenario& model, const Readings& readings,
                                   const std::string& readings_path);
 

@@ -1,0 +1,215 @@
+// Measured points matched to the model's gear by projection onto its flanks (point_matching.h).
+#include "engine/readings/point_matching.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <tuple>
+
+#include "core/input_error.h"
+#include "core/number_text.h"
+
+namespace gearmc {
+namespace {
+
+constexpr double kFootTolerance = 1e-10;  // mm: the Gauss–Newton step where it stops
+constexpr double kEdgeTolerance = 1e-6;   // mm: a foot this far past the flank's edge is on it
+constexpr double kMaxHintAngleDeg = 5.0;  // a normal hint further off refuses the point
+constexpr double kSameSectionMm = 1e-3;   // heights closer than this: one section
+constexpr std::size_t kNamedRefusals = 10;
+
+Eigen::Vector2d in_base_section(const InvoluteGear& gear, const Eigen::Vector3d& M) {
+  if (!gear.helical()) return M.head<2>();
+  const double turn = -M.z() * gear.helix_turn_per_mm();
+  const double c = std::cos(turn), s = std::sin(turn);
+  return {c * M.x() - s * M.y(), s * M.x() + c * M.y()};
+}
+
+// The flank point nearest to M, from (L, z): Gauss–Newton on |M - P(L, z)|^2 with the
+// tangents by central differences (the flank is smooth; the residual at the foot is normal to
+// both tangents).
+void refine_foot(const InvoluteGear& gear, const Eigen::Vector3d& M, FlankMatch* m) {
+  double L = m->roll_length_mm, z = m->z_mm;
+  constexpr double h = 1e-5;  // mm
+  for (int it = 0; it < 40; ++it) {
+    const Eigen::Vector3d P = gear.flank_point(m->tooth, m->side, L, z).point;
+    Eigen::Matrix<double, 3, 2> J;
+    J.col(0) = (gear.flank_point(m->tooth, m->side, L + h, z).point -
+                gear.flank_point(m->tooth, m->side, L - h, z).point) /
+               (2 * h);
+    J.col(1) = (gear.flank_point(m->tooth, m->side, L, z + h).point -
+                gear.flank_point(m->tooth, m->side, L, z - h).point) /
+               (2 * h);
+    const Eigen::Vector2d step = (J.transpose() * J).lu().solve(J.transpose() * (M - P));
+    L += step.x();
+    z += step.y();
+    if (L < 1e-6) L = 1e-6;  // roll lengths are positive
+    if (step.norm() < kFootTolerance) break;
+  }
+  m->roll_length_mm = L;
+  m->z_mm = z;
+}
+
+}  // namespace
+
+FlankMatch match_to_flank(const InvoluteGear& gear, const Eigen::Vector3d& M,
+                          std::optional<int> tooth_hint, std::optional<FlankSide> side_hint) {
+  FlankMatch best;
+  const Eigen::Vector2d X = in_base_section(gear, M);
+  if (X.norm() <= 0.5 * gear.base_diameter_mm()) return best;  // no involute through it
+  const int z = gear.teeth();
+  const double pitch = 2.0 * std::numbers::pi / z;
+  const long nearest = std::lround(std::atan2(X.y(), X.x()) / pitch);
+  std::vector<int> teeth;
+  if (tooth_hint) {
+    teeth.push_back(*tooth_hint);
+  } else {
+    for (long k = nearest - 1; k <= nearest + 1; ++k) {
+      teeth.push_back(static_cast<int>(((k % z) + z) % z) + 1);
+    }
+  }
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (const int tooth : teeth) {
+    for (const FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      if (side_hint && side != *side_hint) continue;
+      const TransversePosition at = gear.transverse_position(tooth, side, X);
+      if (std::abs(at.distance_mm) < best_distance) {
+        best_distance = std::abs(at.distance_mm);
+        best.tooth = tooth;
+        best.side = side;
+        best.roll_length_mm = at.foot_roll_length_mm;
+        best.found = true;
+      }
+    }
+  }
+  best.z_mm = M.z();
+  if (gear.helical()) refine_foot(gear, M, &best);
+  best.foot = gear.flank_point(best.tooth, best.side, best.roll_length_mm, best.z_mm);
+  best.signed_distance_mm = (M - best.foot.point).dot(best.foot.normal);
+  return best;
+}
+
+Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoints& table,
+                                 double allowance_mm, MatchingSummary* summary) {
+  const double R = table.stylus_radius_mm;
+  const bool centres = table.kind == MeasuredPointKind::kStylusCentre;
+  const double L_min = gear.active_roll_length_min_mm(), L_max = gear.active_roll_length_max_mm();
+  const double b = gear.face_width_mm();
+  Readings out;
+  out.stylus_radius_mm = R;
+  out.labels_from_matching = true;
+  out.warnings = table.warnings;
+  MatchingSummary s;
+  s.points = table.points.size();
+  double sum_sq = 0.0;
+  std::vector<std::string> refusals;
+  const UnlabelledPoint* first_refused = nullptr;
+  std::string first_reason;
+  for (const UnlabelledPoint& q : table.points) {
+    const FlankMatch m = match_to_flank(gear, q.measured, q.tooth_hint, q.side_hint);
+    const double deviation_mm = m.signed_distance_mm - (centres ? R : 0.0);
+    std::string reason;
+    if (!m.found) {
+      reason = "inside the base circle (no involute flank through it)";
+    } else if (m.roll_length_mm < L_min - kEdgeTolerance ||
+               m.roll_length_mm > L_max + kEdgeTolerance || m.z_mm < -kEdgeTolerance ||
+               m.z_mm > b + kEdgeTolerance) {
+      std::ostringstream why;
+      why << "its foot on tooth " << m.tooth << (m.side == FlankSide::kRight ? " R" : " L")
+          << " (roll length " << short_text(m.roll_length_mm) << " mm, z " << short_text(m.z_mm)
+          << " mm) is off the active flank (L " << short_text(L_min) << " … " << short_text(L_max)
+          << " mm, z 0 … " << short_text(b) << " mm)";
+      reason = why.str();
+    } else if (!(std::abs(deviation_mm) <= allowance_mm)) {
+      reason = "it lies " + short_text(1e3 * deviation_mm) + " µm from the nearest flank (tooth " +
+               std::to_string(m.tooth) + (m.side == FlankSide::kRight ? " R" : " L") +
+               "), beyond the " + short_text(1e3 * allowance_mm) +
+               " µm the model's tolerances allow";
+    } else if (q.normal_hint && q.normal_hint->dot(m.foot.normal) <
+                                    std::cos(kMaxHintAngleDeg * std::numbers::pi / 180.0)) {
+      reason = "its normal (i, j, k) is " +
+               short_text(std::acos(std::clamp(q.normal_hint->dot(m.foot.normal), -1.0, 1.0)) *
+                          180.0 / std::numbers::pi) +
+               "° off the matched flank's (tooth " + std::to_string(m.tooth) +
+               (m.side == FlankSide::kRight ? " R" : " L") + ")";
+    }
+    if (!reason.empty()) {
+      ++s.refused;
+      if (!first_refused) {
+        first_refused = &q;
+        first_reason = reason;
+      }
+      if (refusals.size() < kNamedRefusals) {
+        refusals.push_back(table.source + ":" + std::to_string(q.line) + ": " + reason);
+      }
+      continue;
+    }
+    ReadingRow r;
+    r.gear = q.gear;
+    r.tooth = m.tooth;
+    r.side = m.side;
+    r.order = q.order;
+    r.p = m.foot.point;
+    r.n = m.foot.normal;
+    r.c = centres ? q.measured : Eigen::Vector3d(q.measured + R * r.n);
+    r.line = r.nominal_line = q.line;
+    r.key_column = r.measured_column = r.nominal_column = q.column;
+    out.rows.push_back(r);
+    out.feet.push_back({m.roll_length_mm, m.z_mm});
+    s.max_distance_um = std::max(s.max_distance_um, std::abs(1e3 * deviation_mm));
+    sum_sq += 1e6 * deviation_mm * deviation_mm;
+  }
+  const std::size_t matched = out.rows.size();
+  if (first_refused && (matched == 0 || 10 * s.refused > s.points)) {
+    throw InputError(
+        {table.source, first_refused->line, first_refused->column}, "x,y,z",
+        short_text(first_refused->measured.x()) + "," + short_text(first_refused->measured.y()) +
+            "," + short_text(first_refused->measured.z()),
+        "points of the model's gear (" + std::to_string(gear.teeth()) + " teeth, m " +
+            short_text(gear.module_mm()) + " mm): " + std::to_string(s.refused) + " of " +
+            std::to_string(s.points) + " points fit none of its flanks; this one: " + first_reason);
+  }
+  if (s.refused > 0) {
+    std::string w = std::to_string(s.refused) + " of " + std::to_string(s.points) +
+                    " measured points were not matched to a flank and are left out: ";
+    for (std::size_t k = 0; k < refusals.size(); ++k) w += (k ? "; " : "") + refusals[k];
+    if (s.refused > refusals.size()) w += "; …";
+    out.warnings.push_back(w);
+  }
+  s.rms_distance_um = matched ? std::sqrt(sum_sq / static_cast<double>(matched)) : 0.0;
+
+  // Grid labels: sections by height, points in a section by roll length.
+  std::map<std::tuple<int, int, int>, std::vector<std::size_t>> flanks;
+  for (std::size_t k = 0; k < matched; ++k) {
+    const ReadingRow& r = out.rows[k];
+    flanks[{r.gear, r.tooth, r.side == FlankSide::kRight ? 1 : 0}].push_back(k);
+  }
+  for (auto& [key, members] : flanks) {
+    std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t c) {
+      return out.feet[a].second < out.feet[c].second;
+    });
+    int j = 0;
+    for (std::size_t start = 0; start < members.size(); ++j) {
+      std::size_t end = start + 1;
+      while (end < members.size() &&
+             out.feet[members[end]].second - out.feet[members[start]].second <= kSameSectionMm) {
+        ++end;
+      }
+      std::sort(
+          members.begin() + static_cast<long>(start), members.begin() + static_cast<long>(end),
+          [&](std::size_t a, std::size_t c) { return out.feet[a].first < out.feet[c].first; });
+      for (std::size_t k = start; k < end; ++k) {
+        out.rows[members[k]].j = j;
+        out.rows[members[k]].i = static_cast<int>(k - start);
+      }
+      start = end;
+    }
+  }
+  if (summary) *summary = s;
+  return out;
+}
+
+}  // namespace gearmc
