@@ -179,9 +179,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "lobing.csv --out results/diagnose_lobing");
   diagnose->add_option("--model", diagnose_options.model_path, "Model scenario file")->required();
   diagnose
-      ->add_option("--measured", diagnose_options.measured_path,
+      ->add_option("--measured", diagnose_options.measured_paths,
                    "Readings CSV, or the DMIS results (.dmo) of export-plan's program, or a "
-                   "CMM point table (with --columns)")
+                   "CMM point table (with --columns); several files: repeated measurements of "
+                   "the gear, read together")
       ->required();
   diagnose->add_option("--columns", diagnose_options.columns_path,
                        "Column mapping (YAML) of a CMM point table given as --measured");

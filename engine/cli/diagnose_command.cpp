@@ -2,6 +2,8 @@
 #include "engine/cli/diagnose_command.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <filesystem>
@@ -31,31 +33,83 @@ namespace gearmc {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Appends the readings of file `f` of `paths` to `all` (the readings of the files before it):
+// its gears numbered after the last one so far, its rows marked with their file. The files must
+// agree on what the rows mean: the stylus radius, calibrated (ref_dev_um) or not, how the labels
+// were made (matching or the file's own) and the format (a readings CSV or not).
+void append_readings(Readings& all, Readings&& more, const std::vector<std::string>& paths,
+                     std::size_t f) {
+  const auto refuse = [&](const std::string& what) {
+    throw InputError({paths[f], 0, 0}, paths[f] + ": " + what + " than " + paths.front() +
+                                           ": files read together must agree on it");
+  };
+  if (more.stylus_radius_mm != all.stylus_radius_mm) refuse("another stylus radius");
+  if (more.has_ref_dev != all.has_ref_dev) refuse("another artefact (ref_dev_um) column");
+  if (more.labels_from_matching != all.labels_from_matching) refuse("other labels");
+  if (more.is_readings_csv != all.is_readings_csv) refuse("another file format");
+  if (f > std::numeric_limits<std::uint16_t>::max()) refuse("more files");
+  if (all.sources.empty()) all.sources.push_back(paths.front());
+  all.sources.push_back(paths[f]);
+  int next_gear = 0;
+  for (const ReadingRow& row : all.rows) next_gear = std::max(next_gear, row.gear + 1);
+  for (ReadingRow& row : more.rows) {
+    row.gear += next_gear;
+    row.source = static_cast<std::uint16_t>(f);
+    all.rows.push_back(row);
+  }
+  all.feet.insert(all.feet.end(), more.feet.begin(), more.feet.end());
+  for (std::string& w : more.warnings) all.warnings.push_back(std::move(w));
+}
+
+}  // namespace
+
 int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::ostream& err) {
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
   // A DMIS output file (the results of `gearmc export-plan`'s program): its points were
   // compensated with the ball the model names. With --columns, a CMM's point table, likewise.
-  // A label-free table (columns x, y, z): its points are matched to the model's flanks first.
+  // Each --measured file: a label-free table (columns x, y, z) is matched to the model's flanks
+  // first. Several files are repeated measurements of the gear: read together, each file's gears
+  // numbered after the previous file's.
+  if (o.measured_paths.empty()) throw InputError({"--measured", 0, 0}, "--measured: no file given");
+  std::optional<PointTableColumns> columns;
+  if (!o.columns_path.empty()) columns = read_point_table_columns(o.columns_path);
   std::optional<MatchingSummary> matching;
+  double matched_square_sum = 0.0;
   std::unique_ptr<Readings> readings;
-  if (!o.columns_path.empty()) {
-    const PointTableColumns columns = read_point_table_columns(o.columns_path);
-    if (columns.label_free) {
+  std::string measured_names;
+  for (std::size_t f = 0; f < o.measured_paths.size(); ++f) {
+    const std::string& path = o.measured_paths[f];
+    measured_names += (f ? " + " : "") + path;
+    Readings one;
+    if (columns && columns->label_free) {
       const InvoluteGear gear(model.gear);
       MatchingSummary summary;
-      readings = std::make_unique<Readings>(match_unlabelled_points(
-          gear, read_unlabelled_points(o.measured_path, columns, model.stylus_radius_mm),
-          nominal_point_allowance_mm(model, gear), &summary));
-      matching = summary;
+      one = match_unlabelled_points(gear,
+                                    read_unlabelled_points(path, *columns, model.stylus_radius_mm),
+                                    nominal_point_allowance_mm(model, gear), &summary);
+      MatchingSummary& all = matching ? *matching : matching.emplace();
+      all.points += summary.points;
+      all.refused += summary.refused;
+      all.max_distance_um = std::max(all.max_distance_um, summary.max_distance_um);
+      const double matched = static_cast<double>(summary.points - summary.refused);
+      matched_square_sum += summary.rms_distance_um * summary.rms_distance_um * matched;
+      all.rms_distance_um =
+          std::sqrt(matched_square_sum /
+                    static_cast<double>(std::max<std::size_t>(1, all.points - all.refused)));
+    } else if (columns) {
+      one = read_point_table(path, *columns, model.stylus_radius_mm);
     } else {
-      readings = std::make_unique<Readings>(
-          read_point_table(o.measured_path, columns, model.stylus_radius_mm));
+      one = is_dmis_file(path) ? read_dmis_results(path, model.stylus_radius_mm)
+                               : read_readings(path);
     }
-  } else {
-    readings = std::make_unique<Readings>(
-        is_dmis_file(o.measured_path) ? read_dmis_results(o.measured_path, model.stylus_radius_mm)
-                                      : read_readings(o.measured_path));
+    if (!readings) {
+      readings = std::make_unique<Readings>(std::move(one));
+      continue;
+    }
+    append_readings(*readings, std::move(one), o.measured_paths, f);
   }
   for (const std::string& w : model.warnings) err << "gearmc: warning: " << w << "\n";
   for (const std::string& w : readings->warnings) err << "gearmc: warning: " << w << "\n";
@@ -80,13 +134,14 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
       options.candidates.only.push_back(item);
     }
   }
-  const PreparedResiduals prepared = prepare_residuals(model, *readings, o.measured_path, options);
+  const PreparedResiduals prepared =
+      prepare_residuals(model, *readings, o.measured_paths.front(), options);
   readings.reset();  // the residuals carry what the diagnosis needs (memory at 10⁶ readings)
   const Residuals& residuals = prepared.residuals;
   const Diagnosis diagnosis = diagnose_prepared(prepared, options);
 
   const fs::path dir(o.out_dir);
-  FittedScenario fitted = fitted_scenario(model, diagnosis, o.model_path, o.measured_path);
+  FittedScenario fitted = fitted_scenario(model, diagnosis, o.model_path, measured_names);
   // fitted.yaml must load as a scenario. A fitted value beyond its parameter's physical range
   // (e.g. a "noise" of 1 mm fitted to one gross outlier) is no explanation of the gap: then
   // fitted.yaml is the model unchanged, and the outputs say why.
@@ -100,7 +155,7 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
         "# the physical range of its effect:\n# " +
         shown_input(fitted_problem, 400) + "\n" + model.source_text;
   }
-  const DiagnosisReportInput report{model,     o.model_path, o.measured_path,
+  const DiagnosisReportInput report{model,     o.model_path, measured_names,
                                     residuals, diagnosis,    fitted};
   const std::string html = diagnosis_report_html(report);
 

@@ -11,14 +11,17 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace gearmc {
 
 struct DiagnoseCommandOptions {
-  std::string model_path;     // --model SCENARIO (required)
-  std::string measured_path;  // --measured READINGS.csv (required)
-  std::string columns_path;   // --columns MAPPING.yaml: --measured is a CMM point table
-  std::string out_dir;        // --out DIR (required; created if missing)
+  std::string model_path;  // --model SCENARIO (required)
+  // --measured READINGS.csv … (required): one file, or several measurements of the same gear
+  // (repeated runs) read together — each file's gears follow the previous file's.
+  std::vector<std::string> measured_paths;
+  std::string columns_path;  // --columns MAPPING.yaml: --measured is a CMM point table
+  std::string out_dir;       // --out DIR (required; created if missing)
   std::optional<std::uint64_t> null_seed;  // --seed: of the null simulations (default 1)
   std::optional<int> null_replicates;      // K (default 200; 0: no null simulation)
   bool model_gears = false;  // predict on the model's perturbed gears, not its nominal master

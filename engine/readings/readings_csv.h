@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -34,6 +35,7 @@ struct ReadingRow : PointKey {
   // the nominal point and normal are at nominal_line:nominal_column (DMIS: the F(…)
   // statement; otherwise the same line).
   int line = 0;
+  std::uint16_t source = 0;  // which file of Readings::sources (several files read together)
   int key_column = 0;
   int measured_column = 0;
   int nominal_line = 0;
@@ -55,6 +57,9 @@ struct Readings {
   // point come from the projection, i and j count sections and points in them (not the model's
   // probing grid), and feet[k] holds row k's (roll length, z) on its flank (mm).
   bool labels_from_matching = false;
+  // The files the rows come from, when several were read together (row.source indexes it);
+  // empty: one file.
+  std::vector<std::string> sources;
   std::vector<std::pair<double, double>> feet;
 };
 

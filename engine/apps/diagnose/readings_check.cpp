@@ -28,7 +28,9 @@ const char* const kFieldNames[] = {"gear", "tooth", "flank", "i",  "j",  "order"
 // is, the key fields where the point's identity is (for gearmc's CSV, the field's own column).
 InputLocation locate(const Readings& readings, const std::string& path, std::size_t k, int field) {
   const ReadingRow& row = readings.rows[k];
-  const std::string file = path.empty() ? "<readings>" : path;
+  // Several files read together: the row's own.
+  const std::string& own = readings.sources.empty() ? path : readings.sources.at(row.source);
+  const std::string file = own.empty() ? "<readings>" : own;
   if (row.line == 0) return {file + " row " + std::to_string(k + 1), 0, 0};
   if (field >= kPx && field < kCx) return {file, row.nominal_line, row.nominal_column};
   if (field >= kCx) return {file, row.line, row.measured_column};
@@ -36,11 +38,11 @@ InputLocation locate(const Readings& readings, const std::string& path, std::siz
   // gearmc's CSV: the field's column on the row's line (fields are comma-separated, in order).
   std::string text;
   try {
-    text = read_input_file(path, "readings file", kMaxReadingsBytes);
+    text = read_input_file(own, "readings file", kMaxReadingsBytes);
   } catch (const InputError&) {
     return {file, row.line, row.key_column};
   }
-  TextLines lines(text, path, kMaxReadingsLineBytes, "a readings CSV");
+  TextLines lines(text, own, kMaxReadingsLineBytes, "a readings CSV");
   TextLine at;
   while (at.number < row.line && lines.next(&at)) {
   }

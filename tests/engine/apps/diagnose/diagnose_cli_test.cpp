@@ -647,5 +647,66 @@ TEST(FittedScenario, NumbersAreShortFixedDecimals) {
   EXPECT_EQ(format_fitted_number(-1e-9), "0");
 }
 
+// Repeated measurements in several files: four runs' readings split into two files (runs 0–1,
+// and runs 2–3 renumbered from 0 with their orders from 0, as a second file would be)
+// diagnose exactly as the one file (the same effects, parameters and gap tests), each file's
+// gears numbered after the previous file's; a second file taken with another ball is refused.
+TEST_F(DiagnoseCli, SeveralFilesAreRepeatedMeasurementsOfTheGear) {
+  const auto sim = run_gearmc("simulate " + path("truth.yaml") + " --master --gears 4 --out " +
+                              path("four_runs.csv"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string text = read_text(path("four_runs.csv"));
+  std::istringstream in(text);
+  std::string header, a, b, line;
+  int first_order_b = -1;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line.rfind("gear,", 0) == 0) {
+      header += line + "\n";
+      continue;
+    }
+    std::vector<std::string> f;
+    std::stringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    const int gear = std::stoi(f[0]);
+    if (gear < 2) {
+      a += line + "\n";
+      continue;
+    }
+    if (first_order_b < 0) first_order_b = std::stoi(f[5]);
+    f[0] = std::to_string(gear - 2);
+    f[5] = std::to_string(std::stoi(f[5]) - first_order_b);
+    std::string row;
+    for (std::size_t k = 0; k < f.size(); ++k) row += (k ? "," : "") + f[k];
+    b += row + "\n";
+  }
+  ASSERT_FALSE(b.empty());
+  write_text(*dir_ / "run_a.csv", header + a);
+  write_text(*dir_ / "run_b.csv", header + b);
+  const auto one = run_gearmc("diagnose --model " + path("model.yaml") + " --measured " +
+                              path("four_runs.csv") + " --out " + path("one_file") + " --seed 5");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const auto two =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("run_a.csv") +
+                 " " + path("run_b.csv") + " --out " + path("two_files") + " --seed 5");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const nlohmann::json j1 = json_of("one_file"), j2 = json_of("two_files");
+  for (const char* key : {"named_effect", "effects", "gap_before", "gap_after", "points"}) {
+    EXPECT_EQ(j1.at(key), j2.at(key)) << key;
+  }
+  EXPECT_NE(read_text(*dir_ / "two_files" / "report.html").find("run_a.csv + "), std::string::npos);
+  // Another ball in the second file: refused, nothing written.
+  std::string other = header + b;
+  const std::size_t at = other.find("stylus_radius_mm=0.5");
+  ASSERT_NE(at, std::string::npos);
+  other.replace(at, 20, "stylus_radius_mm=1.5");
+  write_text(*dir_ / "run_c.csv", other);
+  const auto bad =
+      run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("run_a.csv") +
+                 " " + path("run_c.csv") + " --out " + path("bad_files"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("run_c.csv: another stylus radius than"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("bad_files")));
+}
+
 }  // namespace
 }  // namespace gearmc
