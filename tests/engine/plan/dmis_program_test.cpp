@@ -344,7 +344,10 @@ struct SweepResult {
 
 // Replays the moves of `st` (from the first GOTO or PTMEAS after MODE/AUTO; with `drop_gotos`
 // the GOTOs are left out, i.e. the old program's straight moves from touch to touch).
-SweepResult sweep(const std::vector<DmisStatement>& st, const Scenario& s, bool drop_gotos) {
+// With `straight_up` the GOTOs are left out too and each touch is followed by a lift straight up
+// along +Z to 5 mm above the gear (the spur gear's way out, wrong for a helical gear).
+SweepResult sweep(const std::vector<DmisStatement>& st, const Scenario& s, bool drop_gotos,
+                  bool straight_up = false) {
   const SolidGear gear(s);
   const std::vector<Eigen::Vector3d> sphere = sphere_points();
   std::map<std::string, std::pair<Eigen::Vector3d, double>> sensors;  // direction, length
@@ -441,6 +444,10 @@ SweepResult sweep(const std::vector<DmisStatement>& st, const Scenario& s, bool 
       at = retract;
       have_position = true;
       after = current_feature;
+      if (straight_up) {
+        move(retract, {retract.x(), retract.y(), gear.b + 5}, x.line, 0, 0);
+        have_position = false;
+      }
     }
   }
   return result;
@@ -460,6 +467,15 @@ TEST(DmisProgram, NoMoveOfTheProgramHitsTheGearButTheOldStraightMovesDo) {
     std::printf(
         "[ sweep    ] %s: %d moves, %ld ball centres (%ld near the teeth), %zu collisions\n",
         c.name.c_str(), r.segments, r.centres, r.sampled, r.collisions.size());
+    if (c.name == "helical") {
+      // Straight up out of a helical gear's space (the space turns under the stylus, 0.27 mm
+      // per mm of height at the reference circle: tan 15° / 1): most lifts hit a flank, so the
+      // program's radial lift is needed and the sweep sees the difference.
+      const SweepResult up = sweep(st, e.scenario, true, true);
+      std::printf("[ sweep    ] helical lifted straight up: %zu of %d moves collide\n",
+                  up.collisions.size(), up.segments);
+      EXPECT_GT(up.collisions.size(), planned_labels(e.scenario).size() / 2);
+    }
     if (c.name != "p1") continue;
     // The old program (no GOTO: from each touch's retract point straight to the next touch's
     // approach point): the move from tooth 1's L flank (its last point T001L_I09_J04) to its R
