@@ -8,6 +8,7 @@
 #include "core/output_files.h"
 #include "core/provenance.h"
 #include "engine/contact/contact.h"
+#include "engine/contact/tooth_space.h"
 #include "engine/plan/dmis_plan.h"
 #include "engine/scenario/scenario.h"
 
@@ -45,8 +46,17 @@ int export_plan_command(const ExportPlanOptions& o, std::ostream& out, std::ostr
       "gear: z " + std::to_string(gear.teeth()) + ", m " + short_number(gear.module_mm()) + " mm" +
           helix + "; stylus ball radius " + short_number(scenario.stylus_radius_mm) +
           " mm (qualify the probe with it); frame: gear axis +Z, tooth 1 on +X"};
-  write_file_atomically(o.out, dmis_program(sequence, "gearmc probing plan of " + scenario.name,
-                                            kProbeApproachMm, comments));
+  DmisProgramOptions program;
+  program.title = "gearmc probing plan of " + scenario.name;
+  program.comments = comments;
+  program.approach_mm = kProbeApproachMm;
+  program.stylus.ball_radius_mm = scenario.stylus_radius_mm;
+  if (scenario.stylus_shaft_diameter_mm > 0.0) {
+    program.stylus.shaft_radius_mm = 0.5 * scenario.stylus_shaft_diameter_mm;
+    program.stylus.shaft = scenario.stylus_shaft_axis == ShaftAxis::kRadial ? PlanShaftAxis::kRadial
+                                                                            : PlanShaftAxis::kAxial;
+  }
+  write_file_atomically(o.out, dmis_program(gear, sequence, program));
   out << "gearmc export-plan: " << scenario.name << ", " << sequence.size()
       << " points in probing order (DMIS) -> " << o.out << "\n";
   return 0;

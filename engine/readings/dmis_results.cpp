@@ -17,6 +17,10 @@
 namespace gearmc {
 namespace {
 
+// Label prefix of the set-up features of gearmc's program (kDmisSetupPrefix in
+// engine/plan/dmis_plan.h, a layer this one does not use).
+constexpr char kSetupLabelPrefix[] = "SETUP_";
+
 std::string upper(std::string s) {
   for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return s;
@@ -254,6 +258,10 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
   readings.stylus_radius_mm = stylus_radius_mm;
   std::map<std::string, int> seen;
   for (const auto& [label, f] : actual) {
+    // The operator's set-up features of the program (SETUP_AXIS, SETUP_T1L, …; the program's
+    // OUTPUT statements do not ask for them, but a CMM that writes every actual writes them
+    // too) are not results of the plan.
+    if (label.rfind(kSetupLabelPrefix, 0) == 0) continue;
     const std::optional<GridPosition> at = plan_label(label);
     const InputLocation label_at{source, f.line, f.label_column};
     if (!at) {

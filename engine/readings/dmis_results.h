@@ -8,8 +8,10 @@
 //   c = E + R n, the stylus centre the CMM recorded (so e = ((c − p)·n − R)·1000 µm is the
 //   reading along n, as for the CSV), with R the stylus radius the points were compensated with,
 //   order = the position of the FA record in the file, gear 0 (one measurement per file).
-// Keywords are case-insensitive; `$$` starts a comment; a line ending in `$` continues on the
-// next. Other statements are skipped. Bad input — a malformed FEAT/POINT, a number that is not
+// The program's OUTPUT/F(label) and OUTPUT/FA(label) statements make the CMM write exactly these
+// two records per point; the actuals of the operator's set-up features (labels SETUP_…) are
+// skipped. Keywords are case-insensitive; `$$` starts a comment; a line ending in `$` continues on
+// the next. Other statements are skipped. Bad input — a malformed FEAT/POINT, a number that is not
 // finite, a label not of the plan's form, an actual without its nominal, a point measured twice,
 // no results, a statement longer than kMaxDmisStatementBytes, a coordinate or a reading beyond
 // the readings ranges (engine/schema/parameter_ranges.cpp, as for the CSV) — is one InputError

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
@@ -67,6 +68,7 @@ TEST(DmisPlan, ExportPlanWritesEveryPlannedPointInProbingOrder) {
   std::size_t k = 0;
   std::string line, last;
   std::vector<double> nominal;
+  bool setup = false;
   while (std::getline(in, line)) {
     last = line;
     EXPECT_EQ(line.find(",-0.000"), std::string::npos) << line;
@@ -77,7 +79,10 @@ TEST(DmisPlan, ExportPlanWritesEveryPlannedPointInProbingOrder) {
       for (std::string x; std::getline(fields, x, ',');) v.push_back(std::stod(x));
       return v;
     };
-    if (std::regex_match(line, m, feature)) {
+    if (std::regex_match(line, m, feature) && m[1].str().rfind(kDmisSetupPrefix, 0) == 0) {
+      setup = true;  // the operator's set-up step (its own test: dmis_program_test.cpp)
+    } else if (std::regex_match(line, m, feature)) {
+      setup = false;
       ASSERT_LT(k, plan.size());
       const PlannedPoint& q = plan[k];
       EXPECT_EQ(m[1].str(), dmis_point_label(q.tooth, q.side, q.i, q.j));
@@ -88,7 +93,7 @@ TEST(DmisPlan, ExportPlanWritesEveryPlannedPointInProbingOrder) {
         EXPECT_NEAR(nominal[a], q.point[a], 5e-7);
         EXPECT_NEAR(nominal[3 + a], q.normal[a], 5e-10);
       }
-    } else if (std::regex_match(line, m, touch)) {
+    } else if (!setup && std::regex_match(line, m, touch)) {
       // The touch: at the nominal point, approach vector = outward normal (probe travels along
       // −n, as the stylus approaches in gearmc's model).
       EXPECT_EQ(numbers(m[1].str()), nominal);
@@ -139,6 +144,63 @@ TEST(DmisResults, ResultsOfThePlanReadBackAsTheSameReadingsAndDiagnoseAlike) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(std::ifstream(dir / "out" / "diagnosis.json"));
   EXPECT_EQ(j["named_effect"], "probe_lobing");
+}
+
+TEST(DmisResults, TheProgramsOutputStatementsCarryWhatDiagnoseReadsBack) {
+  // A CMM running the exported program writes, per OUTPUT statement, the feature it names:
+  // OUTPUT/F(label) the nominal F(label)=FEAT/POINT,… as programmed, OUTPUT/FA(label) the
+  // actual FA(label)=FEAT/POINT,CART,E,n with E the compensated point. Emulated here with
+  // E = p + e n, e = (k mod 7 − 3) µm for the k-th output, plus the set-up step's actuals (a CMM
+  // that writes every actual): the results read back as one reading per planned point, in the
+  // plan's order, each with its e, and the set-up features skipped.
+  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_outputs";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto r = run_gearmc("export-plan --format dmis --out " + (dir / "plan.dmi").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream in(read_text(dir / "plan.dmi"));
+  std::map<std::string, std::string> nominal;  // label -> the values of its FEAT/POINT
+  std::string results = "DMISMN/'results',05.3\nUNITS/MM,ANGDEC\n";
+  static const std::regex feature(R"(^F\((\w+)\)=FEAT/POINT,CART,(.*)$)");
+  static const std::regex output(R"(^OUTPUT/(FA?)\((\w+)\)$)");
+  int outputs = 0;
+  std::vector<double> expected_um;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, feature)) {
+      nominal[m[1].str()] = m[2].str();
+    } else if (std::regex_match(line, m, output)) {
+      const std::string label = m[2].str();
+      ASSERT_TRUE(nominal.count(label)) << line;
+      if (m[1].str() == "F") {
+        results += "F(" + label + ")=FEAT/POINT,CART," + nominal[label] + "\n";
+        continue;
+      }
+      std::vector<double> v;
+      std::stringstream fields(nominal[label]);
+      for (std::string x; std::getline(fields, x, ',');) v.push_back(std::stod(x));
+      const Eigen::Vector3d p(v[0], v[1], v[2]), n(v[3], v[4], v[5]);
+      const double e_um = (outputs++ % 7) - 3.0;
+      expected_um.push_back(e_um);
+      results +=
+          "FA(" + label + ")=FEAT/POINT,CART," + full(p + 1e-3 * e_um * n) + "," + full(n) + "\n";
+    } else if (line.rfind("ENDMES", 0) == 0 && nominal.count("SETUP_T1L") &&
+               results.find("FA(SETUP_T1L)") == std::string::npos) {
+      results += "FA(SETUP_T1L)=FEAT/POINT,CART," + nominal["SETUP_T1L"] + "\n";
+    }
+  }
+  results += "ENDFIL\n";
+  EXPECT_NE(results.find("FA(SETUP_T1L)"), std::string::npos);
+  const Scenario s = reference_scenario();
+  const std::vector<PlannedPoint> plan = probing_sequence(InvoluteGear(s.gear), s.probing);
+  const Readings back = parse_dmis_results(results, "results.dmo", s.stylus_radius_mm);
+  ASSERT_EQ(back.rows.size(), plan.size());
+  for (std::size_t k = 0; k < plan.size(); ++k) {
+    EXPECT_EQ(std::tie(back.rows[k].tooth, back.rows[k].side, back.rows[k].i, back.rows[k].j),
+              std::tie(plan[k].tooth, plan[k].side, plan[k].i, plan[k].j));
+    // 6 decimals for the nominal point (1 nm) and 17 digits for the actual: e to 1e-3 µm.
+    EXPECT_NEAR(measured_deviation_um(back.rows[k], s.stylus_radius_mm), expected_um[k], 2e-3);
+  }
 }
 
 TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
