@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "core/output_files.h"
 #include "core/provenance.h"
 #include "engine/apps/diagnose/diagnosis.h"
@@ -41,15 +42,30 @@ namespace {
 // were made (matching or the file's own) and the format (a readings CSV or not).
 void append_readings(Readings& all, Readings&& more, const std::vector<std::string>& paths,
                      std::size_t f) {
-  const auto refuse = [&](const std::string& what) {
-    throw InputError({paths[f], 0, 0}, paths[f] + ": " + what + " than " + paths.front() +
-                                           ": files read together must agree on it");
+  const auto refuse = [&](const std::string& what, InputLocation where) {
+    throw InputError(where,
+                     what + " than " + paths.front() + ": files read together must agree on it");
   };
-  if (more.stylus_radius_mm != all.stylus_radius_mm) refuse("another stylus radius");
-  if (more.has_ref_dev != all.has_ref_dev) refuse("another artefact (ref_dev_um) column");
-  if (more.labels_from_matching != all.labels_from_matching) refuse("other labels");
-  if (more.is_readings_csv != all.is_readings_csv) refuse("another file format");
-  if (f > std::numeric_limits<std::uint16_t>::max()) refuse("more files");
+  const InputLocation file{paths[f], 0, 0};
+  if (more.stylus_radius_mm != all.stylus_radius_mm) {
+    // Where the file says it: the readings CSV's header line `# stylus_radius_mm=…`.
+    InputLocation at = file;
+    std::ifstream in(paths[f], std::ios::binary);
+    std::string line;
+    for (int number = 1; std::getline(in, line) && number <= 16; ++number) {
+      if (const std::size_t k = line.find("stylus_radius_mm="); k != std::string::npos) {
+        at = {paths[f], number, static_cast<int>(k + 17) + 1};  // 17: "stylus_radius_mm="
+        break;
+      }
+    }
+    refuse("stylus_radius_mm: another stylus radius (" + shortest_text(more.stylus_radius_mm) +
+               " mm, the first file's " + shortest_text(all.stylus_radius_mm) + " mm)",
+           at);
+  }
+  if (more.has_ref_dev != all.has_ref_dev) refuse("another artefact (ref_dev_um) column", file);
+  if (more.labels_from_matching != all.labels_from_matching) refuse("other labels", file);
+  if (more.is_readings_csv != all.is_readings_csv) refuse("another file format", file);
+  if (f > std::numeric_limits<std::uint16_t>::max()) refuse("more files", file);
   if (all.sources.empty()) all.sources.push_back(paths.front());
   all.sources.push_back(paths[f]);
   int next_gear = 0;

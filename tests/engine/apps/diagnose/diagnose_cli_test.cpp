@@ -704,7 +704,11 @@ TEST_F(DiagnoseCli, SeveralFilesAreRepeatedMeasurementsOfTheGear) {
       run_gearmc("diagnose --model " + path("model.yaml") + " --measured " + path("run_a.csv") +
                  " " + path("run_c.csv") + " --out " + path("bad_files"));
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("run_c.csv: another stylus radius than"), std::string::npos) << bad.err;
+  // The header's second line "# stylus_radius_mm=1.5": the value starts in column 20.
+  EXPECT_NE(bad.err.find("run_c.csv:2:20: stylus_radius_mm: another stylus radius (1.5 mm, the "
+                         "first file's 0.5 mm) than"),
+            std::string::npos)
+      << bad.err;
   EXPECT_FALSE(fs::exists(path("bad_files")));
 }
 
