@@ -119,6 +119,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   run->add_option("--threads", run_options.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
   run->add_flag("--points", run_options.points, "Also write points.csv, one row per point");
+  run->add_option("--plan", run_options.plan_path,
+                  "A DMIS program (.dmi) whose FEAT/POINT nominals and vectors are the probing "
+                  "plan, instead of the scenario's grid");
   run->add_option("--only-gear", run_options.only_gear,
                   "Re-run gear K (0-based) alone, exactly as in the full run");
   run->add_flag("--quiet", run_options.quiet, "No progress bar");
@@ -164,6 +167,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   simulate->add_option("--gears", simulate_options.gears, "Gears 0 .. N-1 (default 1)")
       ->check(CLI::Range(1, 100000));
   simulate->add_option("--seed", simulate_options.overrides.seed, "Random seed (overrides seed)");
+  simulate->add_option("--plan", simulate_options.plan_path,
+                       "A DMIS program (.dmi) whose FEAT/POINT nominals and vectors are the "
+                       "probing plan, instead of the scenario's grid");
   simulate->add_flag("--master", simulate_options.master,
                      "Measure a nominal master gear (no random deviations)");
   simulate->add_flag("--reference-deviations", simulate_options.reference_deviations,

@@ -2,7 +2,9 @@
 // run_command.h); what is written and printed is composed in engine/reports (run_report.h,
 // run_terminal.h).
 #include "engine/cli/run_command.h"
+
 #include "engine/cli/interrupt_guard.h"
+#include "engine/cli/plan_program.h"
 
 #include <unistd.h>
 
@@ -64,6 +66,7 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
   apply_overrides(o.overrides, scenario);
+  if (!o.plan_path.empty()) apply_plan_program(o.plan_path, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   const MonteCarloRun mc(scenario);
   if (o.only_gear && (*o.only_gear < 0 || *o.only_gear >= scenario.gears)) {

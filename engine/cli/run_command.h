@@ -22,6 +22,7 @@ struct RunCommandOptions {
   std::optional<int> only_gear;
   bool quiet = false;
   bool force = false;        // write points.csv even above the size limit
+  std::string plan_path;     // --plan PROGRAM.dmi: a user's DMIS program as the probing plan
   std::string command_line;  // as typed, for the outputs' provenance
 };
 

@@ -1,6 +1,8 @@
 // `gearmc simulate` (see simulate_command.h).
 #include "engine/cli/simulate_command.h"
 
+#include "engine/cli/plan_program.h"
+
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -17,6 +19,7 @@ int simulate_command(const SimulateCommandOptions& o, std::ostream& out, std::os
   Scenario scenario =
       o.scenario_path.empty() ? reference_scenario() : load_scenario_file(o.scenario_path);
   apply_overrides(o.overrides, scenario);
+  if (!o.plan_path.empty()) apply_plan_program(o.plan_path, scenario);
   for (const std::string& w : scenario.warnings) err << "gearmc: warning: " << w << "\n";
   check_output_file(o.out, "--out");
   SimulateOptions options;

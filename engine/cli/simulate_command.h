@@ -18,6 +18,7 @@ struct SimulateCommandOptions {
   ScenarioOverrides overrides;  // --seed, --gears
   bool master = false;
   bool reference_deviations = false;
+  std::string plan_path;     // --plan PROGRAM.dmi: a user's DMIS program as the probing plan
   std::string command_line;  // as typed, for the outputs' provenance
 };
 

@@ -39,6 +39,48 @@ MeasurementModel::MeasurementModel(const Scenario& scenario)
         *gear_, surface.tooth, surface.side, *surface.mesh, surface.contact);
   }
 
+  const double R = scenario_.stylus_radius_mm;
+  const auto plan_point = [&](PlanPoint& q, int tooth, FlankSide side, double L, double z) {
+    q.roll_length_mm = L;
+    q.z_mm = z;
+    q.nominal = gear_->flank_point(tooth, side, L, z);
+    q.clearance_mm =
+        tooth_space_clearance(*gear_, tooth, side, q.nominal.point + R * q.nominal.normal,
+                              q.nominal.normal, stylus_shape(), kProbeApproachMm)
+            .smallest();
+  };
+  if (!scenario_.probing.points.empty()) {
+    // A plan point by point (a user's program): the flanks in the order the program first
+    // reaches them, each point where the program has it, the sequence the program's order.
+    const std::vector<ExplicitPlanPoint>& points = scenario_.probing.points;
+    std::vector<int> position(meshes_.size(), -1);  // flank index -> place in flanks_
+    std::size_t flanks = 0;
+    for (const ExplicitPlanPoint& e : points) {
+      if (position[flank_index(e.tooth, e.side)] < 0) {
+        position[flank_index(e.tooth, e.side)] = static_cast<int>(flanks++);
+      }
+    }
+    flanks_.resize(flanks);
+    std::vector<std::pair<std::size_t, std::size_t>> where;  // (flank, point) of each in order
+    where.reserve(points.size());
+    for (const ExplicitPlanPoint& e : points) {
+      PlanFlank& flank = flanks_[static_cast<std::size_t>(position[flank_index(e.tooth, e.side)])];
+      flank.tooth = e.tooth;
+      flank.side = e.side;
+      flank.mesh = meshes_[flank_index(e.tooth, e.side)].get();
+      PlanPoint& q = flank.points.emplace_back();
+      q.grid_position() = e.grid_position();
+      plan_point(q, e.tooth, e.side, e.roll_length_mm, e.z_mm);
+      where.emplace_back(&flank - flanks_.data(), flank.points.size() - 1);
+    }
+    for (const auto& [f, k] : where) {  // the points no longer move: their addresses are kept
+      PlanPoint& q = flanks_[f].points[k];
+      q.order = static_cast<int>(sequence_.size());
+      sequence_.push_back(&q);
+    }
+    return;
+  }
+
   std::vector<int> teeth = scenario_.probing.teeth;
   if (teeth.empty()) {
     for (int t = 1; t <= gear_->teeth(); ++t) teeth.push_back(t);
@@ -47,7 +89,6 @@ MeasurementModel::MeasurementModel(const Scenario& scenario)
   if (scenario_.probing.left) sides.push_back(FlankSide::kLeft);
   if (scenario_.probing.right) sides.push_back(FlankSide::kRight);
   const ProbingGridCoordinates grid = probing_grid_coordinates(*gear_, scenario_.probing.grid);
-  const double R = scenario_.stylus_radius_mm;
   std::vector<PlanFlank*> by_index(meshes_.size(), nullptr);
   flanks_.reserve(teeth.size() * sides.size());
   for (int tooth : teeth) {
@@ -61,13 +102,7 @@ MeasurementModel::MeasurementModel(const Scenario& scenario)
         for (int i = 0; i < static_cast<int>(grid.roll_lengths.size()); ++i) {
           PlanPoint& q = flank.points.emplace_back();
           q.grid_position() = GridPosition{tooth, side, i, j};
-          q.roll_length_mm = grid.roll_lengths[i];
-          q.z_mm = grid.heights[j];
-          q.nominal = gear_->flank_point(tooth, side, q.roll_length_mm, q.z_mm);
-          q.clearance_mm =
-              tooth_space_clearance(*gear_, tooth, side, q.nominal.point + R * q.nominal.normal,
-                                    q.nominal.normal, stylus_shape(), kProbeApproachMm)
-                  .smallest();
+          plan_point(q, tooth, side, grid.roll_lengths[i], grid.heights[j]);
         }
       }
     }
@@ -85,10 +120,23 @@ MeasurementModel::MeasurementModel(const Scenario& scenario)
 MeasurementModel::~MeasurementModel() = default;
 
 int MeasurementModel::points_per_flank() const {
+  if (!scenario_.probing.points.empty()) {  // a program's plan: its flanks' mean, rounded up
+    return static_cast<int>((sequence_.size() + 2 * static_cast<std::size_t>(probed_teeth()) - 1) /
+                            (2 * static_cast<std::size_t>(probed_teeth())));
+  }
   return scenario_.probing.grid.points_along_profile * scenario_.probing.grid.sections_across_face;
 }
 
 int MeasurementModel::probed_teeth() const {
+  if (!scenario_.probing.points.empty()) {
+    std::vector<bool> seen(static_cast<std::size_t>(gear_->teeth()) + 1, false);
+    int teeth = 0;
+    for (const ExplicitPlanPoint& e : scenario_.probing.points) {
+      if (!seen[static_cast<std::size_t>(e.tooth)])
+        seen[static_cast<std::size_t>(e.tooth)] = true, ++teeth;
+    }
+    return teeth;
+  }
   return scenario_.probing.teeth.empty() ? gear_->teeth()
                                          : static_cast<int>(scenario_.probing.teeth.size());
 }

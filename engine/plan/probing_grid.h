@@ -34,11 +34,21 @@ enum class ProbingOrder {
   kSideBySide,    // every tooth's L flank, then every tooth's R flank
 };
 
+// One point of a plan given point by point (a user's DMIS program, `--plan`): its flank, grid
+// labels (sections and points in them, as engine/readings/point_matching.h counts them) and
+// flank parameters (roll length and height, mm).
+struct ExplicitPlanPoint : GridPosition {
+  double roll_length_mm = 0.0, z_mm = 0.0;
+};
+
 struct ProbingPlanSpec {
   ProbingGridSpec grid;
   std::vector<int> teeth;  // 1-based tooth numbers; empty = every tooth
   bool left = true, right = true;
   ProbingOrder order = ProbingOrder::kToothByTooth;
+  // A plan point by point, in probing order (`--plan PROGRAM.dmi`); empty: the grid above with
+  // teeth, flanks and order.
+  std::vector<ExplicitPlanPoint> points;
 };
 
 // One planned point: nominal position and outward normal, its grid indices (0-based).

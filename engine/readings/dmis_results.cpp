@@ -171,19 +171,15 @@ std::optional<double> units_statement(const std::string& s, const InputLocation&
                    "a DMIS length unit: MM, CM, METER, INCH or FEET");
 }
 
-}  // namespace
-
-bool is_dmis_file(const std::string& path) {
-  const std::size_t dot = path.rfind('.');
-  if (dot == std::string::npos) return false;
-  const std::string ext = upper(path.substr(dot + 1));
-  return ext == "DMO" || ext == "DMI" || ext == "DMS" || ext == "DMIS";
-}
-
-Readings parse_dmis_results(const std::string& text, const std::string& source,
-                            double stylus_radius_mm) {
-  std::map<std::string, PointFeature> nominal;
-  std::vector<std::pair<std::string, PointFeature>> actual;
+// Every F(label)=FEAT/POINT and FA(label)=FEAT/POINT statement of a DMIS file, in file order,
+// lengths converted to mm by the UNITS in force, vectors normalised (bad statements: InputError).
+struct LabelledFeature {
+  bool is_actual;
+  std::string label;
+  PointFeature feature;
+};
+std::vector<LabelledFeature> point_features(const std::string& text, const std::string& source) {
+  std::vector<LabelledFeature> out;
   const RangeTable& ranges = readings_ranges();
   double mm_per_unit = 1.0;  // DMIS's default unit is MM until a UNITS statement says otherwise
   std::string unit_name = "mm";
@@ -248,12 +244,32 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
                        "|i,j,k| = " + std::to_string(f.vector.norm()), "a unit vector");
     }
     f.vector.normalize();
-    if (is_actual) {
-      actual.emplace_back(label, f);
+    out.push_back({is_actual, label, f});
+  }
+  return out;
+}
+
+}  // namespace
+
+bool is_dmis_file(const std::string& path) {
+  const std::size_t dot = path.rfind('.');
+  if (dot == std::string::npos) return false;
+  const std::string ext = upper(path.substr(dot + 1));
+  return ext == "DMO" || ext == "DMI" || ext == "DMS" || ext == "DMIS";
+}
+
+Readings parse_dmis_results(const std::string& text, const std::string& source,
+                            double stylus_radius_mm) {
+  std::map<std::string, PointFeature> nominal;
+  std::vector<std::pair<std::string, PointFeature>> actual;
+  for (LabelledFeature& f : point_features(text, source)) {
+    if (f.is_actual) {
+      actual.emplace_back(f.label, f.feature);
     } else {
-      nominal[label] = f;
+      nominal[f.label] = f.feature;
     }
   }
+  const RangeTable& ranges = readings_ranges();
   Readings readings;
   readings.stylus_radius_mm = stylus_radius_mm;
   std::map<std::string, int> seen;
@@ -301,6 +317,25 @@ Readings parse_dmis_results(const std::string& text, const std::string& source,
                                          "in this DMIS file");
   }
   return readings;
+}
+
+std::vector<DmisPlanFeature> parse_dmis_plan(const std::string& text, const std::string& source) {
+  std::vector<DmisPlanFeature> out;
+  for (const LabelledFeature& f : point_features(text, source)) {
+    if (f.is_actual || f.label.rfind(kSetupLabelPrefix, 0) == 0) continue;
+    out.push_back({f.label, f.feature.point, f.feature.vector, f.feature.line,
+                   f.feature.label_column, f.feature.values_column});
+  }
+  if (out.empty()) {
+    throw InputError({source, 1, 1}, source +
+                                         ": no planned points (F(…)=FEAT/POINT,CART,x,y,z,"
+                                         "i,j,k statements) in this DMIS program");
+  }
+  return out;
+}
+
+std::vector<DmisPlanFeature> read_dmis_plan(const std::string& path) {
+  return parse_dmis_plan(read_input_file(path, "DMIS program", kMaxReadingsBytes), path);
 }
 
 Readings read_dmis_results(const std::string& path, double stylus_radius_mm) {

@@ -19,8 +19,10 @@
 // them (MM, CM, METER, INCH, FEET; MM when none), converted to mm; another unit is refused.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "engine/readings/readings_csv.h"
 
@@ -36,5 +38,17 @@ bool is_dmis_file(const std::string& path);
 Readings parse_dmis_results(const std::string& text, const std::string& source_name,
                             double stylus_radius_mm);
 Readings read_dmis_results(const std::string& path, double stylus_radius_mm);
+
+// The planned points of a DMIS program (`--plan PROGRAM.dmi`): its nominal features
+// F(label)=FEAT/POINT,CART,x,y,z,i,j,k in program order (the operator's set-up features SETUP_…
+// left out), lengths in mm, the vector normalised; where each stands (line, label and values
+// columns). Statements as above; no planned point is an InputError.
+struct DmisPlanFeature {
+  std::string label;
+  Eigen::Vector3d point, vector;
+  int line = 0, label_column = 0, values_column = 0;
+};
+std::vector<DmisPlanFeature> parse_dmis_plan(const std::string& text, const std::string& source);
+std::vector<DmisPlanFeature> read_dmis_plan(const std::string& path);
 
 }  // namespace gearmc

@@ -20,6 +20,8 @@ constexpr double kEdgeTolerance = 1e-6;   // mm: a foot this far past the flank'
 constexpr double kMaxHintAngleDeg = 5.0;  // a normal hint further off refuses the point
 constexpr double kSameSectionMm = 1e-3;   // heights closer than this: one section
 constexpr std::size_t kNamedRefusals = 10;
+constexpr double kPlanPointToleranceMm = 1e-3;   // a program's nominal point off the flank
+constexpr double kPlanVectorToleranceDeg = 1.0;  // its vector off the flank's normal
 
 Eigen::Vector2d in_base_section(const InvoluteGear& gear, const Eigen::Vector3d& M) {
   if (!gear.helical()) return M.head<2>();
@@ -90,6 +92,93 @@ FlankMatch match_to_flank(const InvoluteGear& gear, const Eigen::Vector3d& M,
   best.foot = gear.flank_point(best.tooth, best.side, best.roll_length_mm, best.z_mm);
   best.signed_distance_mm = (M - best.foot.point).dot(best.foot.normal);
   return best;
+}
+
+std::vector<std::pair<int, int>> section_labels(
+    const std::vector<FlankOfPoint>& flank_of, const std::vector<std::pair<double, double>>& feet) {
+  std::map<std::tuple<int, int, int>, std::vector<std::size_t>> flanks;
+  for (std::size_t k = 0; k < flank_of.size(); ++k) {
+    const FlankOfPoint& f = flank_of[k];
+    flanks[{f.gear, f.tooth, f.side == FlankSide::kRight ? 1 : 0}].push_back(k);
+  }
+  std::vector<std::pair<int, int>> out(flank_of.size());
+  for (auto& [key, members] : flanks) {
+    std::sort(members.begin(), members.end(),
+              [&](std::size_t a, std::size_t c) { return feet[a].second < feet[c].second; });
+    int j = 0;
+    for (std::size_t start = 0; start < members.size(); ++j) {
+      std::size_t end = start + 1;
+      while (end < members.size() &&
+             feet[members[end]].second - feet[members[start]].second <= kSameSectionMm) {
+        ++end;
+      }
+      std::sort(members.begin() + static_cast<long>(start),
+                members.begin() + static_cast<long>(end),
+                [&](std::size_t a, std::size_t c) { return feet[a].first < feet[c].first; });
+      for (std::size_t k = start; k < end; ++k) {
+        out[members[k]] = {static_cast<int>(k - start), j};
+      }
+      start = end;
+    }
+  }
+  return out;
+}
+
+std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
+                                              const std::vector<DmisPlanFeature>& features,
+                                              const std::string& source) {
+  const double L_min = gear.active_roll_length_min_mm(), L_max = gear.active_roll_length_max_mm();
+  std::vector<ExplicitPlanPoint> plan;
+  std::vector<FlankOfPoint> flank_of;
+  std::vector<std::pair<double, double>> feet;
+  for (const DmisPlanFeature& f : features) {
+    const FlankMatch m = match_to_flank(gear, f.point);
+    const InputLocation at{source, f.line, f.values_column};
+    const std::string value = short_text(f.point.x(), 10) + "," + short_text(f.point.y(), 10) +
+                              "," + short_text(f.point.z(), 10);
+    const std::string flank = m.found ? " (nearest: tooth " + std::to_string(m.tooth) +
+                                            (m.side == FlankSide::kRight ? " R" : " L") + ")"
+                                      : "";
+    if (!m.found || std::abs(m.signed_distance_mm) > kPlanPointToleranceMm) {
+      throw InputError(
+          at, "FEAT/POINT of " + f.label, value,
+          "a point on a flank of the scenario's gear (within " +
+              short_text(1e3 * kPlanPointToleranceMm) + " µm; this one " +
+              (m.found ? short_text(1e3 * std::abs(m.signed_distance_mm)) + " µm off" + flank
+                       : std::string("inside the base circle")) +
+              "): is the program for this gear?");
+    }
+    if (m.roll_length_mm < L_min - kEdgeTolerance || m.roll_length_mm > L_max + kEdgeTolerance ||
+        m.z_mm < -kEdgeTolerance || m.z_mm > gear.face_width_mm() + kEdgeTolerance) {
+      throw InputError(at, "FEAT/POINT of " + f.label, value,
+                       "a point on the active flank (roll length " + short_text(L_min) + " … " +
+                           short_text(L_max) + " mm, z 0 … " + short_text(gear.face_width_mm()) +
+                           " mm; this one at roll length " + short_text(m.roll_length_mm) +
+                           " mm, z " + short_text(m.z_mm) + " mm" + flank + ")");
+    }
+    const double angle_deg =
+        std::acos(std::clamp(f.vector.dot(m.foot.normal), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    if (angle_deg > kPlanVectorToleranceDeg) {
+      throw InputError(at, "FEAT/POINT of " + f.label, value,
+                       "the flank's outward normal as its vector i,j,k (gearmc probes along the "
+                       "normal; within " +
+                           short_text(kPlanVectorToleranceDeg) + "°, this one " +
+                           short_text(angle_deg) + "° off" + flank + ")");
+    }
+    ExplicitPlanPoint& e = plan.emplace_back();
+    e.tooth = m.tooth;
+    e.side = m.side;
+    e.roll_length_mm = m.roll_length_mm;
+    e.z_mm = m.z_mm;
+    flank_of.push_back({0, m.tooth, m.side});
+    feet.emplace_back(m.roll_length_mm, m.z_mm);
+  }
+  const std::vector<std::pair<int, int>> labels = section_labels(flank_of, feet);
+  for (std::size_t k = 0; k < plan.size(); ++k) {
+    plan[k].i = labels[k].first;
+    plan[k].j = labels[k].second;
+  }
+  return plan;
 }
 
 Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoints& table,
@@ -182,31 +271,13 @@ Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoint
   s.rms_distance_um = matched ? std::sqrt(sum_sq / static_cast<double>(matched)) : 0.0;
 
   // Grid labels: sections by height, points in a section by roll length.
-  std::map<std::tuple<int, int, int>, std::vector<std::size_t>> flanks;
+  std::vector<FlankOfPoint> flank_of;
+  flank_of.reserve(matched);
+  for (const ReadingRow& r : out.rows) flank_of.push_back({r.gear, r.tooth, r.side});
+  const std::vector<std::pair<int, int>> labels = section_labels(flank_of, out.feet);
   for (std::size_t k = 0; k < matched; ++k) {
-    const ReadingRow& r = out.rows[k];
-    flanks[{r.gear, r.tooth, r.side == FlankSide::kRight ? 1 : 0}].push_back(k);
-  }
-  for (auto& [key, members] : flanks) {
-    std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t c) {
-      return out.feet[a].second < out.feet[c].second;
-    });
-    int j = 0;
-    for (std::size_t start = 0; start < members.size(); ++j) {
-      std::size_t end = start + 1;
-      while (end < members.size() &&
-             out.feet[members[end]].second - out.feet[members[start]].second <= kSameSectionMm) {
-        ++end;
-      }
-      std::sort(
-          members.begin() + static_cast<long>(start), members.begin() + static_cast<long>(end),
-          [&](std::size_t a, std::size_t c) { return out.feet[a].first < out.feet[c].first; });
-      for (std::size_t k = start; k < end; ++k) {
-        out.rows[members[k]].j = j;
-        out.rows[members[k]].i = static_cast<int>(k - start);
-      }
-      start = end;
-    }
+    out.rows[k].i = labels[k].first;
+    out.rows[k].j = labels[k].second;
   }
   if (summary) *summary = s;
   return out;

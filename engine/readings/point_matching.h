@@ -23,8 +23,11 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "engine/plan/probing_grid.h"
+#include "engine/readings/dmis_results.h"
 #include "engine/readings/point_table.h"
 #include "engine/readings/readings_csv.h"
 #include "gears/involute_gear.h"
@@ -46,6 +49,23 @@ struct FlankMatch {
 FlankMatch match_to_flank(const InvoluteGear& gear, const Eigen::Vector3d& M,
                           std::optional<int> tooth_hint = std::nullopt,
                           std::optional<FlankSide> side_hint = std::nullopt);
+
+// Grid labels of matched points (see the file comment): for each point its (i, j) from its flank
+// (gear, tooth, side) and its foot (roll length, z in mm).
+struct FlankOfPoint {
+  int gear, tooth;
+  FlankSide side;
+};
+std::vector<std::pair<int, int>> section_labels(const std::vector<FlankOfPoint>& flank_of,
+                                                const std::vector<std::pair<double, double>>& feet);
+
+// A user's DMIS program as the probing plan (`--plan`): each planned point (its F(…)=FEAT/POINT
+// nominal) matched to its flank, in program order. Each must lie on the active flank of the
+// scenario's gear within 1 µm and its vector along the flank's outward normal within 1°; else an
+// InputError at its statement (file:line:column) saying what it is off by.
+std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
+                                              const std::vector<DmisPlanFeature>& features,
+                                              const std::string& source);
 
 // What the matching did, for diagnosis.json's `matching` block.
 struct MatchingSummary {

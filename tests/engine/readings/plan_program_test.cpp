@@ -1,0 +1,190 @@
+// A user's DMIS program as the probing plan (`gearmc run --plan`, `gearmc simulate --plan`;
+// engine/cli/plan_program.h, engine/readings/point_matching.h: plan_from_dmis):
+//  * a hand-written program in INCH with continuation lines — a profile scan of 20 points on
+//    tooth 3's R flank of P1's gear at z = 30 mm, nominal points and normals computed here from
+//    the involute's polar form (ISO 21771: polar angle tooth centre + ψ(r), ψ = s/d + inv α −
+//    inv α_r; the normal perpendicular to the curve's numerical tangent, away from the tooth),
+//    not from gearmc's flank code — drives `simulate`: 20 readings per gear, labelled tooth 3 R,
+//    i 0 … 19 along the profile in one section, each nominal point the program's to its
+//    rounding (7 decimals of an inch: 1.27e-6 mm per coordinate, 2.2e-6 mm in all);
+//  * the program `export-plan` writes for the helical example drives `run` exactly as the
+//    scenario's own grid does (the same statistics in summary.json to 1e-9 µm);
+//  * a point 50 µm off the flank, and one whose vector is 5° off the normal, are refused at their
+//    statement (exit 2, file:line:column), and so is `--plan` with `evaluation:`.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "engine/readings/readings_csv.h"
+#include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+#include "tests/support/text_files.h"
+
+namespace gearmc {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::read_text;
+using testing_support::run_gearmc;
+using testing_support::write_text;
+
+// P1's gear (scenarios/p1_reference.yaml): z 24, m 5.6 mm, α 20°, x 0.90116.
+struct PolarInvolute {
+  double z = 24, m = 5.6, alpha = 20.0 * std::numbers::pi / 180.0, x = 0.90116;
+  double d() const { return m * z; }
+  double rb() const { return 0.5 * d() * std::cos(alpha); }
+  double inv(double a) const { return std::tan(a) - a; }
+  // Half tooth angle at radius r: s/d + inv α − inv α_r, s = m (π/2 + 2 x tan α).
+  double psi(double r) const {
+    const double s = m * (std::numbers::pi / 2 + 2 * x * std::tan(alpha));
+    return s / d() + inv(alpha) - inv(std::acos(rb() / r));
+  }
+  // The R flank (counter-clockwise side) of tooth k (centred on (k - 1) 2π/z) at radius r.
+  Eigen::Vector2d point(int k, double r) const {
+    const double a = (k - 1) * 2 * std::numbers::pi / z + psi(r);
+    return {r * std::cos(a), r * std::sin(a)};
+  }
+  // Its outward normal: perpendicular to the numerical tangent, pointing counter-clockwise.
+  Eigen::Vector2d normal(int k, double r) const {
+    const double h = 1e-6;
+    const Eigen::Vector2d t = (point(k, r + h) - point(k, r - h)).normalized();
+    Eigen::Vector2d n(-t.y(), t.x());
+    const Eigen::Vector2d P = point(k, r);
+    const Eigen::Vector2d ccw(-P.y(), P.x());
+    return n.dot(ccw) > 0 ? n : Eigen::Vector2d(-n);
+  }
+};
+
+std::string fixed(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+TEST(PlanProgram, AHandWrittenProgramInInchDrivesSimulate) {
+  const fs::path dir = testing_support::fresh_temp_path("plan_program");
+  fs::create_directories(dir);
+  const PolarInvolute g;
+  // Radii from the form circle (d_Ff 133.328 mm, docs/scenarios.md) to the tip (d_a 155.693 mm)
+  // with a margin: 67.2 … 77.2 mm.
+  std::ostringstream program;
+  program << "DMISMN/'a user''s profile scan',05.3\n$$ tooth 3, R flank, z = 30 mm\n"
+             "UNITS/INCH,ANGDEC\n";
+  std::vector<Eigen::Vector3d> nominal;
+  for (int i = 0; i < 20; ++i) {
+    const double r = 67.2 + 10.0 * i / 19.0;
+    const Eigen::Vector2d P = g.point(3, r), n = g.normal(3, r);
+    nominal.emplace_back(P.x(), P.y(), 30.0);
+    const std::string label = "SCAN_" + std::to_string(i);
+    // 7 decimals of an inch: each coordinate rounded by up to 0.5e-7 inch = 1.27e-6 mm.
+    program << "F(" << label << ")=FEAT/POINT,CART," << fixed(P.x() / 25.4, 7) << ","
+            << fixed(P.y() / 25.4, 7) << ",$\n  " << fixed(30.0 / 25.4, 7) << "," << fixed(n.x(), 9)
+            << "," << fixed(n.y(), 9) << ",0\n"
+            << "MEAS/POINT,F(" << label << "),1\nPTMEAS/CART," << fixed(P.x() / 25.4, 7) << ","
+            << fixed(P.y() / 25.4, 7) << "," << fixed(30.0 / 25.4, 7) << "," << fixed(n.x(), 9)
+            << "," << fixed(n.y(), 9) << ",0\nENDMES\n";
+  }
+  program << "ENDFIL\n";
+  write_text(dir / "scan.dmi", program.str());
+  const std::string csv = (dir / "scan.csv").string();
+  const auto r =
+      run_gearmc("simulate --gears 2 --plan " + (dir / "scan.dmi").string() + " --out " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Readings readings = read_readings(csv);
+  ASSERT_EQ(readings.rows.size(), 40u);
+  for (std::size_t k = 0; k < readings.rows.size(); ++k) {
+    const ReadingRow& row = readings.rows[k];
+    EXPECT_EQ(row.tooth, 3);
+    EXPECT_EQ(row.side, FlankSide::kRight);
+    EXPECT_EQ(row.j, 0);
+    EXPECT_EQ(row.i, static_cast<int>(k % 20));
+    EXPECT_LT((row.p - nominal[k % 20]).norm(), std::sqrt(3.0) * 1.27e-6) << k;
+  }
+}
+
+TEST(PlanProgram, TheExportedProgramRunsAsTheScenariosGrid) {
+  const fs::path dir = testing_support::fresh_temp_path("plan_program_helical");
+  fs::create_directories(dir);
+  write_text(dir / "h.yaml",
+             "name: helical\n"
+             "gear: {teeth: 31, module_mm: 4, pressure_angle_deg: 20, helix_angle_deg: 15, "
+             "hand: right, profile_shift: 0.2, face_width_mm: 40}\n"
+             "tolerances: {standard: iso_1328_1_2013, grade: 6}\n"
+             "probing: {points_along_profile: 6, sections_across_face: 4, teeth: [2, 9, 17]}\n"
+             "run: {gears: 3}\n");
+  const std::string s = (dir / "h.yaml").string(), plan = (dir / "h.dmi").string();
+  ASSERT_EQ(run_gearmc("export-plan " + s + " --format dmis --out " + plan).exit_code, 0);
+  const auto grid = run_gearmc("run " + s + " --out " + (dir / "grid").string());
+  const auto program =
+      run_gearmc("run " + s + " --plan " + plan + " --out " + (dir / "program").string());
+  ASSERT_EQ(grid.exit_code, 0) << grid.err;
+  ASSERT_EQ(program.exit_code, 0) << program.err;
+  const auto a = nlohmann::json::parse(read_text(dir / "grid" / "summary.json"));
+  const auto b = nlohmann::json::parse(read_text(dir / "program" / "summary.json"));
+  EXPECT_EQ(a["contacts"], b["contacts"]);
+  EXPECT_EQ(a["contacts"], 3 * 3 * 2 * 6 * 4);
+  // The program's nominals are written to 1 nm: the contacts agree far below a nanometre in
+  // δRcomp; every statistic of every group to 1e-9 µm.
+  ASSERT_TRUE(a.contains("delta_rcomp_um"));
+  for (const auto& [group, stats] : a["delta_rcomp_um"].items()) {
+    for (const auto& [name, value] : stats.items()) {
+      if (!value.is_number()) continue;
+      EXPECT_NEAR(value.get<double>(), b["delta_rcomp_um"][group][name].get<double>(), 1e-9)
+          << group << "." << name;
+    }
+  }
+}
+
+TEST(PlanProgram, PointsOffTheGearAreRefusedAtTheirStatement) {
+  const fs::path dir = testing_support::fresh_temp_path("plan_program_bad");
+  fs::create_directories(dir);
+  const PolarInvolute g;
+  const Eigen::Vector2d P = g.point(1, 72.0), n = g.normal(1, 72.0);
+  const auto statement = [&](const Eigen::Vector2d& at, const Eigen::Vector2d& v) {
+    return "F(P1)=FEAT/POINT,CART," + fixed(at.x(), 6) + "," + fixed(at.y(), 6) + ",20," +
+           fixed(v.x(), 9) + "," + fixed(v.y(), 9) + ",0\n";
+  };
+  const double turn = 5.0 * std::numbers::pi / 180.0;
+  const Eigen::Vector2d tilted(std::cos(turn) * n.x() - std::sin(turn) * n.y(),
+                               std::sin(turn) * n.x() + std::cos(turn) * n.y());
+  struct Case {
+    std::string text, expected;
+  };
+  const Case cases[] = {
+      {statement(P + 0.05 * n, n), "off.dmi:2:23: FEAT/POINT of P1: got"},
+      {statement(P, tilted), "tilted.dmi:2:23: FEAT/POINT of P1: got"},
+  };
+  const char* names[] = {"off.dmi", "tilted.dmi"};
+  const char* why[] = {"50 µm off (nearest: tooth 1 R)", "5° off"};
+  for (int k = 0; k < 2; ++k) {
+    write_text(dir / names[k], "UNITS/MM,ANGDEC\n" + cases[k].text);
+    const auto r = run_gearmc("run --plan " + (dir / names[k]).string() + " --out " +
+                              (dir / ("out" + std::to_string(k))).string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(cases[k].expected), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(why[k]), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / ("out" + std::to_string(k))));
+  }
+  // With `evaluation:` the plan is refused (the ISO 1328-1 traces come from the grid).
+  write_text(dir / "good.dmi", "UNITS/MM,ANGDEC\n" + statement(P, n));
+  write_text(dir / "eval.yaml",
+             read_text(fs::path(GEARMC_SOURCE_DIR) / "scenarios" / "p1_reference.yaml") +
+                 "evaluation: {parameters: [f_Halpha]}\n");
+  const auto e = run_gearmc("run " + (dir / "eval.yaml").string() + " --plan " +
+                            (dir / "good.dmi").string() + " --out " + (dir / "eval").string());
+  EXPECT_EQ(e.exit_code, 2);
+  EXPECT_NE(e.err.find("drop `evaluation:` to run a program's plan"), std::string::npos) << e.err;
+  // The good point alone runs.
+  const auto ok = run_gearmc("run --gears 2 --plan " + (dir / "good.dmi").string() + " --out " +
+                             (dir / "ok").string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
+}  // namespace
+}  // namespace gearmc
