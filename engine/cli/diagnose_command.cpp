@@ -171,8 +171,8 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
         "# the physical range of its effect:\n# " +
         shown_input(fitted_problem, 400) + "\n" + model.source_text;
   }
-  const DiagnosisReportInput report{model,     o.model_path, measured_names,
-                                    residuals, diagnosis,    fitted};
+  const DiagnosisReportInput report{model,     o.model_path, measured_names, residuals,
+                                    diagnosis, fitted,       matching};
   const std::string html = diagnosis_report_html(report);
 
   std::error_code ec;

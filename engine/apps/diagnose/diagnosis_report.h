@@ -13,11 +13,13 @@
 // nothing depends on how the readings were made.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/apps/diagnose/diagnosis.h"
 #include "engine/apps/diagnose/fitted_scenario.h"
+#include "engine/readings/point_matching.h"
 #include "engine/scenario/scenario.h"
 
 namespace gearmc {
@@ -28,6 +30,8 @@ struct DiagnosisReportInput {
   const Residuals& residuals;  // the points (same order as the diagnosis's residual vectors)
   const Diagnosis& diagnosis;
   const FittedScenario& fitted;
+  // Label-free readings: how their points were matched to the flanks (point_matching.h).
+  std::optional<MatchingSummary> matching = std::nullopt;
 };
 
 // The verdict paragraph (plain text, the report's first paragraph).

@@ -532,6 +532,15 @@ void notes_and_inputs_section(HtmlReport& report, const ReportContext& ctx) {
       << ". Readings: " << in.readings_path << ", " << d.points << " points, stylus radius "
       << in.model.stylus_radius_mm << " mm";
     if (d.nominal_fallback > 0) s << " (" << d.nominal_fallback << " predicted with p + R n)";
+    if (in.matching) {
+      s << "; without labels: " << in.matching->points - in.matching->refused << " of "
+        << in.matching->points << " points matched to their flanks (from them "
+        << general(in.matching->rms_distance_um) << " µm RMS, "
+        << general(in.matching->max_distance_um) << " µm at most)";
+      if (in.matching->refused > 0) {
+        s << ", " << in.matching->refused << " refused (listed in the warnings)";
+      }
+    }
     s << ". Null simulation: " << k << " replicates, seed " << d.seed
       << ", α = " << general(d.alpha) << ".";
     report.paragraph(s.str());

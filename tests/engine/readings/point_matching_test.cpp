@@ -296,6 +296,11 @@ TEST(PointMatching, DiagnoseReadsAFileOfOnlyMeasuredCoordinates) {
   // tangential parts only: far below a nanometre here).
   EXPECT_NEAR(free["matching"]["max_distance_um"].get<double>(), largest_um, 1e-3);
   EXPECT_EQ(free["nominal_fallback_points"], 0);
+  // The report's inputs say how the points were matched.
+  EXPECT_NE(testing_support::read_text(dir / "free" / "report.html")
+                .find("without labels: " + std::to_string(truth.rows.size()) + " of " +
+                      std::to_string(truth.rows.size()) + " points matched to their flanks"),
+            std::string::npos);
   const double x = free["effects"][0]["parameters"]["x_ppm"].get<double>();
   const double x_se = free["effects"][0]["std_errors"]["x_ppm"].get<double>();
   EXPECT_NEAR(x, 20.0, 4 * x_se);  // two-sided bound at 6e-5 per value; fixed seed (1)
