@@ -139,7 +139,7 @@ std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
     const std::string flank = m.found ? " (nearest: tooth " + std::to_string(m.tooth) +
                                             (m.side == FlankSide::kRight ? " R" : " L") + ")"
                                       : "";
-    if (!m.found || std::abs(m.signed_distance_mm) > kPlanPointToleranceMm) {
+    if (!m.found || !(std::abs(m.signed_distance_mm) <= kPlanPointToleranceMm)) {
       throw InputError(
           at, "FEAT/POINT of " + f.label, value,
           "a point on a flank of the scenario's gear (within " +
@@ -148,8 +148,9 @@ std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
                        : std::string("inside the base circle")) +
               "): is the program for this gear?");
     }
-    if (m.roll_length_mm < L_min - kEdgeTolerance || m.roll_length_mm > L_max + kEdgeTolerance ||
-        m.z_mm < -kEdgeTolerance || m.z_mm > gear.face_width_mm() + kEdgeTolerance) {
+    if (!(m.roll_length_mm >= L_min - kEdgeTolerance &&
+          m.roll_length_mm <= L_max + kEdgeTolerance && m.z_mm >= -kEdgeTolerance &&
+          m.z_mm <= gear.face_width_mm() + kEdgeTolerance)) {
       throw InputError(at, "FEAT/POINT of " + f.label, value,
                        "a point on the active flank (roll length " + short_text(L_min) + " … " +
                            short_text(L_max) + " mm, z 0 … " + short_text(gear.face_width_mm()) +
@@ -158,7 +159,7 @@ std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
     }
     const double angle_deg =
         std::acos(std::clamp(f.vector.dot(m.foot.normal), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-    if (angle_deg > kPlanVectorToleranceDeg) {
+    if (!(angle_deg <= kPlanVectorToleranceDeg)) {
       throw InputError(at, "FEAT/POINT of " + f.label, value,
                        "the flank's outward normal as its vector i,j,k (gearmc probes along the "
                        "normal; within " +
@@ -203,9 +204,9 @@ Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoint
     std::string reason;
     if (!m.found) {
       reason = "inside the base circle (no involute flank through it)";
-    } else if (m.roll_length_mm < L_min - kEdgeTolerance ||
-               m.roll_length_mm > L_max + kEdgeTolerance || m.z_mm < -kEdgeTolerance ||
-               m.z_mm > b + kEdgeTolerance) {
+    } else if (!(m.roll_length_mm >= L_min - kEdgeTolerance &&
+                 m.roll_length_mm <= L_max + kEdgeTolerance && m.z_mm >= -kEdgeTolerance &&
+                 m.z_mm <= b + kEdgeTolerance)) {
       std::ostringstream why;
       why << "its foot on tooth " << m.tooth << (m.side == FlankSide::kRight ? " R" : " L")
           << " (roll length " << short_text(m.roll_length_mm) << " mm, z " << short_text(m.z_mm)
