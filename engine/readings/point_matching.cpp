@@ -199,7 +199,18 @@ Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoint
   const UnlabelledPoint* first_refused = nullptr;
   std::string first_reason;
   for (const UnlabelledPoint& q : table.points) {
-    const FlankMatch m = match_to_flank(gear, q.measured, q.tooth_hint, q.side_hint);
+    // A nominal point names the flank (the measured one may lie far from it); explicit tooth and
+    // flank hints come first.
+    std::optional<int> tooth = q.tooth_hint;
+    std::optional<FlankSide> side = q.side_hint;
+    if (q.nominal_hint) {
+      const FlankMatch planned = match_to_flank(gear, *q.nominal_hint, tooth, side);
+      if (planned.found) {
+        tooth = planned.tooth;
+        side = planned.side;
+      }
+    }
+    const FlankMatch m = match_to_flank(gear, q.measured, tooth, side);
     const double deviation_mm = m.signed_distance_mm - (centres ? R : 0.0);
     std::string reason;
     if (!m.found) {

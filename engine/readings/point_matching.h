@@ -5,7 +5,8 @@
 // modifications, as every reading's nominal point):
 //   * the candidates: the point turned back to the section z = 0 (a helical gear's section turns
 //     by z helix_turn_per_mm), the teeth next to its polar angle (the nearest tooth centre and
-//     its neighbours; a tooth hint narrows them to one, a flank hint to one side), both flanks;
+//     its neighbours; a tooth hint narrows them to one, a flank hint to one side, a nominal point
+//     hint to the flank it lies on), both flanks;
 //     the transverse closed form (InvoluteGear::transverse_position) picks the nearest;
 //   * the foot: the flank point P(L, z) nearest to the measured point, by Gauss–Newton on
 //     (L, z) from the transverse foot (exact in one step on a spur gear), to 1e-10 mm;

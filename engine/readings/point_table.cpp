@@ -118,12 +118,13 @@ PointTableColumns parse_point_table_columns(const std::string& yaml_text, const 
   if (c.label_free) {
     // The label-free form: the measured point; i, j, k the normal (a hint), tooth and flank
     // hints, a run or gear column, the order.
-    for (const char* labelled : {"nominal", "normal", "measured", "deviation_um"}) {
+    for (const char* labelled : {"normal", "measured", "deviation_um"}) {
       if (auto v = m.find(labelled)) {
         throw InputError(v->key_location(), std::string("columns.") + labelled, "",
                          "x, y, z and the optional hints of the label-free form (i, j, k: the "
-                         "normal; tooth, flank, run, order), or the labelled form (tooth, flank, "
-                         "i, j, nominal, normal, measured or deviation_um) without x, y, z");
+                         "normal; nominal: {x, y, z}; tooth, flank, run, order), or the labelled "
+                         "form (tooth, flank, i, j, nominal, normal, measured or deviation_um) "
+                         "without x, y, z");
       }
     }
     c.measured_x = axis(m, "x");
@@ -143,6 +144,11 @@ PointTableColumns parse_point_table_columns(const std::string& yaml_text, const 
     }
     c.tooth = optional("tooth");
     c.flank = optional("flank");
+    if (const auto nominal = m.get_map("nominal", {"x", "y", "z"})) {
+      c.nominal_x = axis(*nominal, "x");
+      c.nominal_y = axis(*nominal, "y");
+      c.nominal_z = axis(*nominal, "z");
+    }
     if (auto gear = m.find("gear")) {
       if (m.find("run")) throw gear->error("either gear or run (the same column), not both");
     }
@@ -498,6 +504,9 @@ UnlabelledPoints parse_unlabelled_points(const std::string& text, const std::str
     q.measured = table.point(*columns.measured_x, *columns.measured_y, *columns.measured_z);
     if (columns.normal_i) {
       q.normal_hint = table.normal(*columns.normal_i, *columns.normal_j, *columns.normal_k);
+    }
+    if (columns.nominal_x) {
+      q.nominal_hint = table.point(*columns.nominal_x, *columns.nominal_y, *columns.nominal_z);
     }
     if (columns.tooth) q.tooth_hint = table.integer(*columns.tooth, 1);
     if (columns.flank) q.side_hint = table.flank(*columns.flank);

@@ -66,6 +66,7 @@ struct PointTableColumns {
 struct UnlabelledPoint {
   Eigen::Vector3d measured = Eigen::Vector3d::Zero();  // E or O (MeasuredPointKind), mm
   std::optional<Eigen::Vector3d> normal_hint;          // unit
+  std::optional<Eigen::Vector3d> nominal_hint;         // the planned point, mm
   std::optional<int> tooth_hint;
   std::optional<FlankSide> side_hint;
   int gear = 0;              // the gear (or run) column, else 0

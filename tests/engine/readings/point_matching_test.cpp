@@ -186,6 +186,36 @@ TEST(PointMatching, PointsOffTheFlankAreRefusedWithTheirLines) {
   }
 }
 
+// A measured point 0.4 mm off its flank, in the middle of P1's tooth space where the facing flank
+// is about as near: the nominal point hint keeps it on its own flank (and it is then refused as
+// too far, rather than matched to the wrong flank); without the hint it goes to the nearer one.
+TEST(PointMatching, ANominalPointHintNamesTheFlank) {
+  const InvoluteGear g = p1_gear();
+  const double L = 0.5 * (g.active_roll_length_min_mm() + g.active_roll_length_max_mm());
+  const FlankPoint planned = g.flank_point(4, FlankSide::kRight, L, 30.0);
+  // Far out along the normal: nearer to tooth 5's L flank than to tooth 4's R flank.
+  double far = 0.0;
+  for (double d = 0.5; d < 20.0; d += 0.1) {
+    const FlankMatch m = match_to_flank(g, planned.point + d * planned.normal);
+    if (m.tooth == 5 && m.side == FlankSide::kLeft) {
+      far = d + 0.1;
+      break;
+    }
+  }
+  ASSERT_GT(far, 0.0);
+  UnlabelledPoints t = table_of({planned.point + far * planned.normal});
+  MatchingSummary s;
+  const Readings without = match_unlabelled_points(g, t, 100.0, &s);
+  ASSERT_EQ(without.rows.size(), 1u);
+  EXPECT_EQ(without.rows[0].tooth, 5);
+  t.points[0].nominal_hint = planned.point;
+  const Readings with = match_unlabelled_points(g, t, 100.0, &s);
+  ASSERT_EQ(with.rows.size(), 1u);
+  EXPECT_EQ(with.rows[0].tooth, 4);
+  EXPECT_EQ(with.rows[0].side, FlankSide::kRight);
+  EXPECT_NEAR(measured_deviation_um(with.rows[0], 0.5), 1e3 * far, 1e-6);
+}
+
 TEST(PointMatching, AHelixTraceIsOneSectionPerPoint) {
   const InvoluteGear g = helical_gear(Hand::kLeft, 15.0);
   std::vector<Eigen::Vector3d> points;
@@ -228,9 +258,16 @@ TEST(PointMatching, LabelFreeMappingsAreReadAndMixedFormsRefused) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(refused("columns: {x: X, y: Y, z: Z, nominal: {x: A, y: B, z: C}}\n")
-                .find("map.yaml:1:29: columns.nominal"),
+  EXPECT_NE(refused("columns: {x: X, y: Y, z: Z, normal: {i: A, j: B, k: C}}\n")
+                .find("map.yaml:1:29: columns.normal"),
             std::string::npos);
+  // A nominal point hint (interface: "nominal x/y/z" among the label-free form's hints).
+  const PointTableColumns with_nominal = parse_point_table_columns(
+      "columns: {x: X, y: Y, z: Z, nominal: {x: NX, y: NY, z: NZ}}\n", "map.yaml");
+  const UnlabelledPoints n =
+      parse_unlabelled_points("X,Y,Z,NX,NY,NZ\n1,2,3,4,5,6\n", "n.csv", with_nominal, 0.5);
+  ASSERT_TRUE(n.points[0].nominal_hint.has_value());
+  EXPECT_EQ(*n.points[0].nominal_hint, Eigen::Vector3d(4, 5, 6));
   EXPECT_NE(refused("columns: {x: X, y: Y, z: Z, i: I, j: J}\n").find("all three of i, j, k"),
             std::string::npos);
   EXPECT_NE(refused("columns: {x: X, y: Y, z: Z, run: R, gear: G}\n").find("either gear or run"),
