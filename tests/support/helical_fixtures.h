@@ -24,6 +24,21 @@ inline InvoluteGear helical_gear(Hand hand = Hand::kRight, double beta_deg = 15.
   return InvoluteGear(helical_gear_parameters(hand, beta_deg));
 }
 
+// A helical ring gear (internal, z 60, m_n 2 mm, alpha_n 20°, beta 18°, x 0.1, b 20 mm), without
+// modifications: the tooth-space and point-matching tests' internal helicoid.
+inline InvoluteGear helical_ring(Hand hand) {
+  GearParameters p;
+  p.teeth = 60;
+  p.internal = true;
+  p.module_mm = 2.0;
+  p.pressure_angle_deg = 20.0;
+  p.helix_angle_deg = 18.0;
+  p.hand = hand;
+  p.profile_shift = 0.1;
+  p.face_width_mm = 20.0;
+  return InvoluteGear(p);
+}
+
 // Offset, slopes and wavy forms (µm), like wavy_deviation (p1_fixtures.h) on this flank.
 inline FlankDeviation helical_wavy_deviation() {
   FlankDeviation d;

@@ -27,6 +27,7 @@ namespace gearmc {
 namespace {
 
 using testing_support::helical_gear;
+using testing_support::helical_ring;
 using testing_support::p1_gear;
 
 // The flank facing (tooth, side) across the space (R of k faces L of k+1), written out here.
@@ -91,19 +92,6 @@ double brute_axial_clearance(const InvoluteGear& g, int tooth, FlankSide side,
   const double r_root = 0.5 * g.root_diameter_mm();
   const double root = g.internal() ? r_root - X.norm() : X.norm() - r_root;
   return std::min(flanks, root) - r_s;
-}
-
-InvoluteGear helical_ring(Hand hand) {
-  GearParameters p;
-  p.teeth = 60;
-  p.internal = true;
-  p.module_mm = 2.0;
-  p.pressure_angle_deg = 20.0;
-  p.helix_angle_deg = 18.0;
-  p.hand = hand;
-  p.profile_shift = 0.1;
-  p.face_width_mm = 20.0;
-  return InvoluteGear(p);
 }
 
 TEST(StylusShaft, AxialClearanceIsWithinATenthOfAMicronBelowABruteForceSearch) {

@@ -40,28 +40,16 @@ namespace gearmc {
 namespace {
 
 using testing_support::helical_gear;
+using testing_support::helical_ring;
 using testing_support::p1_gear;
 using testing_support::run_gearmc;
-
-InvoluteGear helical_ring() {
-  GearParameters p;
-  p.teeth = 60;
-  p.internal = true;
-  p.module_mm = 2.0;
-  p.pressure_angle_deg = 20.0;
-  p.helix_angle_deg = 18.0;
-  p.hand = Hand::kLeft;
-  p.profile_shift = 0.1;
-  p.face_width_mm = 20.0;
-  return InvoluteGear(p);
-}
 
 TEST(PointMatching, APointMovedAlongTheNormalMatchesItsFoot) {
   std::mt19937_64 rng(20261127);  // fixed seed
   int checked = 0;
   double worst_foot = 0.0, worst_distance = 0.0;
   for (const InvoluteGear& g : {p1_gear(), helical_gear(Hand::kRight, 15.0),
-                                helical_gear(Hand::kLeft, 30.0), helical_ring()}) {
+                                helical_gear(Hand::kLeft, 30.0), helical_ring(Hand::kLeft)}) {
     std::uniform_real_distribution<double> L_of(g.active_roll_length_min_mm(),
                                                 g.active_roll_length_max_mm());
     std::uniform_real_distribution<double> z_of(0.0, g.face_width_mm());
