@@ -91,9 +91,22 @@ inline bool nominal_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
 }
 
 // The same on a helical flank: p = P(L0, p_z) on the nominal helicoid, n its normal there,
-// `start` = S(L0, p_z) = P + delta m0 + eps with m0 the transverse normal (curvature_bound.cpp).
-bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                           const Eigen::Vector3d& n, double L0, const ContactStart& start);
+// `start` = S(L0, p_z) = P + delta m0 + eps with m0 = n_xy / cos(beta_b) the transverse normal
+// (curvature_bound.cpp). Inline and without the division (every run's contact asks it): with
+// c = cos(beta_b), c (start - delta m0 - eps - p) = c (start - eps - p) - delta n_xy and
+// |m0|^2 - 1 = (|n_xy|^2 - c^2) / c^2, each compared with its tolerance times c^2.
+inline bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
+                                  const Eigen::Vector3d& n, double L0, const ContactStart& start) {
+  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical()) return false;
+  const double c = flank.cos_base_helix(), c2 = c * c;
+  const double delta0 = 1e-3 * start.deviation_um;
+  const Eigen::Vector3d off = start.point - flank.eccentricity() - p;
+  const double ex = c * off.x() - delta0 * n.x(), ey = c * off.y() - delta0 * n.y(),
+               ez = c * off.z();
+  const double n_xy2 = n.x() * n.x() + n.y() * n.y();
+  return (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
+         ex * ex + ey * ey + ez * ez <= 1e-18 * c2 && std::abs(n_xy2 - c2) <= 1e-9 * c2;
+}
 
 // The concavity bound (above): with H_uu <= kappa I over the footprint and |grad f| <=
 // gradient_bound at the found point, F <= t* + g^2 / (2 (1/R - kappa)), g = gradient_bound

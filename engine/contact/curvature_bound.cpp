@@ -265,16 +265,6 @@ ExactBound helical_box_bound(const HelicalFlank& h, double L_lo, double L_hi, do
 }  // namespace
 
 // p on the nominal helicoid and n its normal there: S(L0, p_z) = p + delta0 m0 + eps.
-bool nominal_helical_start(const AnalyticFlank& flank, const Eigen::Vector3d& p,
-                           const Eigen::Vector3d& n, double L0, const ContactStart& start) {
-  if (flank.expression() != nullptr || !(L0 > 0.0) || !flank.gear().helical()) return false;
-  const Eigen::Vector3d m0 = Eigen::Vector3d(n.x(), n.y(), 0.0) / flank.cos_base_helix();
-  return (start.nominal_normal - n).squaredNorm() <= 1e-24 &&
-         (start.point - 1e-3 * start.deviation_um * m0 - flank.eccentricity() - p).squaredNorm() <=
-             1e-18 &&
-         std::abs(m0.squaredNorm() - 1.0) <= 1e-9;
-}
-
 ExactBound helical_exact_bound(const AnalyticFlank& flank, const Eigen::Vector3d& p,
                                const Eigen::Vector3d& n, double R, double L0,
                                const ContactStart& start, double L_min, double L_max) {
