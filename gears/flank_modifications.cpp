@@ -190,6 +190,7 @@ DesignModification::DesignModification(const FlankModifications& m, double L_for
   helix.add_crowning(0.0, b, m.helix_crowning_um);
   helix.add_slope(0.5 * b, m.helix_slope_um / b);
   profile_kinks = profile.kinks();
+  helix_kinks = helix.kinks();
 }
 
 }  // namespace gearmc

@@ -15,10 +15,10 @@
 // - helix slope modification H: m = H (z - b/2) / b (+ = more material towards z = b).
 // All are C1 with bounded second derivatives (a curvature jump where a relief starts), so the
 // contact solver's Newton steps and its curvature certificate hold as on an unmodified flank.
-// - linear relief (tip and root only): m = -c x / l, a straight line from the start: the flank
-//   has a kink (a convex ridge) there; the curve reports it (kinks()), and where the ball rests
-//   on the ridge the contact solver maximises along it (engine/contact/contact.cpp).
-// A linear end relief (a kink across the face) is not modelled.
+// - linear relief (tip, root and end reliefs): m = -c x / l, a straight line from the start:
+//   the flank has a kink (a convex ridge) there, along the face for a tip or root relief, across
+//   it for an end relief; the curve reports it (kinks()), and where the ball rests on the ridge
+//   the contact solver maximises along it (engine/contact/contact.cpp).
 #pragma once
 
 #include <vector>
@@ -88,8 +88,12 @@ struct DesignModification {
                      double tip_roll_length_mm, double face_width_mm);
   ModificationCurve profile, helix;
   double form_roll_length_mm, tip_roll_length_mm, face_width_mm;
-  // The roll lengths where a linear relief starts: the flank's ridges (profile.kinks()).
+  // The roll lengths where a linear tip or root relief starts: the flank's ridges along the face
+  // (profile.kinks()).
   std::vector<double> profile_kinks;
+  // The face positions where a linear end relief starts: the ridges across the face at z = l and
+  // z = b - l (helix.kinks()).
+  std::vector<double> helix_kinks;
   // m(L, z), µm.
   double value_um(double L, double z) const { return profile.value(L) + helix.value(z); }
 };

@@ -99,7 +99,7 @@ void write_geometry_json(const Scenario& scenario, std::ostream& out) {
       m["end_relief"] = {
           {"amount_um", mods.end_relief.amount_um},
           {"length_mm", mods.end_relief.length_mm},
-          {"shape", "circular"},
+          {"shape", mods.end_relief.linear ? "linear" : "circular"},
           {"unrelieved_z_mm",
            {mm(mods.end_relief.length_mm), mm(p.face_width_mm - mods.end_relief.length_mm)}}};
     }

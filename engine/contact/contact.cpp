@@ -322,10 +322,12 @@ ContactResult solve_contact(const AnalyticFlank& flank, const FlankExtent& exten
 
 namespace {
 
-// The first contact on the ridge of a linear relief (a kink of the flank at roll length c, its
-// start): where the Newton iteration cannot converge (the contact height f has a crease there),
-// f(c, z) is maximised over z by sampling and golden sections (f along the ridge is smooth), and
-// the point is certified like any other: the relief removes material beyond c, so the flank's
+// The first contact on the ridge of a linear relief: a kink of the flank at its start c, along
+// the face at roll length c (tip and root reliefs) or across it at face position c (end reliefs,
+// `across_face`). Where the Newton iteration cannot converge (the contact height f has a crease
+// there), f is maximised along the ridge (over z at L = c, or over L at z = c) by sampling and
+// golden sections (f along the ridge is smooth), and the point is certified like any other: the
+// relief removes material beyond c, so the flank's
 // graph over the plane normal to n is the smaller of its two smooth branches (each continued
 // across c) and its crease is concave; f = min(f1, f2) with both branches' curvature within
 // stage 1's bound (the derivative ranges hold both slopes) is then strongly concave, and at the
@@ -336,23 +338,40 @@ namespace {
 template <bool kHelical>
 bool solve_on_ridge(const AnalyticFlank& flank, const FlankExtent& extent, const Eigen::Vector3d& p,
                     const Eigen::Vector3d& n, double R, double L0, double z0,
-                    const ContactStart& start, double c, ContactResult* result) {
-  const double z_lo = std::max(extent.z_min, z0 - 1.5 * R);
-  const double z_hi = std::min(extent.z_max, z0 + 1.5 * R);
-  if (!(z_hi > z_lo)) return false;
-  const auto height = [&](double z) { return contact_height(flank, p, n, R, c, z); };
-  constexpr int kSamples = 64;
-  double best_z = z_lo, best = -std::numeric_limits<double>::infinity();
+                    const Eigen::Vector2d& stop, const ContactStart& start, double c,
+                    bool across_face, ContactResult* result) {
+  // The ridge's free coordinate u and the range searched: around both the planned point and
+  // where the Newton iteration stopped (it oscillates across the crease near the contact).
+  double u_lo, u_hi;
+  if (!across_face) {  // u = z, |S_z| >= 1: 1.5 R of face either side
+    u_lo = std::max(extent.z_min, std::min(z0, stop[1]) - 1.5 * R);
+    u_hi = std::min(extent.z_max, std::max(z0, stop[1]) + 1.5 * R);
+  } else {  // u = L: the involute's arc length from the base circle is L^2 / (2 r_b), 2 R of it
+    const double arc = 2.0 * (2.0 * R) * flank.base_radius();
+    const double L_lo = std::min(L0, stop[0]), L_hi = std::max(L0, stop[0]);
+    u_lo = std::max(extent.roll_length_min, std::sqrt(std::max(0.0, L_lo * L_lo - arc)));
+    u_hi = std::min(extent.roll_length_max, std::sqrt(L_hi * L_hi + arc));
+  }
+  if (!(u_hi > u_lo)) return false;
+  const auto at = [&](double u) {
+    return across_face ? Eigen::Vector2d(u, c) : Eigen::Vector2d(c, u);
+  };
+  const auto height = [&](double u) {
+    const Eigen::Vector2d x = at(u);
+    return contact_height(flank, p, n, R, x[0], x[1]);
+  };
+  constexpr int kSamples = 128;
+  double best_u = u_lo, best = -std::numeric_limits<double>::infinity();
   for (int k = 0; k <= kSamples; ++k) {
-    const double z = z_lo + (z_hi - z_lo) * k / kSamples;
-    const double h = height(z);
-    if (h > best) best = h, best_z = z;
+    const double u = u_lo + (u_hi - u_lo) * k / kSamples;
+    const double h = height(u);
+    if (h > best) best = h, best_u = u;
   }
   if (!std::isfinite(best)) return false;
   // Golden sections on the bracket around the best sample (f along the ridge is smooth and, over
   // the footprint, concave: the sphere's curvature dominates).
-  const double step = (z_hi - z_lo) / kSamples;
-  double a = std::max(z_lo, best_z - step), b = std::min(z_hi, best_z + step);
+  const double step = (u_hi - u_lo) / kSamples;
+  double a = std::max(u_lo, best_u - step), b = std::min(u_hi, best_u + step);
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = height(x1), f2 = height(x2);
   while (b - a > 1e-12) {
@@ -362,7 +381,7 @@ bool solve_on_ridge(const AnalyticFlank& flank, const FlankExtent& extent, const
       b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = height(x1);
     }
   }
-  const double z = 0.5 * (a + b);
+  const Eigen::Vector2d x_ridge = at(0.5 * (a + b));
   // The one-sided gradients and their Jacobians J = d(u)/d(L, z), u = (w.tau, w.e2).
   const Eigen::Vector3d tau = Eigen::Vector3d::UnitZ().cross(n).normalized();
   const Eigen::Vector3d e2 = n.cross(tau);
@@ -371,14 +390,16 @@ bool solve_on_ridge(const AnalyticFlank& flank, const FlankExtent& extent, const
   // One ulp on either side of c: one is the relief's branch (x > 0), the other the inner one.
   const double sides[2] = {std::nextafter(c, -kHuge), std::nextafter(c, kHuge)};
   for (int s = 0; s < 2; ++s) {
-    const FlankSurfacePoint fp = flank.evaluate(sides[s], z);
-    const AngleAnchor anchor{
-        sides[s],
-        kHelical ? base_angle(flank.gear(), flank.tooth(), flank.side(), sides[s], z)
-                 : base_angle(flank.gear(), flank.tooth(), flank.side(), sides[s]),
-        base_angle_per_mm(flank.gear(), flank.side()), z,
-        kHelical ? flank.gear().helix_turn_per_mm() : 0.0};
-    const Local m = model_at<kHelical>(flank, p, n, R, sides[s], z, anchor);
+    Eigen::Vector2d x = x_ridge;
+    x[across_face ? 1 : 0] = sides[s];
+    const double L = x[0], z = x[1];
+    const FlankSurfacePoint fp = flank.evaluate(L, z);
+    const AngleAnchor anchor{L,
+                             kHelical ? base_angle(flank.gear(), flank.tooth(), flank.side(), L, z)
+                                      : base_angle(flank.gear(), flank.tooth(), flank.side(), L),
+                             base_angle_per_mm(flank.gear(), flank.side()), z,
+                             kHelical ? flank.gear().helix_turn_per_mm() : 0.0};
+    const Local m = model_at<kHelical>(flank, p, n, R, L, z, anchor);
     if (!m.reachable) return false;
     Eigen::Matrix2d J;
     J << fp.d_dL.dot(tau), fp.d_dz.dot(tau), fp.d_dL.dot(e2), fp.d_dz.dot(e2);
@@ -391,16 +412,16 @@ bool solve_on_ridge(const AnalyticFlank& flank, const FlankExtent& extent, const
       d.squaredNorm() > 0.0 ? std::clamp(-g_u[0].dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
   const double g_min = (g_u[0] + lambda * d).norm();
   // certify_contact multiplies the gradient it is given by its bound of |J^-1| >= 1 / |J|.
-  const double t_star = height(z);
+  const double t_star = height(across_face ? x_ridge[0] : x_ridge[1]);
   const ContactCertificate cert =
-      certify_contact(flank, p, n, R, L0, start, Eigen::Vector2d(c, z), t_star, g_min * j_norm,
+      certify_contact(flank, p, n, R, L0, start, x_ridge, t_star, g_min * j_norm,
                       extent.roll_length_min, extent.roll_length_max);
   if (cert.verdict != ContactCertificate::Verdict::kCertified) return false;
   result->status = ContactResult::Status::kOk;
   result->failure = ContactFailure::kNone;
-  result->roll_length_mm = c;
-  result->z_mm = z;
-  result->contact = flank.point(c, z);
+  result->roll_length_mm = x_ridge[0];
+  result->z_mm = x_ridge[1];
+  result->contact = flank.point(x_ridge[0], x_ridge[1]);
   result->centre = p + t_star * n;
   result->reported = result->centre - R * n;
   result->delta_um = 1e3 * (result->contact - result->reported).norm();
@@ -458,7 +479,8 @@ ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const
     const double inverse_det = 1.0 / (GLL * Gzz - GLz * GLz);
     Eigen::Vector2d x((GLz * gz - Gzz * gL) * inverse_det, (GLz * gL - GLL * gz) * inverse_det);
     x += Eigen::Vector2d(L0, z0);
-    if (!(x - Eigen::Vector2d(L0, z0)).allFinite() || (x - Eigen::Vector2d(L0, z0)).norm() > R) {
+    if (!(x - Eigen::Vector2d(L0, z0)).allFinite() ||
+        (x - Eigen::Vector2d(L0, z0)).squaredNorm() > R * R) {
       x = Eigen::Vector2d(L0, z0);
     }
     s = local_solve<kHelical>(flank, extent, p, n, R, x, anchor);
@@ -504,7 +526,16 @@ ContactResult solve(const AnalyticFlank& flank, const FlankExtent& extent, const
       for (const double c : modification->profile_kinks) {
         if (c <= extent.roll_length_min || c >= extent.roll_length_max) continue;
         if (std::abs(c - s.x[0]) > 2.0 * R + 1.0) continue;
-        if (solve_on_ridge<kHelical>(flank, extent, p, n, R, L0, z0, start, c, &result)) {
+        if (solve_on_ridge<kHelical>(flank, extent, p, n, R, L0, z0, s.x, start, c, false,
+                                     &result)) {
+          return result;
+        }
+      }
+      for (const double c : modification->helix_kinks) {
+        if (c <= extent.z_min || c >= extent.z_max) continue;
+        if (std::abs(c - s.x[1]) > 2.0 * R + 1.0) continue;
+        if (solve_on_ridge<kHelical>(flank, extent, p, n, R, L0, z0, s.x, start, c, true,
+                                     &result)) {
           return result;
         }
       }

@@ -130,8 +130,8 @@ constexpr int kRunoutCheckGears = 8;
 namespace {
 
 // gear: modifications: the design flank (gears/flank_modifications.h). Each relief needs its
-// amount and length; `shape: linear` (a kink in the flank) for the tip and root reliefs, refused
-// for the end relief (a kink across the face: not modelled).
+// amount and length; `shape: linear` (a kink in the flank: along the face for the tip and root
+// reliefs, across it for the end relief) or circular (the default).
 FlankModifications read_modifications(const YamlMap& m, InputWarnings* warnings) {
   const RangeTable& r = gear_ranges();
   FlankModifications out;
@@ -148,12 +148,6 @@ FlankModifications read_modifications(const YamlMap& m, InputWarnings* warnings)
     into->amount_um = *amount;
     into->length_mm = *length;
     const std::optional<std::string> shape = map->get_choice("shape", key_choices(path + ".shape"));
-    if (shape && *shape == "linear" && name == "end_relief") {
-      throw map->find("shape")->error(
-          "circular: a linear end relief (a kink across the face) is not modelled in this "
-          "version; linear tip and root reliefs are, and the circular end relief (an arc tangent "
-          "to the flank) is");
-    }
     into->linear = shape && *shape == "linear";
   };
   relief("tip_relief", &out.tip_relief);

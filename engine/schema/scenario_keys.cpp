@@ -233,9 +233,10 @@ std::vector<ScenarioKey> make_table() {
     reliefs.push_back(choice_key(
         path + ".shape", {"circular", "linear"}, "circular",
         name == "end_relief"
-            ? "circular: an arc tangent to the flank; linear (a kink across the face): not "
-              "modelled, refused"
-            : "circular: an arc tangent to the flank; linear: a straight line from a kink"));
+            ? "circular: an arc tangent to the flank; linear: a straight line from a kink across "
+              "the face"
+            : "circular: an arc tangent to the flank; linear: a straight line from a kink along "
+              "the face"));
   }
   const auto after = std::find_if(
       t.begin(), t.end(), [](const ScenarioKey& k) { return k.key == "gear.modifications"; });
