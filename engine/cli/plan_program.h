@@ -3,8 +3,9 @@
 // really run. Each planned point is matched to its flank of the scenario's gear
 // (engine/readings/point_matching.h: plan_from_dmis) and the plan replaces the scenario's grid
 // (probing.points: the program's points in its order; the grid keys, teeth, flanks and order
-// are then not used). A scenario with `evaluation:` is refused with it (the ISO 1328-1 traces
-// come from the grid).
+// are then not used). With `evaluation:` the ISO 1328-1 parameters come from the program's own
+// profile and helix traces (engine/evaluation/parameter_evaluation.h); dedicated evaluation
+// scans (`profile_points`, `helix_points`) are refused with it: the program does not run them.
 #pragma once
 
 #include <string>

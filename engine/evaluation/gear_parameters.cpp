@@ -61,8 +61,11 @@ ToleranceKind parameter_tolerance_kind(GearParameter p) {
 
 std::optional<TraceResult> evaluate_trace_over(std::span<const double> x, std::span<const double> d,
                                                double range_start, double range_end) {
-  // A sample on a range end counts (grid points are placed on the ends up to rounding).
-  const double eps = 1e-9 * std::max(1.0, std::abs(range_end - range_start));
+  // A sample on a range end counts: grid points are placed on the ends up to rounding, and a
+  // user's program (`--plan`) prints its coordinates rounded (to 0.1 µm or so: its matched roll
+  // lengths then differ from the ends by up to about a micrometre). 1 µm (x in mm) is far below
+  // any sample spacing of a trace.
+  const double eps = std::max(1e-9 * std::abs(range_end - range_start), 1e-3);
   std::vector<double> xs, ds;
   for (std::size_t i = 0; i < x.size() && i < d.size(); ++i) {
     if (x[i] >= range_start - eps && x[i] <= range_end + eps) {

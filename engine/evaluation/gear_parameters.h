@@ -45,7 +45,8 @@ struct TraceResult {
   double intercept_um = 0.0, slope_um_per_mm = 0.0;
   int samples = 0;  // samples within the range
 };
-// x ascending (mm), d in µm. Needs at least 3 samples within the range: nullopt otherwise.
+// x ascending (mm), d in µm. Needs at least 3 samples within the range (a sample within 1 µm of
+// an end counts): nullopt otherwise.
 std::optional<TraceResult> evaluate_trace_over(std::span<const double> x, std::span<const double> d,
                                                double range_start, double range_end);
 

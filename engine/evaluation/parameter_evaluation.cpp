@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/constants.h"
+#include "core/number_text.h"
 #include "engine/contact/contact.h"
 #include "engine/contact/tooth_space.h"
 #include "engine/effects/measurement_effect.h"
@@ -14,13 +15,38 @@
 namespace gearmc {
 namespace {
 
-// The grid coordinate nearest `target` (first on ties).
+// Distances to mid face or mid profile closer than this are a tie (mm): with an even number of
+// sections the two middle ones are equally far up to rounding, which must not decide.
+constexpr double kTieMm = 1e-6;
+
+// The grid coordinate nearest `target` (the first of a tie).
 int nearest(const std::vector<double>& values, double target) {
   int best = 0;
   for (int i = 1; i < static_cast<int>(values.size()); ++i) {
-    if (std::abs(values[i] - target) < std::abs(values[best] - target)) best = i;
+    if (std::abs(values[i] - target) < std::abs(values[best] - target) - kTieMm) best = i;
   }
   return best;
+}
+
+// A program's points closer than this in z (a transverse section) or in roll length (a helix
+// trace) run on one trace, mm: DMIS programs print coordinates to 0.1 µm or finer.
+constexpr double kSameTraceMm = 1e-3;
+// The fewest points of a trace in its evaluation range (evaluate_trace_over needs 3).
+constexpr int kMinTracePoints = 3;
+
+// Groups of `values` (indices) closer than kSameTraceMm to the group's first, in increasing value.
+std::vector<std::vector<std::size_t>> trace_groups(const std::vector<double>& values) {
+  std::vector<std::size_t> order(values.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t k = 0; k < order.size();) {
+    std::vector<std::size_t>& g = groups.emplace_back();
+    const double first = values[order[k]];
+    while (k < order.size() && values[order[k]] - first <= kSameTraceMm) g.push_back(order[k++]);
+  }
+  return groups;
 }
 
 }  // namespace
@@ -109,7 +135,90 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
       }
     }
   }
+  // Which points make each flank's traces.
+  program_ = !model.scenario().probing.points.empty();
+  trace_member_.resize(flanks.size());
+  flank_profile_z_.assign(flanks.size(), profile_z_);
+  flank_helix_L_.assign(flanks.size(), helix_L_);
+  for (std::size_t f = 0; f < flanks.size(); ++f) {
+    std::vector<unsigned char>& member = trace_member_[f];
+    member.assign(flanks[f].points.size(), 0);
+    if (program_) {
+      choose_program_traces(f);
+      continue;
+    }
+    for (std::size_t k = 0; k < member.size(); ++k) {
+      const PlanPoint& q = flanks[f].points[k];
+      if (spec.profile_points == 0 && q.j == grid_section_) member[k] |= kInProfile;
+      if (spec.helix_points == 0 && q.i == grid_column_) member[k] |= kInHelix;
+    }
+  }
+  if (program_) {
+    // Pitch and runout compare the teeth in one transverse section: the program's profile
+    // traces must share theirs.
+    double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+    for (std::size_t f = 0; f < flanks.size(); ++f) {
+      if (std::isnan(flank_profile_z_[f])) continue;
+      z_lo = std::min(z_lo, flank_profile_z_[f]);
+      z_hi = std::max(z_hi, flank_profile_z_[f]);
+    }
+    if (z_hi >= z_lo) profile_z_ = z_lo;
+    if (z_hi - z_lo > kSameTraceMm) {
+      for (const GearParameter p : {GearParameter::kfpt, GearParameter::kFp, GearParameter::kFr}) {
+        const auto at = std::find(parameters_.begin(), parameters_.end(), p);
+        if (at == parameters_.end()) continue;
+        parameters_.erase(at);
+        notes_.push_back(std::string(parameter_symbol(p)) +
+                         ": not evaluated, the program's profile traces are not in one transverse "
+                         "section (z " +
+                         short_text(z_lo) + " … " + short_text(z_hi) + " mm)");
+      }
+    }
+  }
   balls_ = ball_contacts(gear, ball_L_, profile_z_);
+}
+
+void ParameterEvaluator::choose_program_traces(std::size_t f) {
+  const PlanFlank& flank = model_.flanks()[f];
+  std::vector<unsigned char>& member = trace_member_[f];
+  std::vector<double> zs, Ls;
+  for (const PlanPoint& q : flank.points) {
+    zs.push_back(q.z_mm);
+    Ls.push_back(q.roll_length_mm);
+  }
+  // The profile trace: the section with the most points in the profile range (roll lengths
+  // between form and tip ends), ties to the one nearest mid face (of two as near, the lower z);
+  // the helix trace likewise (of two as near mid profile, the smaller roll length: on an external
+  // gear the grid's order, so a program of the grid's points evaluates as the grid).
+  const double mid_face = 0.5 * (helix_start_ + helix_end_);
+  const double L_lo = std::min(profile_start_, profile_end_) - kSameTraceMm;
+  const double L_hi = std::max(profile_start_, profile_end_) + kSameTraceMm;
+  const auto pick = [&](const std::vector<double>& across, bool profile) {
+    const std::vector<std::vector<std::size_t>> groups = trace_groups(across);
+    int best = -1, best_count = 0;
+    double best_distance = 0.0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      int count = 0;
+      for (const std::size_t k : groups[g]) {
+        const double along = profile ? Ls[k] : zs[k];
+        count += profile
+                     ? along >= L_lo && along <= L_hi
+                     : along >= helix_start_ - kSameTraceMm && along <= helix_end_ + kSameTraceMm;
+      }
+      const double distance = std::abs(across[groups[g].front()] - (profile ? mid_face : ball_L_));
+      if (count >= kMinTracePoints &&
+          (count > best_count || (count == best_count && distance < best_distance - kTieMm))) {
+        best = static_cast<int>(g), best_count = count, best_distance = distance;
+      }
+    }
+    if (best < 0) return std::numeric_limits<double>::quiet_NaN();
+    for (const std::size_t k : groups[static_cast<std::size_t>(best)]) {
+      member[k] |= profile ? kInProfile : kInHelix;
+    }
+    return across[groups[static_cast<std::size_t>(best)].front()];
+  };
+  flank_profile_z_[f] = pick(zs, true);
+  flank_helix_L_[f] = pick(Ls, false);
 }
 
 ParameterEvaluator::~ParameterEvaluator() = default;
@@ -132,10 +241,9 @@ ParameterEvaluator::Gear::Gear(const ParameterEvaluator& evaluator,
 void ParameterEvaluator::Gear::record(int flank_index, const PointMeasurement& m) {
   const PlanFlank& flank = e_.model_.flanks()[static_cast<std::size_t>(flank_index)];
   const std::size_t at = static_cast<std::size_t>(m.plan - flank.points.data());
-  // Only the points of the traces are kept (the grid's mid section and column).
-  const bool in_profile = e_.spec_.profile_points == 0 && m.plan->j == e_.grid_section_;
-  const bool in_helix = e_.spec_.helix_points == 0 && m.plan->i == e_.grid_column_;
-  if (!in_profile && !in_helix) return;
+  // Only the points of the traces are kept (the grid's mid section and column, or the
+  // program's traces).
+  if (e_.trace_member_[static_cast<std::size_t>(flank_index)][at] == 0) return;
   PointRecord& r = grid_[static_cast<std::size_t>(flank_index)][at];
   r.recorded = true;
   r.valid = m.valid();
@@ -249,7 +357,7 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       } else {
         for (std::size_t k = 0; k < flank.points.size(); ++k) {
           const PlanPoint& q = flank.points[k];
-          if (profile ? q.j != e_.grid_section_ : q.i != e_.grid_column_) continue;
+          if (!(e_.trace_member_[f][k] & (profile ? kInProfile : kInHelix))) continue;
           samples.push_back(
               {profile ? ps * q.roll_length_mm : q.z_mm, &grid_[f][k], q.roll_length_mm, q.z_mm});
         }
@@ -259,6 +367,14 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       return samples;
     };
     for (const bool profile : {true, false}) {
+      if (std::isnan(profile ? e_.flank_profile_z_[f] : e_.flank_helix_L_[f])) {
+        // A program with no such trace on this flank: its values are not evaluated.
+        const std::vector<double> none(variants, kNaN);
+        put(profile ? GearParameter::kFalpha : GearParameter::kFbeta, s, none, kNaN);
+        put(profile ? GearParameter::kfHalpha : GearParameter::kfHbeta, s, none, kNaN);
+        put(profile ? GearParameter::kffalpha : GearParameter::kffbeta, s, none, kNaN);
+        continue;
+      }
       const std::vector<Sample> samples = trace_samples(profile);
       std::vector<double> x;
       std::vector<std::vector<double>> d(variants);
@@ -292,8 +408,8 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       std::vector<double> xd(n_dense), dd(n_dense);
       for (int i = 0; i < n_dense; ++i) {
         xd[i] = a + (b - a) * i / (n_dense - 1);
-        dd[i] = profile ? true_deviation(ps * xd[i], e_.profile_z_)
-                        : true_deviation(e_.helix_L_, xd[i]);
+        dd[i] = profile ? true_deviation(ps * xd[i], e_.flank_profile_z_[f])
+                        : true_deviation(e_.flank_helix_L_[f], xd[i]);
       }
       const auto dense = evaluate_trace_over(xd, dd, a, b);
       std::vector<std::optional<TraceResult>> results(variants);

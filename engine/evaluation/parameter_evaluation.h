@@ -1,7 +1,10 @@
 // The ISO 1328-1 parameters of every simulated measurement and of the real gear it measured
 // (docs/parameters.md). Per probed flank one profile trace (at mid face) and one helix trace (at
 // mid profile), either the probing grid's own section and column or a dedicated denser scan
-// probed through the same measurement pipeline (contact, effects). Each parameter gets three
+// probed through the same measurement pipeline (contact, effects); with a user's program as the
+// plan (`--plan`), per flank the program's own traces: the transverse section with the most
+// points in the profile range and the roll length with the most points in the helix range (ties:
+// the nearest to mid face, mid profile), at least 3 points each. Each parameter gets three
 // values: `measured` from the reported points (every enabled effect), `true_points` — the same
 // evaluation of the real surface at the same nominal points (so measured − true_points is the
 // measurement error alone) — and `true_dense`, from a dense trace of the real surface (the gear's
@@ -79,6 +82,8 @@ class ParameterEvaluator {
   bool evaluates(GearParameter p) const;
   // Why a parameter of `all` was left out (e.g. "f_pt, F_p, F_r: not every tooth is probed").
   const std::vector<std::string>& notes() const { return notes_; }
+  // Whether the traces are a user's program's own (see the file comment).
+  bool program_traces() const { return program_; }
   // The evaluation ranges used, mm.
   double profile_start_mm() const { return profile_start_; }
   double profile_end_mm() const { return profile_end_; }
@@ -124,6 +129,15 @@ class ParameterEvaluator {
   double reference_L_ = 0, ball_L_ = 0;  // pitch circle and ball contacts (roll lengths)
   double transverse_per_normal_ = 1;     // 1 / cos(beta_b): normal to transverse deviation
   int grid_section_ = 0, grid_column_ = 0;
+  bool program_ = false;  // the plan is a user's program (MeasurementModel's explicit points)
+  // Per flank (MeasurementModel::flanks() order) and plan point: kInProfile | kInHelix when the
+  // point belongs to the flank's profile or helix trace (the grid's section and column, or the
+  // program's traces); and where the flank's traces run (z of its profile trace, L of its helix
+  // trace, mm).
+  static constexpr unsigned char kInProfile = 1, kInHelix = 2;
+  std::vector<std::vector<unsigned char>> trace_member_;
+  std::vector<double> flank_profile_z_, flank_helix_L_;
+  void choose_program_traces(std::size_t flank_index);
   std::vector<PlanFlank> scans_;  // dedicated scans per probed flank (empty: the grid)
   std::vector<BallContact> balls_;
 };

@@ -4,9 +4,11 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
+#include <string>
 #include <tuple>
 
 #include "core/input_error.h"
@@ -20,6 +22,8 @@ constexpr double kEdgeTolerance = 1e-6;   // mm: a foot this far past the flank'
 constexpr double kMaxHintAngleDeg = 5.0;  // a normal hint further off refuses the point
 constexpr double kSameSectionMm = 1e-3;   // heights closer than this: one section
 constexpr std::size_t kNamedRefusals = 10;
+// Points of a refused table sampled to say what it fits (describe_misfit).
+constexpr std::size_t kMisfitSample = 200;
 constexpr double kPlanPointToleranceMm = 1e-3;   // a program's nominal point off the flank
 constexpr double kPlanVectorToleranceDeg = 1.0;  // its vector off the flank's normal
 
@@ -182,6 +186,147 @@ std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
   return plan;
 }
 
+namespace {
+
+// Whether M (mm) fits a flank of `gear` (its foot on the active flank, its distance within the
+// allowance; a stylus centre R further out).
+bool fits_a_flank(const InvoluteGear& gear, const Eigen::Vector3d& M, double offset_mm,
+                  double allowance_mm) {
+  const FlankMatch m = match_to_flank(gear, M);
+  const double L_lo = std::min(gear.active_roll_length_min_mm(), gear.active_roll_length_max_mm());
+  const double L_hi = std::max(gear.active_roll_length_min_mm(), gear.active_roll_length_max_mm());
+  return m.found && m.roll_length_mm >= L_lo - kEdgeTolerance &&
+         m.roll_length_mm <= L_hi + kEdgeTolerance && m.z_mm >= -kEdgeTolerance &&
+         m.z_mm <= gear.face_width_mm() + kEdgeTolerance &&
+         std::abs(m.signed_distance_mm - offset_mm) <= allowance_mm;
+}
+
+Eigen::Vector3d turned(const Eigen::Vector3d& p, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z()};
+}
+
+}  // namespace
+
+std::string describe_misfit(const InvoluteGear& gear, const UnlabelledPoints& table,
+                            double allowance_mm) {
+  if (table.points.empty()) return "";
+  const double offset = table.kind == MeasuredPointKind::kStylusCentre ? table.stylus_radius_mm : 0;
+  // A sample spread over the file (the whole file when small).
+  std::vector<Eigen::Vector3d> sample;
+  const std::size_t n = table.points.size(), take = std::min<std::size_t>(n, kMisfitSample);
+  for (std::size_t k = 0; k < take; ++k) sample.push_back(table.points[k * n / take].measured);
+  std::vector<double> radii;
+  double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+  for (const Eigen::Vector3d& p : sample) {
+    radii.push_back(std::hypot(p.x(), p.y()));
+    z_lo = std::min(z_lo, p.z());
+    z_hi = std::max(z_hi, p.z());
+  }
+  std::sort(radii.begin(), radii.end());
+  const double r_median = radii[radii.size() / 2];
+  const double r_form = 0.5 * gear.diameter_at_roll_length(gear.active_roll_length_min_mm());
+  const double r_tip = 0.5 * gear.diameter_at_roll_length(gear.active_roll_length_max_mm());
+  const double r_lo = std::min(r_form, r_tip) - offset, r_hi = std::max(r_form, r_tip) + offset;
+  const double b = gear.face_width_mm();
+  std::ostringstream out;
+  out << "the points lie " << short_text(radii.front()) << " … " << short_text(radii.back())
+      << " mm from the z axis at z " << short_text(z_lo) << " … " << short_text(z_hi)
+      << " mm; this gear's flanks run " << short_text(std::min(r_form, r_tip)) << " … "
+      << short_text(std::max(r_form, r_tip)) << " mm from it, z 0 … " << short_text(b) << " mm";
+  // A unit: a scale that puts the median radius on the flanks.
+  struct Scale {
+    double factor;
+    const char* what;
+  };
+  for (const Scale s :
+       {Scale{25.4, "inch read as mm (`unit: inch`)"},
+        Scale{1.0 / 25.4, "mm read as inch (`unit: mm`)"},
+        Scale{1e-3, "µm read as mm (`unit: um`)"}, Scale{1e3, "mm read as µm (`unit: mm`)"}}) {
+    if (r_median * s.factor >= r_lo && r_median * s.factor <= r_hi) {
+      out << ". Scaled by " << short_text(s.factor)
+          << " they would lie at the flanks' radii: " << s.what << "? Check the mapping's `unit:`";
+      return out.str();
+    }
+  }
+  if (!(r_median >= r_lo - 2 * gear.module_mm() && r_median <= r_hi + 2 * gear.module_mm())) {
+    out << ": another gear, or another centre (the gear's axis must be the z axis)";
+    return out.str();
+  }
+  // The face: a z datum elsewhere than the lower face (e.g. the upper one, or mid face).
+  double shift = 0.0;
+  if (z_lo < -kEdgeTolerance || z_hi > b + kEdgeTolerance) {
+    if (z_hi - z_lo <= b + kEdgeTolerance) shift = z_lo < 0 ? -z_lo : b - z_hi;
+  }
+  // The gear turned about its axis: the rotation (within one pitch) that fits most sampled
+  // points, coarse (ten times the allowance) then fine.
+  const double r_max = std::max(r_hi, 1.0);
+  const double pitch = 2.0 * std::numbers::pi / gear.teeth();
+  const auto count_at = [&](double angle, double allowance) {
+    int fits = 0;
+    for (const Eigen::Vector3d& p : sample) {
+      fits +=
+          fits_a_flank(gear, turned(p + Eigen::Vector3d(0, 0, shift), angle), offset, allowance);
+    }
+    return fits;
+  };
+  // The run of angles (step `step` over [from, to]) where most points fit, as (count, lo, hi):
+  // the first run of the largest count.
+  struct Run {
+    int count = -1;
+    double lo = 0.0, hi = 0.0;
+  };
+  const auto best_run = [&](double from, double to, double step, double allowance) {
+    Run run;
+    bool extending = false;
+    for (double a = from; a <= to; a += step) {
+      const int c = count_at(a, allowance);
+      if (c > run.count) {
+        run = {c, a, a};
+        extending = true;
+      } else if (c == run.count && extending) {
+        run.hi = a;
+      } else {
+        extending = false;
+      }
+    }
+    return run;
+  };
+  const double coarse = 10.0 * allowance_mm / r_max, fine = allowance_mm / (2.0 * r_max);
+  const Run wide = best_run(-0.5 * pitch, 0.5 * pitch, coarse, 10.0 * allowance_mm);
+  const Run narrow = best_run(wide.lo - coarse, wide.hi + coarse, fine, allowance_mm);
+  const int best_fine = narrow.count;
+  const double angle = 0.5 * (narrow.lo + narrow.hi);
+  const bool turned_fits = 10 * best_fine >= 9 * static_cast<int>(sample.size());
+  const bool shift_matters = shift != 0.0;
+  if (turned_fits && (std::abs(angle) > fine || shift_matters)) {
+    out << ". ";
+    if (shift_matters) {
+      out << "Shifted by " << short_text(shift) << " mm in z (at least: into the face)";
+      if (std::abs(angle) > fine) out << " and turned";
+    } else {
+      out << "Turned";
+    }
+    if (std::abs(angle) > fine) {
+      out << " by " << short_text(angle * 180.0 / std::numbers::pi, 4)
+          << "° about the z axis (counter-clockwise seen from +z)";
+    }
+    out << ", " << best_fine << " of " << sample.size()
+        << " sampled points fit its flanks: the part was set up ";
+    if (shift_matters) out << "with another z datum";
+    if (shift_matters && std::abs(angle) > fine) out << " and ";
+    if (std::abs(angle) > fine) {
+      out << "turned by " << short_text(-angle * 180.0 / std::numbers::pi, 4)
+          << "° against the model (tooth 1's flanks not where the model has them)";
+    }
+    out << "; align the set-up to the model's datums (docs/formats.md) or transform the "
+           "coordinates";
+    return out.str();
+  }
+  out << ": no unit, z datum or turn about the axis makes them fit; another gear?";
+  return out.str();
+}
+
 Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoints& table,
                                  double allowance_mm, MatchingSummary* summary) {
   const double R = table.stylus_radius_mm;
@@ -271,7 +416,8 @@ Readings match_unlabelled_points(const InvoluteGear& gear, const UnlabelledPoint
             "," + short_text(first_refused->measured.z()),
         "points of the model's gear (" + std::to_string(gear.teeth()) + " teeth, m " +
             short_text(gear.module_mm()) + " mm): " + std::to_string(s.refused) + " of " +
-            std::to_string(s.points) + " points fit none of its flanks; this one: " + first_reason);
+            std::to_string(s.points) + " points fit none of its flanks; this one: " + first_reason +
+            "; " + describe_misfit(gear, table, allowance_mm));
   }
   if (s.refused > 0) {
     std::string w = std::to_string(s.refused) + " of " + std::to_string(s.points) +

@@ -68,6 +68,14 @@ std::vector<ExplicitPlanPoint> plan_from_dmis(const InvoluteGear& gear,
                                               const std::vector<DmisPlanFeature>& features,
                                               const std::string& source);
 
+// Why a table's points fit no flank of `gear`, for its refusal: where they lie (radii from the z
+// axis, z range) against the gear's flanks, and the systematic cause when one explains them — a
+// unit (scaled by 25.4, 1/25.4, 1e-3 or 1e3 their median radius lies on the flanks), a z datum
+// other than the lower face, or the part turned about its axis (the rotation within one pitch,
+// searched to half the allowance over up to 200 sampled points, that fits 90 % of them).
+std::string describe_misfit(const InvoluteGear& gear, const UnlabelledPoints& table,
+                            double allowance_mm);
+
 // What the matching did, for diagnosis.json's `matching` block.
 struct MatchingSummary {
   std::size_t points = 0;                               // in the table

@@ -182,11 +182,19 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
   how["profile_range_mm"] = {e.profile_start_mm(), e.profile_end_mm()};
   how["helix_range_mm"] = {e.helix_start_mm(), e.helix_end_mm()};
   how["profile_trace"] =
-      spec.profile_points > 0
+      e.program_traces()
+          ? std::string(
+                "per flank the program's transverse section with the most points in the "
+                "profile range (ties: nearest mid face)")
+      : spec.profile_points > 0
           ? "dedicated scan of " + std::to_string(spec.profile_points) + " points at mid face"
           : std::string("the probing grid's section nearest mid face");
   how["helix_trace"] =
-      spec.helix_points > 0
+      e.program_traces()
+          ? std::string(
+                "per flank the program's roll length with the most points in the helix "
+                "range (ties: nearest mid profile)")
+      : spec.helix_points > 0
           ? "dedicated scan of " + std::to_string(spec.helix_points) + " points at mid profile"
           : std::string("the probing grid's column nearest mid profile");
   how["truth_points"] = spec.truth_points;

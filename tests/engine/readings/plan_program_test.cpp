@@ -8,9 +8,16 @@
 //    i 0 … 19 along the profile in one section, each nominal point the program's to its
 //    rounding (7 decimals of an inch: 1.27e-6 mm per coordinate, 2.2e-6 mm in all);
 //  * the program `export-plan` writes for the helical example drives `run` exactly as the
-//    scenario's own grid does (the same statistics in summary.json to 1e-9 µm);
+//    scenario's own grid does (the same statistics in summary.json to 1e-9 µm, the ISO 1328-1
+//    parameters to 1e-5 µm: the program's traces are the grid's mid section and column);
+//  * a hand-written program of one profile trace and one helix trace per flank on a gear with a
+//    deterministic linear deviation k_L L + k_z z (deviations.normal_um): the evaluation takes
+//    the program's traces and states f_Hα = k_L L_α and f_Hβ = k_z L_β (a straight line's rise
+//    over the evaluation range), F_α and F_β the rise over the trace's own points (over the
+//    range for the true values), no form deviation; L_α from the form and tip circles of
+//    docs/scenarios.md (d_Ff 133.328 mm, d_a 155.693 mm) and the base circle m z cos α;
 //  * a point 50 µm off the flank, and one whose vector is 5° off the normal, are refused at their
-//    statement (exit 2, file:line:column), and so is `--plan` with `evaluation:`.
+//    statement (exit 2, file:line:column), and so is `--plan` with dedicated evaluation scans.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -117,6 +124,7 @@ TEST(PlanProgram, TheExportedProgramRunsAsTheScenariosGrid) {
              "hand: right, profile_shift: 0.2, face_width_mm: 40}\n"
              "tolerances: {standard: iso_1328_1_2013, grade: 6}\n"
              "probing: {points_along_profile: 6, sections_across_face: 4, teeth: [2, 9, 17]}\n"
+             "evaluation: {parameters: all}\n"
              "run: {gears: 3}\n");
   const std::string s = (dir / "h.yaml").string(), plan = (dir / "h.dmi").string();
   ASSERT_EQ(run_gearmc("export-plan " + s + " --format dmis --out " + plan).exit_code, 0);
@@ -138,6 +146,108 @@ TEST(PlanProgram, TheExportedProgramRunsAsTheScenariosGrid) {
       EXPECT_NEAR(value.get<double>(), b["delta_rcomp_um"][group][name].get<double>(), 1e-9)
           << group << "." << name;
     }
+  }
+  // The gear parameters: the program's traces are the grid's section nearest mid face and
+  // column nearest mid profile (every section and column has as many points: the ties decide).
+  ASSERT_TRUE(a.contains("parameters"));
+  int compared = 0;
+  for (const auto& [symbol, sides] : a["parameters"].items()) {
+    for (const auto& [side, values] : sides.items()) {
+      if (!values.contains("measured")) continue;
+      for (const char* which : {"measured", "true"}) {
+        for (const char* stat : {"mean", "std", "max"}) {
+          if (!values[which][stat].is_number()) continue;
+          // The program's nominals are rounded to 1 nm: a trace point sits up to ~2 nm along the
+          // flank from the grid's, its deviation differs by the slope (µm/mm) times that.
+          EXPECT_NEAR(values[which][stat].get<double>(),
+                      b["parameters"][symbol][side][which][stat].get<double>(), 1e-5)
+              << symbol << "." << side << "." << which << "." << stat;
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_GE(compared, 6 * 2 * 2 * 3);  // six profile and helix parameters, both sides
+  EXPECT_EQ(b["parameter_evaluation"]["profile_trace"],
+            "per flank the program's transverse section with the most points in the profile "
+            "range (ties: nearest mid face)");
+}
+
+TEST(PlanProgram, AProgramsOwnTracesAreEvaluated) {
+  const fs::path dir = testing_support::fresh_temp_path("plan_program_traces");
+  fs::create_directories(dir);
+  const PolarInvolute g;
+  // Per flank R of teeth 3 and 7: a profile trace of 15 points at z = 30 mm (radii 67.0 … 77.6
+  // mm, inside the form and tip circles) and a helix trace of 12 points at r = 72 mm (z 1 …
+  // 77 mm), in program order profile then helix; plus one stray point (z 50, r 70) that belongs
+  // to neither trace.
+  std::ostringstream program;
+  program << "DMISMN/'profile and helix traces',05.3\nUNITS/MM,ANGDEC\n";
+  int label = 0;
+  const auto point = [&](int tooth, double r, double z) {
+    const Eigen::Vector2d P = g.point(tooth, r), n = g.normal(tooth, r);
+    const std::string name = "P" + std::to_string(label++);
+    program << "F(" << name << ")=FEAT/POINT,CART," << fixed(P.x(), 7) << "," << fixed(P.y(), 7)
+            << "," << fixed(z, 7) << "," << fixed(n.x(), 9) << "," << fixed(n.y(), 9) << ",0\n"
+            << "MEAS/POINT,F(" << name << "),1\nPTMEAS/CART," << fixed(P.x(), 7) << ","
+            << fixed(P.y(), 7) << "," << fixed(z, 7) << "," << fixed(n.x(), 9) << ","
+            << fixed(n.y(), 9) << ",0\nENDMES\n";
+  };
+  for (const int tooth : {3, 7}) {
+    for (int i = 0; i < 15; ++i) point(tooth, 67.0 + 10.6 * i / 14.0, 30.0);
+    for (int j = 0; j < 12; ++j) point(tooth, 72.0, 1.0 + 76.0 * j / 11.0);
+    point(tooth, 70.0, 50.0);
+  }
+  program << "ENDFIL\n";
+  write_text(dir / "traces.dmi", program.str());
+  // A deterministic deviation, linear in L and z (µm; L, z in mm), no machine effects.
+  const double kL = 0.4, kz = -0.05;
+  write_text(dir / "gear.yaml",
+             "name: program_traces\n"
+             "gear: {teeth: 24, module_mm: 5.6, pressure_angle_deg: 20, profile_shift: 0.90116, "
+             "face_width_mm: 78.89, basic_rack: {addendum: 1.0, dedendum: 1.25, root_radius: "
+             "0.38}}\n"
+             "tolerances: {standard: iso_1328_1_2013, grade: 6}\n"
+             "deviations: {random: false, normal_um: \"0.4 * L - 0.05 * z\"}\n"
+             "evaluation: {parameters: [F_alpha, f_Halpha, f_falpha, F_beta, f_Hbeta, f_fbeta], "
+             "profile_end_fraction: 1, helix_end_exclusion_mm: 0}\n"
+             "run: {gears: 2}\n");
+  const auto r = run_gearmc("run " + (dir / "gear.yaml").string() + " --plan " +
+                            (dir / "traces.dmi").string() + " --out " + (dir / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto s = nlohmann::json::parse(read_text(dir / "out" / "summary.json"));
+  // The evaluation ranges: L from the form to the tip circle, z over the whole face.
+  const double rb = g.rb();
+  const auto roll = [&](double d) { return std::sqrt(0.25 * d * d - rb * rb); };
+  const auto& how = s["parameter_evaluation"];
+  EXPECT_NEAR(how["profile_range_mm"][0].get<double>(), roll(133.328), 2e-3);
+  EXPECT_NEAR(how["profile_range_mm"][1].get<double>(), roll(155.693), 2e-3);
+  EXPECT_NEAR(how["helix_range_mm"][1].get<double>(), 78.89, 1e-12);
+  const double L_alpha =
+      how["profile_range_mm"][1].get<double>() - how["profile_range_mm"][0].get<double>();
+  const double L_beta = 78.89;
+  // The total deviation is the spread of the trace's own points: k_L over their roll lengths
+  // (r 67.0 … 77.6 mm, L = sqrt(r² − r_b²)) and k_z over their z (1 … 77 mm).
+  const double L_span = roll(2 * 77.6) - roll(2 * 67.0), z_span = 76.0;
+  const auto& p = s["parameters"];
+  const auto stat = [&](const char* symbol, const char* which) {
+    const auto& v = p[symbol]["right"];
+    EXPECT_EQ(v["items"], 4) << symbol;  // two flanks, two gears
+    EXPECT_EQ(v["not_evaluated"], 0) << symbol;
+    return v[which]["mean"].get<double>();
+  };
+  // A straight deviation's rise over the range (the slope deviation), its total and no form;
+  // the probing error of a 0.5 mm ball on slopes of 0.4 µm/mm is far below 1 nm. The measured
+  // total spans the trace's own points, the true one (the real surface's dense trace) the range.
+  for (const char* which : {"measured", "true"}) {
+    const bool measured = std::string(which) == "measured";
+    EXPECT_NEAR(stat("f_Halpha", which), kL * L_alpha, 2e-3) << which;
+    EXPECT_NEAR(stat("F_alpha", which), std::abs(kL) * (measured ? L_span : L_alpha), 2e-3)
+        << which;
+    EXPECT_NEAR(stat("f_falpha", which), 0.0, 2e-3) << which;
+    EXPECT_NEAR(stat("f_Hbeta", which), kz * L_beta, 2e-3) << which;
+    EXPECT_NEAR(stat("F_beta", which), std::abs(kz) * (measured ? z_span : L_beta), 2e-3) << which;
+    EXPECT_NEAR(stat("f_fbeta", which), 0.0, 2e-3) << which;
   }
 }
 
@@ -171,15 +281,18 @@ TEST(PlanProgram, PointsOffTheGearAreRefusedAtTheirStatement) {
     EXPECT_NE(r.err.find(why[k]), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / ("out" + std::to_string(k))));
   }
-  // With `evaluation:` the plan is refused (the ISO 1328-1 traces come from the grid).
+  // With dedicated evaluation scans the plan is refused (the program does not run them).
   write_text(dir / "good.dmi", "UNITS/MM,ANGDEC\n" + statement(P, n));
   write_text(dir / "eval.yaml",
              read_text(fs::path(GEARMC_SOURCE_DIR) / "scenarios" / "p1_reference.yaml") +
-                 "evaluation: {parameters: [f_Halpha]}\n");
+                 "evaluation: {parameters: [f_Halpha], profile_points: 30}\n");
   const auto e = run_gearmc("run " + (dir / "eval.yaml").string() + " --plan " +
                             (dir / "good.dmi").string() + " --out " + (dir / "eval").string());
   EXPECT_EQ(e.exit_code, 2);
-  EXPECT_NE(e.err.find("drop `evaluation:` to run a program's plan"), std::string::npos) << e.err;
+  EXPECT_NE(e.err.find("drop them to evaluate the program's own profile and helix traces"),
+            std::string::npos)
+      << e.err;
+  EXPECT_FALSE(fs::exists(dir / "eval"));
   // The good point alone runs.
   const auto ok = run_gearmc("run --gears 2 --plan " + (dir / "good.dmi").string() + " --out " +
                              (dir / "ok").string());

@@ -174,6 +174,65 @@ TEST(PointMatching, PointsOffTheFlankAreRefusedWithTheirLines) {
   }
 }
 
+// A file that fits no flank for a systematic reason says which (describe_misfit): profile scans
+// on four teeth of P1's gear (both flanks, 12 points each, z 20 and 50 mm), then the same points
+// (a) turned by 1.5° about the z axis (a part clamped turned against the model's tooth 1): the
+// message names a turn back of -1.5° within the search's step (allowance / 2 r_tip: 0.037°);
+// (b) divided by 25.4 (an inch file read as mm): the unit; (c) shifted by -78.89 mm in z (the
+// upper face as the z datum): the least shift into the face, 58.89 mm; (d) scaled by 1.3 about the
+// axis (another gear): neither, and the radii said.
+TEST(PointMatching, ASystematicallyOffFileSaysWhatItFits) {
+  const InvoluteGear g = p1_gear();
+  const double L0 = g.active_roll_length_min_mm(), L1 = g.active_roll_length_max_mm();
+  std::vector<Eigen::Vector3d> points;
+  for (int tooth : {1, 7, 13, 19}) {
+    for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      for (double z : {20.0, 50.0}) {
+        for (int i = 0; i < 12; ++i) {
+          points.push_back(
+              g.flank_point(tooth, side, L0 + (L1 - L0) * (0.05 + 0.9 * i / 11.0), z).point);
+        }
+      }
+    }
+  }
+  const auto message = [&](const std::vector<Eigen::Vector3d>& moved) {
+    try {
+      match_unlabelled_points(g, table_of(moved), 0.1, nullptr);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  ASSERT_EQ(message(points), "no error");  // the points themselves fit
+  const auto transformed = [&](auto f) {
+    std::vector<Eigen::Vector3d> out;
+    for (const Eigen::Vector3d& p : points) out.push_back(f(p));
+    return out;
+  };
+  const double turn = 1.5 * std::numbers::pi / 180.0;
+  const std::string turned = message(transformed([&](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(std::cos(turn) * p.x() - std::sin(turn) * p.y(),
+                           std::sin(turn) * p.x() + std::cos(turn) * p.y(), p.z());
+  }));
+  const std::size_t at = turned.find("Turned by ");
+  ASSERT_NE(at, std::string::npos) << turned;
+  EXPECT_NEAR(std::stod(turned.substr(at + 10)), -1.5, 0.037) << turned;
+  EXPECT_NE(turned.find("192 of 192 sampled points fit its flanks"), std::string::npos) << turned;
+  const std::string inch =
+      message(transformed([](const Eigen::Vector3d& p) { return Eigen::Vector3d(p / 25.4); }));
+  EXPECT_NE(inch.find("Scaled by 25.4 they would lie at the flanks' radii: inch read as mm"),
+            std::string::npos)
+      << inch;
+  const std::string datum = message(transformed(
+      [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p - Eigen::Vector3d(0, 0, 78.89)); }));
+  EXPECT_NE(datum.find("Shifted by 58.89 mm in z"), std::string::npos) << datum;
+  EXPECT_EQ(datum.find("Turned"), std::string::npos) << datum;
+  const std::string other = message(transformed(
+      [](const Eigen::Vector3d& p) { return Eigen::Vector3d(1.3 * p.x(), 1.3 * p.y(), p.z()); }));
+  EXPECT_NE(other.find("another gear, or another centre"), std::string::npos) << other;
+  EXPECT_NE(other.find("this gear's flanks run 66.6"), std::string::npos) << other;
+}
+
 // A measured point 0.4 mm off its flank, in the middle of P1's tooth space where the facing flank
 // is about as near: the nominal point hint keeps it on its own flank (and it is then refused as
 // too far, rather than matched to the wrong flank); without the hint it goes to the nearer one.
