@@ -130,5 +130,56 @@ TEST(LinearReliefContact, EndReliefAgreesWithBruteForceAcrossAndOnTheRidge) {
   EXPECT_GT(on_ridge, 0);  // the ridge cases are exercised
 }
 
+// Where a linear tip relief's ridge (along the face) crosses a linear end relief's ridge (across
+// it), the ball can rest on the corner, on both creases at once. Whatever the solver says there
+// must be true: every `ok` contact within 1 nm of the brute-force search, anything else a counted
+// status (`uncertified`, `not converged`), never a wrong point. Points on a 5 × 5 pattern of a few
+// µm around each of the four corners of a flank (spur and helical), two stylus radii.
+TEST(LinearReliefContact, CornersOfTwoRidgesAreRightOrCounted) {
+  int ok = 0, counted = 0;
+  double worst = 0.0;
+  for (int kind = 0; kind < 2; ++kind) {  // spur, helical
+    GearParameters p = kind == 1 ? testing_support::helical_gear_parameters()
+                                 : testing_support::p1_gear_parameters();
+    p.modifications.tip_relief = {30.0, 2.0, true};
+    p.modifications.end_relief = {20.0, 0.2 * p.face_width_mm, true};
+    ASSERT_EQ(validate_gear_parameters(p), "");
+    const InvoluteGear gear(p);
+    const DesignModification& design = *gear.design_modification();
+    ASSERT_EQ(design.profile_kinks.size(), 1u);
+    ASSERT_EQ(design.helix_kinks.size(), 2u);
+    const FlankDeviation none;
+    const FlankExtent extent = extent_of(gear);
+    for (FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
+      const AnalyticFlank flank(gear, 2, side, none, Eigen::Vector2d(0.0, 0.0));
+      for (const double cz : design.helix_kinks) {
+        const double cL = design.profile_kinks[0];
+        for (const double dL : {-0.004, -0.001, 0.0, 0.001, 0.004}) {
+          for (const double dz : {-0.004, -0.001, 0.0, 0.001, 0.004}) {
+            for (const double R : {0.5, 1.0}) {
+              const double L = cL + dL, z = cz + dz;
+              const FlankPoint fp = gear.flank_point(2, side, L, z);
+              const ContactResult r = solve_contact(flank, extent, fp.point, fp.normal, R, L, z);
+              if (r.status != ContactResult::Status::kOk) {
+                ++counted;
+                EXPECT_NE(r.status, ContactResult::Status::kEdge) << L << " " << z;
+                continue;
+              }
+              const testing_support::BruteForcePoints s =
+                  testing_support::brute_force_contact_points(flank, fp.point, fp.normal, R, L, z);
+              EXPECT_LT((s.centre - r.centre).norm(), 1e-6) << kind << " " << dL << " " << dz;
+              worst = std::max(worst, (s.centre - r.centre).norm());
+              ++ok;
+            }
+          }
+        }
+      }
+    }
+  }
+  std::printf("ridge corners: %d ok (worst |O - O_brute| %.3g nm), %d with a counted status\n", ok,
+              1e6 * worst, counted);
+  EXPECT_GT(ok, 0);
+}
+
 }  // namespace
 }  // namespace gearmc
