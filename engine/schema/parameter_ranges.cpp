@@ -68,13 +68,13 @@ const RangeTable& gear_ranges() {
           "ISO 53 root radius 0.25–0.39 m", ""},
          {"gear.modifications.profile_crowning_um", "µm", closed(0, 1000), 0, 30,
           "profile crownings of a few µm (design practice, recalled)",
-          "a value in mm? (0.005 mm = 5 µm)"},
+          "a value in mm? (0.005 mm = 5 µm)", false, SlipSide::kBelow},
          {"gear.modifications.helix_crowning_um", "µm", closed(0, 1000), 0, 50,
           "helix crownings of a few to tens of µm (design practice, recalled)",
-          "a value in mm? (0.01 mm = 10 µm)"},
+          "a value in mm? (0.01 mm = 10 µm)", false, SlipSide::kBelow},
          {"gear.modifications.helix_slope_um", "µm", closed(-1000, 1000), -50, 50,
           "helix slope modifications of tens of µm over the face (design practice, recalled)",
-          "a value in mm? (0.01 mm = 10 µm)"}}};
+          "a value in mm? (0.01 mm = 10 µm)", false, SlipSide::kBelow}}};
     // The three reliefs: an amount and a length each.
     for (const auto& [name, length_why] :
          {std::pair<std::string, std::string>{"tip_relief", "a fraction of the active profile"},
@@ -84,9 +84,9 @@ const RangeTable& gear_ranges() {
       const std::string what = name.substr(0, name.find('_')) + " relief";
       t.entries.push_back({path + ".amount_um", "µm", closed(0, 1000), 1, 100,
                            what + "s of a few to tens of µm are usual (design practice, recalled)",
-                           "a value in mm? (0.01 mm = 10 µm)"});
-      t.entries.push_back(
-          {path + ".length_mm", "mm", above(0, 1000), 0.1, 50, length_why, "a length in µm?"});
+                           "a value in mm? (0.01 mm = 10 µm)", false, SlipSide::kBelow});
+      t.entries.push_back({path + ".length_mm", "mm", above(0, 1000), 0.1, 50, length_why,
+                           "a length in µm?", false, SlipSide::kAbove});
     }
     return t;
   }();
@@ -98,10 +98,10 @@ const RangeTable& tolerance_ranges() {
       "tolerances",
       {{"tolerances.overrides_um.tolerance", "µm", closed(0.5, 10000), 1, 2000,
         "ISO 1328-1:2013 class 1 (finest) gives >= 1.3 µm, class 11 at d 15000 mm about 1300 µm",
-        "a value in mm? (0.02 mm = 20 µm)"},
+        "a value in mm? (0.02 mm = 20 µm)", false, SlipSide::kBelow},
        {"tolerances.overrides_um.E_Hs", "µm", closed(0, 10000), 1, 2000,
         "GOST 1643-81 least rack shifts are tens to hundreds of µm (P1: 110 µm)",
-        "a value in mm? (0.11 mm = 110 µm)"}}};
+        "a value in mm? (0.11 mm = 110 µm)", false, SlipSide::kBelow}}};
   return table;
 }
 
@@ -126,9 +126,10 @@ const RangeTable& probing_ranges() {
        {"probing.points_per_gear", "", closed(1, 10000000), 1, 1000000,
         "points x sections x teeth x flanks; 10 million points is several GB of results", "", true},
        {"probing.margin_fraction", "", NumberRange{0, 0.5, true, false}, 0, 0.2,
-        "P1: 0.05 away from every edge", "a percentage? (5 % is 0.05)"},
+        "P1: 0.05 away from every edge", "a percentage? (5 % is 0.05)", false, SlipSide::kAbove},
        {"stylus.radius_mm", "mm", closed(0.01, 50), 0.05, 5,
-        "stylus balls are 0.1–10 mm in diameter (P1: R 0.5 mm)", "a diameter, or µm?"},
+        "stylus balls are 0.1–10 mm in diameter (P1: R 0.5 mm)", "a diameter, or µm?", false,
+        SlipSide::kAbove},
        {"stylus.shaft_diameter_mm", "mm", above(0, 100), 0.2, 6,
         "stylus stems are 0.2–6 mm in diameter, thinner than their ball", "a radius, or µm?"},
        {"run.gears", "", closed(1, 100000000), 1, 1000000, "P1: 50 gears", "", true},
@@ -139,28 +140,32 @@ const RangeTable& probing_ranges() {
        {"evaluation.truth_points", "", closed(10, 100000), 50, 5000,
         "the true trace must resolve the form deviations (B-spline spans of a few mm)", "", true},
        {"evaluation.profile_end_fraction", "", closed(0.5, 1.0), 0.9, 1.0,
-        "ISO 1328-1:2013: L_α is about 92–95 % of the active profile", "a percentage?"},
+        "ISO 1328-1:2013: L_α is about 92–95 % of the active profile", "a percentage?", false,
+        SlipSide::kAbove},
        {"evaluation.helix_end_exclusion_mm", "mm", closed(0, 1000), 0, 20,
-        "ISO 1328-1:2013: the smaller of 5 % b and m_n at each end", "µm instead of mm?"}}};
+        "ISO 1328-1:2013: the smaller of 5 % b and m_n at each end", "µm instead of mm?", false,
+        SlipSide::kAbove}}};
   return table;
 }
 
 const RangeTable& claim_ranges() {
   static const RangeTable table{
       "claims",
-      {{"claims.statistic.quantile", "", NumberRange::probability(), 0.5, 0.99999,
-        "a quantile's probability p; P1's claim is at 0.9973 (3σ of a normal law); above "
-        "0.99999 the check needs millions of gears",
-        "a percentage? (99.73 % is 0.9973)"},
+      {{"claims.statistic.quantile", "", NumberRange::probability(), 0.00001, 0.99999,
+        "a quantile's probability p; P1's claim is at 0.9973 (3σ of a normal law), a lower-tail "
+        "claim (with at_least_um) at e.g. 0.025; beyond 0.00001 … 0.99999 the check needs "
+        "millions of gears",
+        "a percentage? (99.73 % is 0.9973)", false, SlipSide::kAbove},
        {"claims.at_most_um", "µm", closed(-10000, 10000), -100, 100,
         "a limit on a measurement error; CMM errors on gears are a few µm (P1: 4 µm), "
         "10 mm is far beyond any",
-        "mm? (4 µm is 4, not 0.004)"},
+        "mm? (4 µm is 4, not 0.004)", false, SlipSide::kBelow},
        {"claims.at_least_um", "µm", closed(-10000, 10000), -100, 100,
-        "a limit on a measurement error; CMM errors on gears are a few µm", "mm?"},
+        "a limit on a measurement error; CMM errors on gears are a few µm", "mm?", false,
+        SlipSide::kBelow},
        {"claims.confidence", "", NumberRange::probability(), 0.8, 0.9999,
         "the probability that a verdict is right; 0.95 is usual, above 0.9999 needs many gears",
-        "a percentage? (95 % is 0.95)"}}};
+        "a percentage? (95 % is 0.95)", false, SlipSide::kAbove}}};
   return table;
 }
 
@@ -171,13 +176,14 @@ const RangeTable& effect_ranges() {
   static const RangeTable table{
       "effects",
       {{"effects.probe_lobing.pretravel_um", "µm", closed(-1000, 1000), -100, 100, lobing,
-        "a value in nm? (1000 nm = 1 µm)"},
+        "a value in nm? (1000 nm = 1 µm)", false, SlipSide::kAbove},
        {"effects.probe_lobing.harmonics.amplitude_um", "µm", closed(-1000, 1000), -20, 20, lobing,
-        "a value in nm?"},
+        "a value in nm?", false, SlipSide::kAbove},
        {"effects.probe_lobing.harmonics.phase_deg", "deg", closed(-3600, 3600), -360, 360, angle,
         ""},
        {"effects.probe_lobing.repeatability_um", "µm", closed(0, 100), 0, 5,
-        "unidirectional repeatability of a probe 0.05–1 µm (P2: 0.07 µm)", "a value in nm?"},
+        "unidirectional repeatability of a probe 0.05–1 µm (P2: 0.07 µm)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.probe_lobing.calibration_start_deg", "deg", closed(-3600, 3600), -360, 360, angle,
         ""},
        {"effects.probe_lobing.from_probe_model.stylus_length_mm", "mm", closed(1, 200), 10, 100,
@@ -187,13 +193,15 @@ const RangeTable& effect_ranges() {
        {"effects.probe_lobing.from_probe_model.ball_diameter_mm", "mm", closed(0.1, 20), 0.3, 10,
         "stylus balls 0.3–10 mm", ""},
        {"effects.probe_lobing.from_probe_model.trigger_latency_s", "s", closed(0, 0.1), 0, 0.01,
-        "trigger latencies are µs to ms", "a value in ms? (1 ms = 0.001 s)"},
+        "trigger latencies are µs to ms", "a value in ms? (1 ms = 0.001 s)", false,
+        SlipSide::kAbove},
        {"effects.probe_lobing.from_probe_model.speed_mm_s", "mm/s", closed(0.01, 100), 0.5, 20,
         "probing speeds 1–10 mm/s", ""},
        {"effects.stylus_radius.error_um", "µm", closed(-100, 100), -5, 5,
-        "radius qualification errors 0.1–0.5 µm", "a value in nm?"},
+        "radius qualification errors 0.1–0.5 µm", "a value in nm?", false, SlipSide::kAbove},
        {"effects.tip_form.amplitude_um", "µm", closed(-100, 100), -5, 5,
-        "ruby ball grade 5 sphericity <= 0.13 µm (ISO 3290)", "a value in nm?"},
+        "ruby ball grade 5 sphericity <= 0.13 µm (ISO 3290)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.tip_form.phase_deg", "deg", closed(-3600, 3600), -360, 360, angle, ""},
        {"effects.scale.x_ppm", "ppm", closed(-10000, 10000), -100, 100,
         "scale errors 1–5 ppm; 10000 ppm is 1 %", ""},
@@ -208,21 +216,23 @@ const RangeTable& effect_ranges() {
        {"effects.squareness.yz_urad", "µrad", closed(-10000, 10000), -200, 200,
         "squareness errors 5–20 µrad; 10000 µrad is 0.57°", "a value in arc seconds?"},
        {"effects.thermal_expansion.workpiece_delta_t_k", "K", closed(-100, 100), -10, 10,
-        "ΔT 0.5–2 K off 20 °C (ISO 1)", "a temperature in °C instead of its difference to 20 °C?"},
+        "ΔT 0.5–2 K off 20 °C (ISO 1)", "a temperature in °C instead of its difference to 20 °C?",
+        false, SlipSide::kAbove},
        {"effects.thermal_expansion.scale_delta_t_k", "K", closed(-100, 100), -10, 10,
-        "ΔT 0.5–2 K off 20 °C (ISO 1)", "a temperature in °C instead of its difference to 20 °C?"},
+        "ΔT 0.5–2 K off 20 °C (ISO 1)", "a temperature in °C instead of its difference to 20 °C?",
+        false, SlipSide::kAbove},
        {"effects.thermal_expansion.workpiece_cte_ppm_per_k", "ppm/K", closed(0, 300), 0, 30,
         "steel 11.5, aluminium 23, plastics up to about 200 ppm/K", ""},
        {"effects.thermal_expansion.scale_cte_ppm_per_k", "ppm/K", closed(0, 300), 0, 30,
         "glass-ceramic 0, steel 11.5 ppm/K", ""},
        {"effects.drift.x_um", "µm", closed(-1000, 1000), -20, 20, "drift about 1 µm per hour",
-        "a value in nm?"},
+        "a value in nm?", false, SlipSide::kAbove},
        {"effects.drift.y_um", "µm", closed(-1000, 1000), -20, 20, "drift about 1 µm per hour",
-        "a value in nm?"},
+        "a value in nm?", false, SlipSide::kAbove},
        {"effects.drift.z_um", "µm", closed(-1000, 1000), -20, 20, "drift about 1 µm per hour",
-        "a value in nm?"},
+        "a value in nm?", false, SlipSide::kAbove},
        {"effects.step_quantization.step_um", "µm", closed(0, 100), 0, 5,
-        "servo interpolation steps 0.05–1 µm", "a value in nm?"},
+        "servo interpolation steps 0.05–1 µm", "a value in nm?", false, SlipSide::kAbove},
        {"effects.step_quantization.approach_mm", "mm", above(0, 100), 0.1, 20,
         "approach distances 1–5 mm (default 2 mm)", ""},
        {"effects.eccentricity.x_um", "µm", closed(-1000, 1000), -100, 100,
@@ -230,38 +240,50 @@ const RangeTable& effect_ranges() {
        {"effects.eccentricity.y_um", "µm", closed(-1000, 1000), -100, 100,
         "set-up eccentricity a few µm", "a value in nm, or in mm given as µm?"},
        {"effects.noise.sigma_um", "µm", closed(0, 100), 0, 5, "probing noise σ 0.1–0.5 µm",
-        "a value in nm? (300 nm = 0.3 µm)"},
+        "a value in nm? (300 nm = 0.3 µm)", false, SlipSide::kAbove},
        {"effects.probe_warmup.change_um", "µm", closed(-100, 100), -5, 5,
         "probe warm-up changes pre-travel by tenths of a µm to about 1 µm (recalled, unchecked)",
-        "a value in nm?"},
+        "a value in nm?", false, SlipSide::kAbove},
        {"effects.probe_warmup.time_constant", "", above(0, 100), 0.02, 10,
         "a fraction of one gear's measurement (0.3: settled after about a third)", ""},
        {"effects.straightness.xy_um", "µm", closed(-1000, 1000), -20, 20,
-        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?",
+        false, SlipSide::kAbove},
        {"effects.straightness.xz_um", "µm", closed(-1000, 1000), -20, 20,
-        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?",
+        false, SlipSide::kAbove},
        {"effects.straightness.yx_um", "µm", closed(-1000, 1000), -20, 20,
-        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?",
+        false, SlipSide::kAbove},
        {"effects.straightness.yz_um", "µm", closed(-1000, 1000), -20, 20,
-        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?"},
+        "CMM axis straightness 1–5 µm over the travel (recalled, unchecked)", "a value in nm?",
+        false, SlipSide::kAbove},
        {"effects.straightness.length_mm", "mm", above(0, 10000), 10, 2000,
         "the travel the bow is given at, e.g. the gear's diameter or the axis's length", ""},
        {"effects.artefact_form.left_profile_2_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.left_profile_3_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.left_helix_2_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.left_helix_3_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.right_profile_2_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.right_profile_3_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.right_helix_2_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.right_helix_3_um", "µm", closed(-1000, 1000), -10, 10,
-        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?"},
+        "a master gear's form terms 0.2–2 µm (recalled, unchecked)", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.artefact_form.profile_from_mm", "mm", closed(0, 10000), 0, 1000,
         "roll lengths of the profile evaluation range", ""},
        {"effects.artefact_form.profile_to_mm", "mm", closed(0, 10000), 0, 1000,
@@ -271,37 +293,46 @@ const RangeTable& effect_ranges() {
        {"effects.artefact_form.face_to_mm", "mm", closed(-10000, 10000), -1000, 1000,
         "face positions z of the helix evaluation range", ""},
        {"effects.scale_resolution.x_um", "µm", closed(0, 100), 0, 5,
-        "scale resolution 0.05–1 µm (recalled, unchecked)", "a value in nm? (100 nm = 0.1 µm)"},
+        "scale resolution 0.05–1 µm (recalled, unchecked)", "a value in nm? (100 nm = 0.1 µm)",
+        false, SlipSide::kAbove},
        {"effects.scale_resolution.y_um", "µm", closed(0, 100), 0, 5,
-        "scale resolution 0.05–1 µm (recalled, unchecked)", "a value in nm? (100 nm = 0.1 µm)"},
+        "scale resolution 0.05–1 µm (recalled, unchecked)", "a value in nm? (100 nm = 0.1 µm)",
+        false, SlipSide::kAbove},
        {"effects.scale_resolution.z_um", "µm", closed(0, 100), 0, 5,
-        "scale resolution 0.05–1 µm (recalled, unchecked)", "a value in nm? (100 nm = 0.1 µm)"},
+        "scale resolution 0.05–1 µm (recalled, unchecked)", "a value in nm? (100 nm = 0.1 µm)",
+        false, SlipSide::kAbove},
        {"effects.empirical.from", "axis unit", closed(-100000, 100000), -1000, 1000,
         "roll length or face position in mm, probing order 0–1", ""},
        {"effects.empirical.to", "axis unit", closed(-100000, 100000), -1000, 1000,
         "roll length or face position in mm, probing order 0–1", ""},
        {"effects.empirical.terms.a_um", "µm", closed(-1000, 1000), -20, 20,
-        "structure left after the library's fit, usually below a few µm", "a value in nm?"},
+        "structure left after the library's fit, usually below a few µm", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.empirical.terms.b_um", "µm", closed(-1000, 1000), -20, 20,
-        "structure left after the library's fit, usually below a few µm", "a value in nm?"},
+        "structure left after the library's fit, usually below a few µm", "a value in nm?", false,
+        SlipSide::kAbove},
        {"effects.rotary_table.radial_cos_um", "µm", closed(-1000, 1000), -10, 10,
-        "rotary-table radial runout 0.1–3 µm", "a value in nm?"},
+        "rotary-table radial runout 0.1–3 µm", "a value in nm?", false, SlipSide::kAbove},
        {"effects.rotary_table.radial_sin_um", "µm", closed(-1000, 1000), -10, 10,
-        "rotary-table radial runout 0.1–3 µm", "a value in nm?"},
+        "rotary-table radial runout 0.1–3 µm", "a value in nm?", false, SlipSide::kAbove},
        {"effects.rotary_table.axial_cos_um", "µm", closed(-1000, 1000), -10, 10,
-        "rotary-table axial runout 0.1–3 µm", "a value in nm?"},
+        "rotary-table axial runout 0.1–3 µm", "a value in nm?", false, SlipSide::kAbove},
        {"effects.rotary_table.axial_sin_um", "µm", closed(-1000, 1000), -10, 10,
-        "rotary-table axial runout 0.1–3 µm", "a value in nm?"},
+        "rotary-table axial runout 0.1–3 µm", "a value in nm?", false, SlipSide::kAbove},
        {"effects.rotary_table.angular_cos_1_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
-        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)",
+        false, SlipSide::kAbove},
        {"effects.rotary_table.angular_sin_1_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
-        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)",
+        false, SlipSide::kAbove},
        {"effects.rotary_table.angular_cos_2_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
-        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)",
+        false, SlipSide::kAbove},
        {"effects.rotary_table.angular_sin_2_arcsec", "arcsec", closed(-3600, 3600), -30, 30,
-        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)"},
+        "rotary-table positioning error 0.5–5 arcsec", "a value in µrad? (1 arcsec = 4.85 µrad)",
+        false, SlipSide::kAbove},
        {"effects.stylus_bending.deflection_um", "µm", closed(-1000, 1000), -10, 10,
-        "uncompensated stylus bending 0.1–2 µm", "a value in nm?"}}};
+        "uncompensated stylus bending 0.1–2 µm", "a value in nm?", false, SlipSide::kAbove}}};
   return table;
 }
 
@@ -309,11 +340,13 @@ const RangeTable& readings_ranges() {
   static const RangeTable table{
       "readings",
       {{"stylus_radius_mm", "mm", closed(0.01, 50), 0.05, 5,
-        "stylus balls are 0.1–10 mm in diameter", "a diameter, or µm?"},
+        "stylus balls are 0.1–10 mm in diameter", "a diameter, or µm?", false, SlipSide::kAbove},
        {"coordinate_mm", "mm", closed(-100000, 100000), -10000, 10000,
-        "a CMM's measuring volume is at most a few metres", "µm instead of mm?"},
+        "a CMM's measuring volume is at most a few metres", "µm instead of mm?", false,
+        SlipSide::kAbove},
        {"ref_dev_um", "µm", closed(-10000, 10000), -1000, 1000,
-        "an artefact's calibrated deviation is a few µm", "mm instead of µm?"},
+        "an artefact's calibrated deviation is a few µm", "mm instead of µm?", false,
+        SlipSide::kBelow},
        {"reading_um", "µm", closed(-100000, 100000), -10000, 10000,
         "(c − p)·n − R: a measured flank is within a few tens of µm of the nominal one",
         "a stylus radius or a point in other units?"}}};
@@ -341,7 +374,7 @@ std::string warning_text(double value, const ParameterRange& range) {
   std::string text = with_unit(value, range.unit) + " is outside the usual range " +
                      shortest_text(range.usual_min) + " … " +
                      with_unit(range.usual_max, range.unit) + " (" + range.why + ")";
-  if (!range.slip.empty()) text += "; " + range.slip;
+  if (const std::string slip = range.slip_for(value); !slip.empty()) text += "; " + slip;
   return text;
 }
 
@@ -389,7 +422,7 @@ double read_ranged(const YamlValue& value, const ParameterRange& range, InputWar
     throw value.error(expected + (value.is_quoted() ? ", written without quotes" : ""));
   }
   if (!range.valid.contains(x)) {
-    if (!range.slip.empty()) expected += "; " + range.slip;
+    if (const std::string slip = range.slip_for(x); !slip.empty()) expected += "; " + slip;
     throw value.error(expected);
   }
   if (warnings != nullptr && (x < range.usual_min || x > range.usual_max)) {
@@ -435,7 +468,7 @@ void check_ranged(double value, const ParameterRange& range, const InputLocation
                   const std::string& shown, InputWarnings* warnings) {
   if (!range.valid.contains(value)) {
     std::string expected = describe_range(range);
-    if (!range.slip.empty()) expected += "; " + range.slip;
+    if (const std::string slip = range.slip_for(value); !slip.empty()) expected += "; " + slip;
     throw InputError(where, range.key, shown, expected);
   }
   if (warnings != nullptr && (value < range.usual_min || value > range.usual_max)) {

@@ -18,6 +18,11 @@
 
 namespace gearmc {
 
+// Which side of the usual (or valid) range a unit slip lands a value on: a percentage for a
+// fraction, nm for µm or a temperature for its difference are too large, mm for µm too small.
+// The hint is given only for a value on its side (a lower-tail quantile 0.025 is no percentage).
+enum class SlipSide { kEither, kAbove, kBelow };
+
 struct ParameterRange {
   std::string key;              // dotted path as messages show it, e.g. "gear.module_mm"
   std::string unit;             // "mm", "deg", "µm", … ("" for a pure number)
@@ -26,6 +31,15 @@ struct ParameterRange {
   std::string why;              // the source or reasoning behind both ranges
   std::string slip;             // the likely unit slip of a value outside the usual range
   bool integer = false;         // an integer key (its valid range is still given as numbers)
+  SlipSide slip_side = SlipSide::kEither;
+  // The slip hint for `value` ("" when the value is not on the slip's side).
+  std::string slip_for(double value) const {
+    const bool above = value > usual_max || value > valid.max;
+    const bool below = value < usual_min || value < valid.min;
+    if (slip_side == SlipSide::kAbove && !above) return "";
+    if (slip_side == SlipSide::kBelow && !below) return "";
+    return slip;
+  }
 };
 
 struct RangeTable {

@@ -425,6 +425,36 @@ TEST(ParameterRangesTest, UnitSlipsAreNamed) {
               HasSubstr("a value in mm? (0.02 mm = 20 µm)"));
 }
 
+// A slip hint only on its side of the range: a fraction above 1 may be a percentage, one below
+// the usual range is not (issue 29: a lower-tail quantile 0.025 was asked "a percentage?");
+// a lower-tail claim is usual, and a quantile of 99.73 is an error with the hint.
+TEST(ParameterRangesTest, AUnitSlipIsNamedOnlyOnItsSide) {
+  const Scenario short_range = parse_scenario(
+      kBase + "evaluation: {parameters: all, profile_end_fraction: 0.6}\n", "t.yaml");
+  ASSERT_EQ(short_range.warnings.size(), 1u);
+  EXPECT_THAT(short_range.warnings[0], HasSubstr("profile_end_fraction: 0.6 is outside the usual"));
+  EXPECT_THAT(short_range.warnings[0], Not(HasSubstr("percentage")));
+  EXPECT_THAT(
+      scenario_error(kBase + "evaluation: {parameters: all, profile_end_fraction: 95}\n").what(),
+      HasSubstr("a percentage?"));
+  const std::string claim =
+      "claims:\n  - {name: low, quantity: delta_rcomp.point, side: both, statistic: {quantile: "
+      "QUANTILE}, at_least_um: -4}\n";
+  const auto with_quantile = [&](const std::string& q) {
+    std::string c = claim;
+    c.replace(c.find("QUANTILE"), 8, q);
+    return kBase + c;
+  };
+  EXPECT_TRUE(parse_scenario(with_quantile("0.025"), "t.yaml").warnings.empty());
+  EXPECT_THAT(scenario_error(with_quantile("99.73")).what(),
+              HasSubstr("a percentage? (99.73 % is 0.9973)"));
+  // Too small a value for a µm key (mm written) gets its hint; too large a one does not.
+  const Scenario big =
+      parse_scenario(with_value("tolerances.overrides_um.tolerance", "5000"), "t.yaml");
+  ASSERT_EQ(big.warnings.size(), 1u);
+  EXPECT_THAT(big.warnings[0], Not(HasSubstr("a value in mm?")));
+}
+
 TEST(ParameterRangesTest, ValuesOutsideTheUsualRangeAreWarnedAbout) {
   EXPECT_TRUE(parse_scenario(kBase, "t.yaml").warnings.empty());
   const Scenario noisy = parse_scenario(with_value("effects.noise.sigma_um", "20"), "t.yaml");
