@@ -419,10 +419,13 @@ TEST(EffectConfig, BadInputNamesFileLineColumnKeyAndExpectation) {
                "drift, step_quantization, eccentricity, noise, probe_warmup, straightness, "
                "artefact_form, scale_resolution, empirical, rotary_table, stylus_bending); did "
                "you mean 'scale'?");
-  expect_error(
-      "noise: {sigma_um: -1}\n",
-      "e.yaml:1:19: noise.sigma_um: got '-1', expected a number from 0 to 100 µm (probing noise "
-      "σ 0.1–0.5 µm); a value in nm? (300 nm = 0.3 µm)");
+  // A negative σ is no nm slip (that hint is for values above the range): no hint.
+  expect_error("noise: {sigma_um: -1}\n",
+               "e.yaml:1:19: noise.sigma_um: got '-1', expected a number from 0 to 100 µm "
+               "(probing noise σ 0.1–0.5 µm)");
+  expect_error("noise: {sigma_um: 300}\n",
+               "e.yaml:1:19: noise.sigma_um: got '300', expected a number from 0 to 100 µm "
+               "(probing noise σ 0.1–0.5 µm); a value in nm? (300 nm = 0.3 µm)");
   expect_error("scale: {x_ppm: {uniform: [3, 1]}}\n",
                "e.yaml:1:26: scale.x_ppm.uniform: got '[3, 1]', expected [lo, hi] with lo <= hi");
   expect_error("probe_lobing: {calibration: mean7}\n",
