@@ -118,7 +118,12 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
     nlohmann::ordered_json gj;
     gj["estimate"] = g.estimate;
     gj["u"] = g.u;
-    gj["nu_eff"] = number_or_null(g.nu_eff);
+    gj["nu_eff"] = g.first_order_vanishes ? nlohmann::ordered_json() : number_or_null(g.nu_eff);
+    if (g.first_order_vanishes) {
+      gj["nu_eff_note"] =
+          "undefined: every first-order term is zero; u from the JCGM 100 5.1.2 higher-order "
+          "terms, k from the normal law";
+    }
     gj["k"] = g.k;
     gj["U"] = g.U;
     gj["interval"] = {g.lo, g.hi};
@@ -209,7 +214,9 @@ void print_evaluation(std::ostream& out, const UncertaintyModel& model, const Mc
     const Validation& v = e.validation[k];
     const int d = display_decimals(std::min(g.u, m.u), o.significant_digits);
     auto iv = [&](double lo, double hi) { return "[" + fixed(lo, d) + ", " + fixed(hi, d) + "]"; };
-    const std::string nu = std::isfinite(g.nu_eff) ? fixed(g.nu_eff, 1) : "inf";
+    const std::string nu = g.first_order_vanishes    ? "undefined"
+                           : std::isfinite(g.nu_eff) ? fixed(g.nu_eff, 1)
+                                                     : "inf";
     out << "\noutput " << g.name << "\n";
     out << std::left << std::setw(22) << "" << std::setw(28) << "GUM (JCGM 100)"
         << "MCM (JCGM 101)\n";

@@ -118,9 +118,25 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
     }
   }
 
+  // An output whose every first-order term vanishes (c_i u_i = 0 for every uncertain input: the
+  // estimates sit at an extremum or saddle of the model, e.g. y = x² at x = 0) has u = 0 by the
+  // law of propagation, which is wrong: its u comes from the higher-order terms (JCGM 100 5.1.2,
+  // note), computed for it even when not requested, and said.
+  std::vector<bool> flat(m, false);
+  bool any_flat = false;
+  if (std::any_of(r.u.begin(), r.u.end(), [](double u) { return u > 0; })) {
+    for (std::size_t k = 0; k < m; ++k) {
+      flat[k] = true;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (r.u[i] > 0 && c[k][i] * r.u[i] != 0.0) flat[k] = false;
+      }
+      any_flat = any_flat || flat[k];
+    }
+  }
+
   // Higher-order terms (JCGM 100 5.1.2 note) with steps h_i = 1e-2 u_i.
   std::vector<double> second(m, 0.0);
-  if (r.second_order) {
+  if (r.second_order || any_flat) {
     std::vector<double> H(n);
     for (std::size_t i = 0; i < n; ++i) H[i] = r.u[i] > 0 ? exact_step(r.x[i], 1e-2 * r.u[i]) : 0.0;
     std::vector<double> xx = r.x, out(m);
@@ -141,18 +157,20 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
           if (i == j) {
             const double fp = at(i, hi, i, 0, k), fm = at(i, -hi, i, 0, k), f0 = y[k];
             const double fp2 = at(i, 2 * hi, i, 0, k), fm2 = at(i, -2 * hi, i, 0, k);
-            d2 = (fp - 2 * f0 + fm) / (hi * hi);
-            d3 = (fp2 - 2 * fp + 2 * fm - fm2) / (2 * hi * hi * hi);
+            // Differences of differences: 2 f0 overflows for |f| near the double's largest
+            // value, and a constant output must give exactly 0.
+            d2 = ((fp - f0) - (f0 - fm)) / (hi * hi);
+            d3 = ((fp2 - fp) - (fp - fm) + (fm - fm2)) / (2 * hi * hi * hi);
           } else {
-            d2 = (at(i, hi, j, hj, k) - at(i, hi, j, -hj, k) - at(i, -hi, j, hj, k) +
-                  at(i, -hi, j, -hj, k)) /
+            d2 = ((at(i, hi, j, hj, k) - at(i, hi, j, -hj, k)) -
+                  (at(i, -hi, j, hj, k) - at(i, -hi, j, -hj, k))) /
                  (4 * hi * hj);
             // ∂³f/∂xi∂xj² = [D_jj f(x + h_i e_i) − D_jj f(x − h_i e_i)] / (2 h_i)
+            const double p0 = at(i, hi, j, 0, k), m0 = at(i, -hi, j, 0, k);
             const double djj_p =
-                (at(i, hi, j, hj, k) - 2 * at(i, hi, j, 0, k) + at(i, hi, j, -hj, k)) / (hj * hj);
+                ((at(i, hi, j, hj, k) - p0) - (p0 - at(i, hi, j, -hj, k))) / (hj * hj);
             const double djj_m =
-                (at(i, -hi, j, hj, k) - 2 * at(i, -hi, j, 0, k) + at(i, -hi, j, -hj, k)) /
-                (hj * hj);
+                ((at(i, -hi, j, hj, k) - m0) - (m0 - at(i, -hi, j, -hj, k))) / (hj * hj);
             d3 = (djj_p - djj_m) / (2 * hi);
           }
           second[k] += (0.5 * d2 * d2 + c[k][i] * d3) * r.u[i] * r.u[i] * r.u[j] * r.u[j];
@@ -176,7 +194,23 @@ GumResult evaluate_gum(const UncertaintyModel& model) {
       }
     }
     o.u_first_order = std::sqrt(std::max(0.0, var));
+    // Flat with a second-order variance: an extremum or saddle. Flat without one: the output
+    // does not depend on the inputs near the estimates (a constant), u = 0 is right.
+    const bool vanishes = flat[k] && second[k] > 0.0;
+    if (!r.second_order && !vanishes) second[k] = 0.0;  // computed for another output only
     o.second_order_variance = second[k];
+    o.first_order_vanishes = vanishes;
+    if (vanishes) {
+      r.warnings.push_back(
+          "every first-order sensitivity of " + o.name +
+          " is zero at the input estimates (an extremum or saddle of the model there): the law "
+          "of propagation would give u = 0, so u(" +
+          o.name +
+          ") is taken from the higher-order terms of JCGM 100 5.1.2 (note; inputs as "
+          "uncorrelated), ν_eff is not defined (no first-order contribution) and k is the normal "
+          "law's; the output's law is far from normal there, so prefer the Monte Carlo "
+          "(JCGM 101) interval");
+    }
     o.u = std::sqrt(std::max(0.0, var + second[k]));
     // Tested before the max() above can hide it: max(0, NaN) is 0, so a sensitivity that is not
     // finite (the model overflowing next to the estimate) once gave u = 0 and "inf" cells.

@@ -37,7 +37,8 @@ struct GumOutput {
   double u_first_order = 0.0;          // from the first-order terms only
   double second_order_variance = 0.0;  // the 5.1.2 terms (0 unless requested)
   double nu_eff = 0.0;                 // Welch–Satterthwaite; +inf when every input has ν = inf
-  double k = 0.0;                      // t_{(1+p)/2}(ν) with ν = floor(ν_eff) (G.4.1 note 1)
+  bool first_order_vanishes = false;  // every c_i u_i = 0: u from the 5.1.2 terms, ν_eff undefined
+  double k = 0.0;                     // t_{(1+p)/2}(ν) with ν = floor(ν_eff) (G.4.1 note 1)
   double U = 0.0;
   double lo = 0.0, hi = 0.0;          // y ∓ U
   std::vector<double> sensitivities;  // c_i = ∂f/∂x_i, per input

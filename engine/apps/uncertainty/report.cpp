@@ -113,8 +113,10 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     const int d = display_decimals(std::min(g.u, m.u), o.significant_digits);
     summary.rows.push_back(
         {{g.name, "GUM", fmt(g.estimate, d), fmt(g.u, d),
-          std::isfinite(g.nu_eff) ? fmt(g.nu_eff, 1) : "∞", fmt(g.k, 3),
-          "[" + fmt(g.lo, d) + ", " + fmt(g.hi, d) + "]",
+          g.first_order_vanishes    ? std::string("undefined (no first-order term)")
+          : std::isfinite(g.nu_eff) ? fmt(g.nu_eff, 1)
+                                    : "∞",
+          fmt(g.k, 3), "[" + fmt(g.lo, d) + ", " + fmt(g.hi, d) + "]",
           std::string(v.validated ? "validated" : "NOT validated") + " (δ " + fmt(v.delta, d + 1) +
               ", d_low " + fmt(v.d_low, d + 1) + ", d_high " + fmt(v.d_high, d + 1) + ")"},
          false});

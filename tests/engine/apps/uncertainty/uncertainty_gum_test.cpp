@@ -94,6 +94,38 @@ settings: {second_order: true}
   EXPECT_NEAR(o.u, std::sqrt(9 * 0.25 + 4 * 0.16 + 0.25 * 0.16), 1e-8);
 }
 
+// Every first-order sensitivity zero (issue 29: "inf, 1.960" with no word): y = x² at x = 0 with
+// x ~ N(0, 1) — the law of propagation would give u = 0; the 5.1.2 term gives u² = (1/2)(f'')² u⁴
+// = 2, which is exact: x² is then χ² with 1 degree of freedom, variance 2. A second output with
+// a first-order term keeps its first-order u (second order not requested), a constant output keeps
+// u = 0 without a word, and the warning names the flat output.
+TEST(UncertaintyGum, AFlatFirstOrderTakesTheHigherOrderTerms) {
+  const UncertaintyModel m = model(R"M(
+inputs:
+  x: {normal: [0, 1]}
+outputs:
+  y: "x^2"
+  z: "x^2 + 3*x"
+  c: "5 + 0*x"
+)M");
+  const GumResult r = evaluate_gum(m);
+  const GumOutput& y = r.outputs[0];
+  EXPECT_TRUE(y.first_order_vanishes);
+  EXPECT_EQ(y.u_first_order, 0.0);
+  EXPECT_NEAR(y.u, std::sqrt(2.0), 1e-6);
+  EXPECT_NEAR(y.k, 1.959964, 1e-6);
+  const GumOutput& z = r.outputs[1];
+  EXPECT_FALSE(z.first_order_vanishes);
+  EXPECT_NEAR(z.u, 3.0, 1e-8);  // first order only: |dz/dx| u = 3
+  // An output that does not depend on x at all: u = 0 is right, no word.
+  EXPECT_FALSE(r.outputs[2].first_order_vanishes);
+  EXPECT_EQ(r.outputs[2].u, 0.0);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("every first-order sensitivity of y is zero"), std::string::npos)
+      << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("ν_eff is not defined"), std::string::npos) << r.warnings[0];
+}
+
 TEST(UncertaintyGum, MassCalibrationJcgm101Section93) {
   UncertaintyModel m = load_uncertainty_model(std::string(GEARMC_SOURCE_DIR) +
                                               "/scenarios/uncertainty/mass_calibration.yaml");
