@@ -8,13 +8,12 @@
 namespace gearmc {
 
 void apply_plan_program(const std::string& plan_path, Scenario& scenario) {
-  if (scenario.evaluation &&
-      (scenario.evaluation->profile_points > 0 || scenario.evaluation->helix_points > 0)) {
-    throw InputError({scenario.source_path, 0, 0},
-                     "--plan " + plan_path + ": the scenario " + scenario.source_path +
-                         " asks for dedicated evaluation scans (evaluation.profile_points or "
-                         "helix_points), which a user's program does not run; drop them to "
-                         "evaluate the program's own profile and helix traces");
+  if (scenario.evaluation && scenario.evaluation->scans_at) {
+    const EvaluationSpec& e = *scenario.evaluation;
+    throw InputError(*e.scans_at, e.scans_key, e.scans_value,
+                     "0 with --plan " + plan_path +
+                         ": a dedicated evaluation scan is not part of a user's program; drop it "
+                         "to evaluate the program's own profile and helix traces");
   }
   const InvoluteGear gear(scenario.gear);
   scenario.probing.points = plan_from_dmis(gear, read_dmis_plan(plan_path), plan_path);

@@ -60,6 +60,11 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
     if (const auto v = map.find(key); v && v->as_int() > 0 && v->as_int() < 3) {
       throw v->error("0 (the probing grid) or at least 3 points (a mean line and a form need 3)");
     }
+    if (const auto v = map.find(key); v && v->as_int() > 0 && !spec.scans_at) {
+      spec.scans_at = v->location();
+      spec.scans_key = std::string("evaluation.") + key;
+      spec.scans_value = std::to_string(v->as_int());
+    }
   }
   spec.profile_end_fraction =
       get_ranged(map, "profile_end_fraction", r.at("evaluation.profile_end_fraction"), warnings)

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/input_error.h"
 #include "engine/plan/probing_grid.h"
 
 namespace gearmc {
@@ -24,6 +25,10 @@ struct EvaluationSpec {
   // Points of a dedicated profile trace at mid face and helix trace at mid profile on every
   // probed flank (a gear CMM's scan); 0 = evaluate the probing grid's own section / column.
   int profile_points = 0, helix_points = 0;
+  // Where the first of them asking for a scan (> 0) was written, with its key and value, for a
+  // message that refuses scans (`run --plan`: a user's program does not run them).
+  std::optional<InputLocation> scans_at;
+  std::string scans_key, scans_value;
   // Points of the dense trace on the real surface that gives a parameter's true value.
   int truth_points = 100;
   // Profile evaluation range L_α: from the form circle over this fraction of the active roll

@@ -22,16 +22,23 @@ FlankExtent extent_of(const InvoluteGear& g) {
   return {g.active_roll_length_min_mm(), g.active_roll_length_max_mm(), 0.0, g.face_width_mm()};
 }
 
+// The tests' gears, unmodified: 0 P1's spur gear, 1 the helical example, 2 a ring gear (z 60,
+// m 2 mm, b 20 mm).
+GearParameters relief_test_gear(int kind) {
+  if (kind == 2) {
+    GearParameters p;
+    p.teeth = 60, p.internal = true, p.module_mm = 2.0, p.face_width_mm = 20.0;
+    return p;
+  }
+  return kind == 1 ? testing_support::helical_gear_parameters()
+                   : testing_support::p1_gear_parameters();
+}
+
 TEST(LinearReliefContact, AgreesWithBruteForceAcrossAndOnTheRidge) {
   int checked = 0, on_ridge = 0;
   double worst = 0.0;
   for (int kind = 0; kind < 3; ++kind) {  // spur, helical, internal
-    GearParameters p = kind == 1 ? testing_support::helical_gear_parameters()
-                                 : testing_support::p1_gear_parameters();
-    if (kind == 2) {
-      p = GearParameters{};
-      p.teeth = 60, p.internal = true, p.module_mm = 2.0, p.face_width_mm = 20.0;
-    }
+    GearParameters p = relief_test_gear(kind);
     p.modifications.tip_relief = {30.0, 2.0, true};
     p.modifications.root_relief = {15.0, 1.0, true};
     ASSERT_EQ(validate_gear_parameters(p), "");
@@ -81,12 +88,7 @@ TEST(LinearReliefContact, EndReliefAgreesWithBruteForceAcrossAndOnTheRidge) {
   int checked = 0, on_ridge = 0;
   double worst = 0.0;
   for (int kind = 0; kind < 3; ++kind) {  // spur, helical, internal
-    GearParameters p = kind == 1 ? testing_support::helical_gear_parameters()
-                                 : testing_support::p1_gear_parameters();
-    if (kind == 2) {
-      p = GearParameters{};
-      p.teeth = 60, p.internal = true, p.module_mm = 2.0, p.face_width_mm = 20.0;
-    }
+    GearParameters p = relief_test_gear(kind);
     p.modifications.end_relief = {20.0, 0.2 * p.face_width_mm, true};
     ASSERT_EQ(validate_gear_parameters(p), "");
     const InvoluteGear gear(p);
@@ -139,8 +141,7 @@ TEST(LinearReliefContact, CornersOfTwoRidgesAreRightOrCounted) {
   int ok = 0, counted = 0;
   double worst = 0.0;
   for (int kind = 0; kind < 2; ++kind) {  // spur, helical
-    GearParameters p = kind == 1 ? testing_support::helical_gear_parameters()
-                                 : testing_support::p1_gear_parameters();
+    GearParameters p = relief_test_gear(kind);
     p.modifications.tip_relief = {30.0, 2.0, true};
     p.modifications.end_relief = {20.0, 0.2 * p.face_width_mm, true};
     ASSERT_EQ(validate_gear_parameters(p), "");

@@ -20,6 +20,7 @@
 //    statement (exit 2, file:line:column), and so is `--plan` with dedicated evaluation scans.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -289,7 +290,15 @@ TEST(PlanProgram, PointsOffTheGearAreRefusedAtTheirStatement) {
   const auto e = run_gearmc("run " + (dir / "eval.yaml").string() + " --plan " +
                             (dir / "good.dmi").string() + " --out " + (dir / "eval").string());
   EXPECT_EQ(e.exit_code, 2);
-  EXPECT_NE(e.err.find("drop them to evaluate the program's own profile and helix traces"),
+  // At the key (on the appended last line): file:line:column, the key, its value, what was
+  // expected.
+  const std::string eval_text = read_text(dir / "eval.yaml");
+  const auto last_line = std::count(eval_text.begin(), eval_text.end(), '\n');
+  EXPECT_NE(e.err.find("eval.yaml:" + std::to_string(last_line) + ":"), std::string::npos) << e.err;
+  EXPECT_NE(e.err.find("evaluation.profile_points: got '30', expected 0 with --plan"),
+            std::string::npos)
+      << e.err;
+  EXPECT_NE(e.err.find("drop it to evaluate the program's own profile and helix traces"),
             std::string::npos)
       << e.err;
   EXPECT_FALSE(fs::exists(dir / "eval"));
