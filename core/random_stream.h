@@ -120,4 +120,28 @@ using RandomStream = PhiloxStream<UniformBits::k32>;
 // The streams of uncertainty and R-Test trials.
 using TrialStream = PhiloxStream<UniformBits::k53>;
 
+// Standard gamma variate of shape k > 0 from stream s (Marsaglia & Tsang, "A simple method for
+// generating gamma variables", ACM TOMS 26 (2000) 363; for k < 1 the boost
+// G(k) = G(k + 1) U^(1/k)). 2·G(ν/2) is a χ² variate with ν degrees of freedom.
+template <UniformBits kBits>
+double sample_standard_gamma(double k, PhiloxStream<kBits>& s) {
+  if (k < 1.0) {
+    const double g = sample_standard_gamma(k + 1.0, s);
+    return g * std::pow(s.uniform(), 1.0 / k);
+  }
+  const double d = k - 1.0 / 3.0;
+  const double c = 1.0 / std::sqrt(9.0 * d);
+  for (;;) {
+    double x, v;
+    do {
+      x = s.normal();
+      v = 1.0 + c * x;
+    } while (v <= 0.0);
+    v = v * v * v;
+    const double u = s.uniform();
+    if (u < 1.0 - 0.0331 * x * x * x * x) return d * v;
+    if (std::log(u) < 0.5 * x * x + d * (1.0 - v + std::log(v))) return d * v;
+  }
+}
+
 }  // namespace gearmc

@@ -7,6 +7,9 @@
 #include <memory>
 #include <set>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "engine/apps/diagnose/linear_model.h"
 #include "engine/effects/artefact_form.h"
 #include "engine/effects/effects.h"
@@ -37,13 +40,18 @@ void add_columns(CandidateDesign& design, const MeasurementEffect& effect,
   const int first = static_cast<int>(design.x.cols());
   design.x.conservativeResize(static_cast<int>(points.size()),
                               first + static_cast<int>(picks.size()));
-  std::vector<double> out(values.size());
-  for (std::size_t r = 0; r < points.size(); ++r) {
-    effect.signature(points[r], values, out);
-    for (std::size_t c = 0; c < picks.size(); ++c) {
-      design.x(static_cast<int>(r), first + static_cast<int>(c)) = out[picks[c].parameter];
-    }
-  }
+  // Rows in parallel: each writes only its own row (a signature is a pure function of its point).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::vector<double> out(values.size());
+                      for (std::size_t r = range.begin(); r < range.end(); ++r) {
+                        effect.signature(points[r], values, out);
+                        for (std::size_t c = 0; c < picks.size(); ++c) {
+                          design.x(static_cast<int>(r), first + static_cast<int>(c)) =
+                              out[picks[c].parameter];
+                        }
+                      }
+                    });
   for (const Pick& pick : picks) {
     design.coefficients.push_back(pick.coefficient);
     design.units.push_back(pick.unit);

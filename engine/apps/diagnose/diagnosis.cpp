@@ -10,6 +10,8 @@
 #include <sstream>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 #include "core/constants.h"
 #include "engine/apps/diagnose/cluster_tests.h"
 #include "engine/apps/diagnose/diagnosis_stages.h"
@@ -118,7 +120,7 @@ std::vector<FittedValue> lobing_parameters(const CandidateDesign& c,
 }
 
 // The point-law stage's options from the diagnosis's.
-PointLawOptions point_law_options(const DiagnoseOptions& options, int replicates) {
+PointLawOptions point_law_options(const DiagnoseOptions& options, int replicates, int rows) {
   PointLawOptions po;
   po.alpha = options.selection.alpha;
   po.null_replicates = replicates;
@@ -127,6 +129,7 @@ PointLawOptions point_law_options(const DiagnoseOptions& options, int replicates
   po.ambiguity_delta_bic = options.ambiguity_delta_bic;
   po.min_effect_rms_fraction = options.selection.min_effect_rms_fraction;
   po.white_fraction = options.point_law_white_fraction;
+  po.white_normal_approximation = options.null_rows > 0 && rows > 2 * options.null_rows;
   return po;
 }
 
@@ -254,9 +257,11 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
     const Eigen::MatrixXd q_a = orthonormal_basis(a.observable_columns(), q_others).q;
     const SelectionStep& step = out.selection.steps[s];
     const double a_bic = step.tests[step.accepted].delta_bic;
-    for (int b = 0; b < static_cast<int>(candidates.size()); ++b) {
-      if (b == selected[s]) continue;
-      Ambiguity amb;
+    // Each other candidate on its own (in parallel, into its own slot; kept in library order).
+    std::vector<Ambiguity> found(candidates.size());
+    tbb::parallel_for(0, static_cast<int>(candidates.size()), [&](int b) {
+      if (b == selected[s]) return;
+      Ambiguity& amb = found[static_cast<std::size_t>(b)];
       amb.with = candidates[b].name;
       if (std::find(selected.begin(), selected.end(), b) != selected.end()) {
         // Two selected effects: separable only if their joint design is well conditioned.
@@ -287,9 +292,10 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
           amb.reason = "delta_bic";
         }
       }
-      if (amb.reason.empty()) continue;
-      amb.separate_by = separating_measurement(a.name, amb.with);
-      e.ambiguous.push_back(std::move(amb));
+      if (!amb.reason.empty()) amb.separate_by = separating_measurement(a.name, amb.with);
+    });
+    for (Ambiguity& amb : found) {
+      if (!amb.reason.empty()) e.ambiguous.push_back(std::move(amb));
     }
   }
 }
@@ -303,7 +309,7 @@ void apply_point_law(State& state, Diagnosis& out) {
   const std::vector<int>& selected = out.selection.selected;
   const std::vector<int>& offsets = state.offsets;
   out.point_law = point_law_stage(state.r, state.x_selected, state.residuals.points, state.noise,
-                                  point_law_options(options, out.null_replicates));
+                                  point_law_options(options, out.null_replicates, rows));
   const PointLawStage& stage = out.point_law;
   const Eigen::MatrixXd& x_selected = state.x_selected;
   Eigen::MatrixXd& x_after = state.x_after;

@@ -87,6 +87,13 @@ struct DiagnoseOptions {
   // Point-law stage (point_law_stage.h): the share of an alternative law's extra variance that
   // must show in the second differences.
   double point_law_white_fraction = 0.5;
+  // Above 2 × null_rows readings the null laws that need every reading are not simulated on all
+  // of them (diagnosis_gap.cpp, point_law_stage.h): the gap's χ² and KS statistics on a
+  // subsample of about null_rows readings (every k-th run of 64 points along the scans) rescaled
+  // to n by their asymptotic laws, the spectrum's bands from the harmonic fit's exact covariance,
+  // and the white-variance test by its normal approximation. The cost of a null replicate then
+  // stops growing with n.
+  int null_rows = 100000;
 };
 
 inline constexpr double kNotAvailable = std::numeric_limits<double>::quiet_NaN();
@@ -239,6 +246,9 @@ struct Diagnosis {
   // probably wrong, which the χ² gap test also shows).
   std::vector<std::string> notes;
   int null_replicates = 0;
+  // The readings the gap's null law was simulated on: `points`, or the subsample of
+  // DiagnoseOptions::null_rows (then null_asymptotic says how the rest was done).
+  int null_rows = 0;
   std::uint64_t seed = 0;
   double alpha = 0.0;
   // Per point, in the readings' order (for the report): residual before and after the fit.

@@ -8,8 +8,10 @@
 #include <numbers>
 #include <sstream>
 #include <tuple>
+#include <type_traits>
 
 #include <tbb/parallel_for.h>
+#include <Eigen/Eigenvalues>
 
 #include "core/special_functions.h"
 #include "engine/apps/diagnose/cluster_tests.h"
@@ -249,6 +251,45 @@ void measure_gap(const State& state, Diagnosis& out) {
   out.held_out_rms_um = std::sqrt(ss / rows);
 }
 
+namespace {
+
+// The gap's null subsample for n > 2 × null_rows (DiagnoseOptions::null_rows): in scan order
+// (gear, tooth, flank, section, roll index — scan_triplets' order), runs of kNullRunLength
+// consecutive points, every k-th run, k = ⌈n / null_rows⌉; returned in the readings' order. Runs
+// keep the scans' second differences (a σ re-estimated from them) and reach every part of the
+// plan.
+constexpr int kNullRunLength = 64;
+std::vector<int> null_subsample(const std::vector<ResidualPoint>& points, int null_rows) {
+  const int n = static_cast<int>(points.size());
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) order[static_cast<std::size_t>(k)] = k;
+  auto key = [&](int k) {
+    const ResidualPoint& p = points[static_cast<std::size_t>(k)];
+    return std::tuple{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j, p.i};
+  };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  const int stride = (n + null_rows - 1) / null_rows;
+  std::vector<int> rows;
+  for (int start = 0, run = 0; start < n; start += kNullRunLength, ++run) {
+    if (run % stride != 0) continue;
+    for (int a = start; a < std::min(n, start + kNullRunLength); ++a) {
+      rows.push_back(order[static_cast<std::size_t>(a)]);
+    }
+  }
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+// A square root L (L Lᵀ = cov) of a positive semi-definite covariance (eigenvalues below 0 from
+// rounding taken as 0).
+Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& cov) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(cov);
+  const Eigen::VectorXd root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  return eigen.eigenvectors() * root.asDiagonal();
+}
+
+}  // namespace
+
 void simulate_null(const State& state, Diagnosis& out) {
   const Residuals& residuals = state.residuals;
   const int rows = state.rows;
@@ -270,9 +311,41 @@ void simulate_null(const State& state, Diagnosis& out) {
   const Eigen::MatrixXd q_after = orthonormal_basis(x_after).q;
   const bool reestimate = noise.source == NoiseFloorSource::kResidualSecondDifferences ||
                           noise.source == NoiseFloorSource::kResidualMad;
-  const std::vector<std::array<int, 3>> triplets =
-      reestimate ? scan_triplets(residuals.points) : std::vector<std::array<int, 3>>{};
   const int replicates = out.null_replicates;
+  // The rows the χ² and KS statistics are simulated on: all, or the subsample (see
+  // DiagnoseOptions::null_rows), with its own design and its statistics rescaled to n below.
+  const bool subsample = replicates > 0 && options.null_rows > 0 && rows > 2 * options.null_rows;
+  const std::vector<int> sub_rows =
+      subsample ? null_subsample(residuals.points, options.null_rows) : std::vector<int>{};
+  const int m = subsample ? static_cast<int>(sub_rows.size()) : rows;
+  out.null_rows = m;
+  Eigen::MatrixXd q_sim;
+  std::vector<std::array<int, 3>> triplets;
+  if (subsample) {
+    Eigen::MatrixXd x_sub(m, x_after.cols());
+    std::vector<ResidualPoint> sub_points;
+    sub_points.reserve(static_cast<std::size_t>(m));
+    for (int k = 0; k < m; ++k) {
+      const int row = sub_rows[static_cast<std::size_t>(k)];
+      x_sub.row(k) = x_after.row(row);
+      sub_points.push_back(residuals.points[static_cast<std::size_t>(row)]);
+    }
+    q_sim = orthonormal_basis(x_sub).q;
+    if (reestimate) triplets = scan_triplets(sub_points);
+  } else {
+    q_sim = q_after;
+    if (reestimate) triplets = scan_triplets(residuals.points);
+  }
+  // Degrees of freedom of the simulated rows, and the rescaling to n (subsample only):
+  // (χ²/dof − 1)·√dof and √n·KS have laws that do not depend on n to first order (central limit
+  // theorem; Kolmogorov's limit law).
+  const int dof_sim_after = m - p_after + static_cast<int>(q_after.cols() - q_sim.cols());
+  const double chi2_scale_before = std::sqrt(static_cast<double>(m) / rows);
+  const double chi2_scale_after =
+      rows - p_after > 0 && dof_sim_after > 0
+          ? std::sqrt(static_cast<double>(dof_sim_after) / (rows - p_after))
+          : 1.0;
+  const double ks_scale = std::sqrt(static_cast<double>(m) / rows);
   std::vector<double> chi2_before(replicates), chi2_after(replicates), ks_before(replicates),
       ks_after(replicates);
   const int orders = options.spectrum_max_order + 1;
@@ -283,12 +356,21 @@ void simulate_null(const State& state, Diagnosis& out) {
   ResidualLaw sim_before = law_before, sim_after = law_after;
   if (unit) sim_before = sim_after = ResidualLaw{1.0, 0.0, 0.0};
   const double band_scale = unit ? 0.0 : 1.0;
+  // With the subsample the spectrum's coefficients are drawn from their exact covariance
+  // (normal: each is a weighted sum of n independent residuals).
+  Eigen::MatrixXd root_before, root_after;
+  if (subsample) {
+    root_before = covariance_root(spectrum.unit_covariance(Eigen::MatrixXd(rows, 0)) *
+                                  sim_before.variance_um2());
+    root_after = covariance_root(spectrum.unit_covariance(q_after) *
+                                 (stage.chosen > 0 ? sim_after : sim_before).variance_um2());
+  }
   // The replicates in parallel: replicate k draws from its own counter-based streams and writes
   // only its own slots, so the result is the same for any number of threads.
   tbb::parallel_for(0, replicates, [&](int k) {
-    Eigen::VectorXd eps(rows), eps_law_after(rows);
+    Eigen::VectorXd eps(m), eps_law_after(m);
     RandomStream rng(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream, kGapNullSubIndex);
-    for (int i = 0; i < rows; ++i) eps[i] = sim_before.draw(rng);
+    for (int i = 0; i < m; ++i) eps[i] = sim_before.draw(rng);
     ResidualLaw l_before = sim_before, l_after = sim_after;
     if (reestimate) {
       const std::vector<double> e = to_vector(eps);
@@ -301,24 +383,44 @@ void simulate_null(const State& state, Diagnosis& out) {
     if (stage.chosen > 0) {  // the fitted law: its own draws
       RandomStream rng_after(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
                              kGapNullSubIndex + 1);
-      for (int i = 0; i < rows; ++i) eps_law_after[i] = sim_after.draw(rng_after);
+      for (int i = 0; i < m; ++i) eps_law_after[i] = sim_after.draw(rng_after);
     } else {
       eps_law_after = eps;
     }
-    const Eigen::VectorXd eps_after =
-        eps_law_after - q_after * (q_after.transpose() * eps_law_after);
-    const GapStatistics gb = gap_statistics(eps, rows, l_before);
-    const GapStatistics ga = gap_statistics(eps_after, rows - p_after, l_after);
-    chi2_before[k] = gb.chi2_dof;
-    chi2_after[k] = ga.chi2_dof;
-    ks_before[k] = gb.ks;
-    ks_after[k] = ga.ks;
-    const std::vector<double> sb = spectrum.amplitudes(eps), sa = spectrum.amplitudes(eps_after);
+    const Eigen::VectorXd eps_after = eps_law_after - q_sim * (q_sim.transpose() * eps_law_after);
+    const GapStatistics gb = gap_statistics(eps, m, l_before);
+    const GapStatistics ga = gap_statistics(eps_after, dof_sim_after, l_after);
+    chi2_before[k] = subsample ? 1.0 + (gb.chi2_dof - 1.0) * chi2_scale_before : gb.chi2_dof;
+    chi2_after[k] = subsample ? 1.0 + (ga.chi2_dof - 1.0) * chi2_scale_after : ga.chi2_dof;
+    ks_before[k] = subsample ? gb.ks * ks_scale : gb.ks;
+    ks_after[k] = subsample ? ga.ks * ks_scale : ga.ks;
+    std::vector<double> sb, sa;
+    if (subsample) {
+      RandomStream rng_spectrum(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
+                                kGapNullSubIndex + 2);
+      Eigen::VectorXd w(root_before.cols());
+      for (int i = 0; i < w.size(); ++i) w[i] = rng_spectrum.normal();
+      sb = spectrum.amplitudes_of(root_before * w);
+      for (int i = 0; i < w.size(); ++i) w[i] = rng_spectrum.normal();
+      sa = spectrum.amplitudes_of(root_after * w);
+    } else {
+      sb = spectrum.amplitudes(eps);
+      sa = spectrum.amplitudes(eps_after);
+    }
     for (int o = 0; o < orders; ++o) {
       amp_before[o][k] = sb[o] * band_scale;
       amp_after[o][k] = sa[o] * band_scale;
     }
   });
+  if (subsample) {
+    std::ostringstream text;
+    text << "the gap's null law was simulated on " << m << " of the " << rows << " readings (every "
+         << (rows + options.null_rows - 1) / options.null_rows << "th run of " << kNullRunLength
+         << " points along the scans) and rescaled to all of them: χ²/dof about 1 by √dof, the "
+            "KS distance by √n; the spectrum's null bands from the exact covariance of its "
+            "harmonic fit; the cluster energy test on the same readings";
+    out.notes.push_back(text.str());
+  }
   if (out.null_replicates > 0) {
     out.gap_before.chi2_p = empirical_p_value(out.gap_before.chi2_dof, chi2_before);
     out.gap_before.ks_p = empirical_p_value(out.gap_before.ks, ks_before);
@@ -363,8 +465,18 @@ void simulate_null(const State& state, Diagnosis& out) {
     int sub = kClusterSubIndex + 1;
     for (auto [g, x, y] :
          {std::tuple{&out.gap_before, &before, &yb}, std::tuple{&out.gap_after, &after, &ya}}) {
+      // With the subsample (DiagnoseOptions::null_rows) the energy test takes its readings only:
+      // each replicate walks every value, so its cost grows with n.
+      auto rows_of = [&](const std::vector<auto>& all) {
+        std::remove_cvref_t<decltype(all)> part;
+        part.reserve(sub_rows.size());
+        for (int k : sub_rows) part.push_back(all[static_cast<std::size_t>(k)]);
+        return part;
+      };
       const PermutationTest test =
-          cluster_swap_energy_test(*x, *y, flank, out.null_replicates, so.seed, sub++);
+          subsample ? cluster_swap_energy_test(rows_of(*x), rows_of(*y), rows_of(flank),
+                                               out.null_replicates, so.seed, sub++)
+                    : cluster_swap_energy_test(*x, *y, flank, out.null_replicates, so.seed, sub++);
       g->energy_um = test.statistic;
       g->energy_p = test.p_value;
       const BootstrapInterval ci =

@@ -281,6 +281,7 @@ std::string diagnosis_json(const Diagnosis& d) {
   j["points"] = d.points;
   j["nominal_fallback_points"] = d.nominal_fallback;
   j["null_replicates"] = d.null_replicates;
+  j["null_rows"] = d.null_rows;
   j["seed"] = d.seed;
   j["alpha"] = d.alpha;
   Json steps = Json::array();

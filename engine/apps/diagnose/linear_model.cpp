@@ -17,21 +17,36 @@ namespace {}  // namespace
 
 ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, const Eigen::MatrixXd& against,
                               double relative_tolerance) {
+  // Block Gram–Schmidt, twice (BCGS2: Barlow & Smoktunowicz, Numer. Math. 123 (2013) 395): the
+  // columns in blocks of kBlock, each block projected off the given basis and the columns kept
+  // before it by two matrix products (one pass over the n rows for the whole block, not one per
+  // pair of columns), then its columns one by one off the block's columns kept before them
+  // (modified Gram–Schmidt, twice). The same decisions as column-by-column Gram–Schmidt.
+  constexpr int kBlock = 8;
   ColumnBasis out;
   out.q.resize(x.rows(), x.cols());
   int k = 0;
-  for (int c = 0; c < x.cols(); ++c) {
-    Eigen::VectorXd v = x.col(c);
-    const double norm0 = v.norm();
-    if (!(norm0 > 0.0) || !std::isfinite(norm0)) continue;
-    for (int pass = 0; pass < 2; ++pass) {  // modified Gram–Schmidt, twice
-      for (int a = 0; a < against.cols(); ++a) v -= against.col(a) * against.col(a).dot(v);
-      for (int a = 0; a < k; ++a) v -= out.q.col(a) * out.q.col(a).dot(v);
+  for (int start = 0; start < x.cols(); start += kBlock) {
+    const int w = std::min<int>(kBlock, static_cast<int>(x.cols()) - start);
+    Eigen::MatrixXd v = x.middleCols(start, w);
+    Eigen::VectorXd norm0(w);
+    for (int c = 0; c < w; ++c) norm0[c] = v.col(c).norm();
+    for (int pass = 0; pass < 2; ++pass) {
+      if (against.cols() > 0) v.noalias() -= against * (against.transpose() * v);
+      if (k > 0) v.noalias() -= out.q.leftCols(k) * (out.q.leftCols(k).transpose() * v);
     }
-    const double norm = v.norm();
-    if (norm > relative_tolerance * norm0) {
-      out.q.col(k++) = v / norm;
-      out.kept.push_back(c);
+    const int block_first = k;
+    for (int c = 0; c < w; ++c) {
+      if (!(norm0[c] > 0.0) || !std::isfinite(norm0[c])) continue;
+      Eigen::VectorXd col = v.col(c);
+      for (int pass = 0; pass < 2; ++pass) {
+        for (int a = block_first; a < k; ++a) col -= out.q.col(a) * out.q.col(a).dot(col);
+      }
+      const double norm = col.norm();
+      if (norm > relative_tolerance * norm0[c]) {
+        out.q.col(k++) = col / norm;
+        out.kept.push_back(start + c);
+      }
     }
   }
   out.q.conservativeResize(x.rows(), k);
@@ -103,18 +118,20 @@ std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eige
   return out;
 }
 
-double scaled_condition_number(const Eigen::MatrixXd& x) {
-  std::vector<int> nonzero;
+double scaled_condition_number(Eigen::MatrixXd x) {
+  // The non-zero columns, scaled, moved to the front in place; then the singular values of the
+  // k × k triangle R of X = QR (the same as X's), so the only n-row matrix is the argument.
+  int k = 0;
   for (int c = 0; c < x.cols(); ++c) {
-    if (x.col(c).norm() > 0.0) nonzero.push_back(c);
+    const double norm = x.col(c).norm();
+    if (norm > 0.0) x.col(k++) = x.col(c) / norm;
   }
-  if (nonzero.empty()) return kNaN;
-  Eigen::MatrixXd s(x.rows(), static_cast<int>(nonzero.size()));
-  for (std::size_t a = 0; a < nonzero.size(); ++a) {
-    s.col(static_cast<int>(a)) = x.col(nonzero[a]).normalized();
-  }
-  if (s.cols() > s.rows()) return kInf;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(s);
+  if (k == 0) return kNaN;
+  if (k > x.rows()) return kInf;
+  Eigen::Ref<Eigen::MatrixXd> s = x.leftCols(k);
+  const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(s);
+  const Eigen::MatrixXd r = qr.matrixQR().topRows(k).triangularView<Eigen::Upper>();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(r);
   const double hi = svd.singularValues()[0];
   const double lo = svd.singularValues()[svd.singularValues().size() - 1];
   return lo > hi * 1e-15 ? hi / lo : kInf;
@@ -208,7 +225,19 @@ HarmonicSpectrum::HarmonicSpectrum(const std::vector<double>& azimuth_rad, int m
 }
 
 std::vector<double> HarmonicSpectrum::amplitudes(const Eigen::VectorXd& residual_um) const {
-  const Eigen::VectorXd c = solve_ * residual_um;
+  return amplitudes_of(solve_ * residual_um);
+}
+
+Eigen::MatrixXd HarmonicSpectrum::unit_covariance(const Eigen::MatrixXd& q) const {
+  Eigen::MatrixXd cov = solve_ * solve_.transpose();
+  if (q.cols() > 0) {
+    const Eigen::MatrixXd sq = solve_ * q;
+    cov -= sq * sq.transpose();
+  }
+  return cov;
+}
+
+std::vector<double> HarmonicSpectrum::amplitudes_of(const Eigen::VectorXd& c) const {
   std::vector<double> a(max_order_ + 1);
   a[0] = std::abs(c[0]);
   for (int k = 1; k <= max_order_; ++k) a[k] = std::hypot(c[2 * k - 1], c[2 * k]);

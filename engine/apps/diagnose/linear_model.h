@@ -17,8 +17,9 @@ namespace gearmc {
 // An orthonormal basis of the part of a matrix's column space that is orthogonal to a given
 // orthonormal basis, built column by column: column c is kept when what is left of it after
 // removing the given basis and the columns kept before it has a norm > `relative_tolerance`
-// times its own norm (zero columns are never kept). Modified Gram–Schmidt applied twice
-// (Kahan's "twice is enough", Parlett, "The Symmetric Eigenvalue Problem", 1980).
+// times its own norm (zero columns are never kept). Gram–Schmidt applied twice (Kahan's "twice is
+// enough", Parlett, "The Symmetric Eigenvalue Problem", 1980), in blocks of columns
+// (linear_model.cpp).
 struct ColumnBasis {
   Eigen::MatrixXd q;      // rows × kept.size(), orthonormal columns
   std::vector<int> kept;  // indices of the kept columns of the input, increasing
@@ -56,8 +57,9 @@ std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eige
 
 // Condition number (largest / smallest singular value) of X with every column scaled to unit
 // length (Belsley, Kuh & Welsch, "Regression Diagnostics", 1980, ch. 3). Zero columns are left
-// out; +inf when the scaled columns are linearly dependent.
-double scaled_condition_number(const Eigen::MatrixXd& x);
+// out; +inf when the scaled columns are linearly dependent. X by value: it is overwritten (move a
+// temporary in).
+double scaled_condition_number(Eigen::MatrixXd x);
 
 // One-sample Kolmogorov–Smirnov distance D = sup |F_n(x) − Φ(x/σ)| of `values` against
 // N(0, σ²) (ks_distance of core/special_functions.h with Φ(x/σ)); NaN unless σ > 0. The
@@ -108,6 +110,12 @@ class HarmonicSpectrum {
   int max_order() const { return max_order_; }
   // Amplitudes of orders 0..max_order (µm).
   std::vector<double> amplitudes(const Eigen::VectorXd& residual_um) const;
+  // The covariance of the fitted coefficients (cos/sin pairs, 2K + 1) for white residuals of
+  // unit variance projected off the orthonormal columns q (n × p, may be empty):
+  // S (I − q qᵀ) Sᵀ, with S the least-squares operator.
+  Eigen::MatrixXd unit_covariance(const Eigen::MatrixXd& q) const;
+  // Amplitudes of orders 0..max_order from fitted coefficients c (2K + 1).
+  std::vector<double> amplitudes_of(const Eigen::VectorXd& c) const;
 
  private:
   int max_order_;

@@ -31,8 +31,14 @@
 //   * the alternative's extra variance is mostly white: v_w − v₀ ≥ white_fraction (v_alt − v₀);
 //   * ΔBIC = BIC_alt − BIC_model ≤ −min_delta_bic.
 // Among the accepted, the lowest BIC wins; the other kind (noise vs step) is `ambiguous` when its
-// BIC is within ambiguity_delta_bic. With no simulated null (K = 0) the white test uses the
-// normal approximation of v_w/v₀ with the variance of Σd² under independent Gaussian readings.
+// BIC is within ambiguity_delta_bic. With no simulated null (K = 0, or many readings:
+// PointLawOptions::white_normal_approximation) the white test uses the normal approximation of
+// v_w: its mean v₀ (1 − Σ_a |Qᵀc_a|²/(6 m)) through the fit's projection (Q an orthonormal basis of
+// the fitted columns, c_a the second-difference weights 1, −2, 1 of triplet a) and the variance of
+// Σd² for independent readings of the model's law, Σ_a Σ_b [2 cov(d_a, d_b)² + κ₄ Σ_i c_a(i)²
+// c_b(i)²] (κ₄ the law's fourth cumulant, −w⁴/120 for a uniform part of width w; 0 for a Gaussian
+// law, where this is Isserlis' theorem). With m ≥ 10⁵ differences the normal law of their sum is
+// exact to far below the K-replicate p-value's own resolution.
 //
 // A model whose law is not its own (noise floor estimated from the residuals, or given) says
 // nothing about the spread; the stage is then skipped (reason in `skipped_because`).
@@ -40,6 +46,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -70,12 +77,22 @@ struct ResidualLaw {
 // variance w²/12.
 ResidualLaw residual_law(const PointLaw& law);
 
+// Variance of Σ_a d_a² over the second differences d_a = e_i − 2 e_{i+1} + e_{i+2} of `triplets`
+// (index triples of consecutive points of one scan, scan_triplets' order) for independent
+// readings e of variance v (µm²) and fourth cumulant κ₄ (µm⁴; −w⁴/120 for a uniform law of
+// width w, 0 for a Gaussian): Σ_a Σ_b [2 cov(d_a, d_b)² + κ₄ Σ_i c_a(i)² c_b(i)²],
+// cov(d_a, d_b) = v Σ_i c_a(i) c_b(i) over shared points (c = 1, −2, 1). µm⁴.
+double white_sum_variance(const std::vector<std::array<int, 3>>& triplets, double v, double kappa4);
+
 // One-sample Kolmogorov–Smirnov distance of `values` against `law` (exact sup over the jumps).
 double ks_distance(std::vector<double> values, const ResidualLaw& law);
 
 struct PointLawOptions {
   double alpha = 0.01;
   int null_replicates = 200;  // K (0: normal approximation)
+  // The white-variance test by its normal approximation even with K > 0 (set for many readings,
+  // DiagnoseOptions::null_rows).
+  bool white_normal_approximation = false;
   std::uint64_t seed = 1;
   double min_delta_bic = 10.0;
   double ambiguity_delta_bic = 6.0;

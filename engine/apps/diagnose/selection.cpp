@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
 
 #include <tbb/parallel_for.h>
 
@@ -26,10 +29,17 @@ StepDesign step_design(const std::vector<CandidateDesign>& candidates,
   StepDesign d;
   d.q_selected = orthonormal_basis(joint_columns(candidates, selected)).q;
   for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
-    if (std::find(selected.begin(), selected.end(), c) != selected.end()) continue;
-    d.candidates.push_back(c);
-    d.q_added.push_back(orthonormal_basis(candidates[c].observable_columns(), d.q_selected).q);
+    if (std::find(selected.begin(), selected.end(), c) == selected.end()) d.candidates.push_back(c);
   }
+  // Each candidate's basis on its own (in parallel, into its own slot).
+  d.q_added.resize(d.candidates.size());
+  tbb::parallel_for(0, static_cast<int>(d.candidates.size()), [&](int e) {
+    d.q_added[static_cast<std::size_t>(e)] =
+        orthonormal_basis(
+            candidates[d.candidates[static_cast<std::size_t>(e)]].observable_columns(),
+            d.q_selected)
+            .q;
+  });
   return d;
 }
 
@@ -38,15 +48,14 @@ struct Statistic {
   double reduction = 0.0, rss = 0.0, f = 0.0, p = 1.0;
 };
 
-// The nested test of adding candidate entry `e` for residuals y with RSS_S = rss_selected.
-Statistic nested_test(const StepDesign& d, std::size_t e, const Eigen::VectorXd& y,
-                      double rss_selected) {
+// The nested test of adding a candidate whose q columns (beyond the selected ones) remove
+// `reduction` from RSS_S = rss_selected, with `dof` = n − p − q.
+Statistic nested_statistic(int q, int dof, double reduction, double rss_selected) {
   Statistic s;
-  const Eigen::MatrixXd& q = d.q_added[e];
-  s.q = static_cast<int>(q.cols());
-  s.dof = static_cast<int>(y.size()) - static_cast<int>(d.q_selected.cols()) - s.q;
+  s.q = q;
+  s.dof = dof;
   if (s.q == 0 || s.dof <= 0) return s;
-  s.reduction = (q.transpose() * y).squaredNorm();
+  s.reduction = reduction;
   s.rss = std::max(rss_selected - s.reduction, 0.0);
   s.f =
       s.rss > 0.0 ? (s.reduction / s.q) / (s.rss / s.dof) : std::numeric_limits<double>::infinity();
@@ -54,8 +63,75 @@ Statistic nested_test(const StepDesign& d, std::size_t e, const Eigen::VectorXd&
   return s;
 }
 
+// The nested test of adding candidate entry `e` for residuals y with RSS_S = rss_selected.
+Statistic nested_test(const StepDesign& d, std::size_t e, const Eigen::VectorXd& y,
+                      double rss_selected) {
+  const Eigen::MatrixXd& q = d.q_added[e];
+  const int q_cols = static_cast<int>(q.cols());
+  const int dof = static_cast<int>(y.size()) - static_cast<int>(d.q_selected.cols()) - q_cols;
+  if (q_cols == 0 || dof <= 0) return nested_statistic(q_cols, dof, 0.0, rss_selected);
+  return nested_statistic(q_cols, dof, (q.transpose() * y).squaredNorm(), rss_selected);
+}
+
 double rss_after_selected(const StepDesign& d, const Eigen::VectorXd& y) {
   return std::max(y.squaredNorm() - (d.q_selected.transpose() * y).squaredNorm(), 0.0);
+}
+
+// The null law of a step's statistics, simulated in the space of its bases. For ε ~ N(0, σ² I_n)
+// the statistics depend on ε only through z = Aᵀε, A = [Q_S, Q_1, …, Q_E] (n × C, the selected
+// basis and each candidate's added basis), and through ‖ε‖². With the Gram matrix
+// AᵀA = V Λ Vᵀ of rank r, U = A V_r Λ_r^(−1/2) is an orthonormal basis of span A, so
+// w = Uᵀε ~ N(0, σ² I_r), z = V_r Λ_r^(1/2) w, and ‖ε‖² = ‖w‖² + σ² χ²(n − r) with the χ² term
+// independent of w (Cochran's theorem). A replicate therefore draws r normals and one χ² instead
+// of n normals and n·C products: the same law, exactly, at any number of readings.
+struct GramNull {
+  Eigen::MatrixXd root;            // C × r: V_r Λ_r^(1/2)
+  std::vector<int> block_start;    // first row of each block of z: Q_S, then Q_1, …, Q_E
+  std::vector<int> block_columns;  // its columns
+  int rank = 0;
+};
+
+GramNull gram_null(const StepDesign& d) {
+  GramNull g;
+  std::vector<const Eigen::MatrixXd*> blocks = {&d.q_selected};
+  for (const Eigen::MatrixXd& q : d.q_added) blocks.push_back(&q);
+  int total = 0;
+  for (const Eigen::MatrixXd* b : blocks) {
+    g.block_start.push_back(total);
+    g.block_columns.push_back(static_cast<int>(b->cols()));
+    total += static_cast<int>(b->cols());
+  }
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(total, total);
+  // Each block pair on its own (in parallel; each writes only its own cells).
+  std::vector<std::pair<int, int>> pairs;
+  for (int a = 0; a < static_cast<int>(blocks.size()); ++a) {
+    for (int b = a; b < static_cast<int>(blocks.size()); ++b) {
+      if (g.block_columns[a] > 0 && g.block_columns[b] > 0) pairs.emplace_back(a, b);
+    }
+  }
+  tbb::parallel_for(0, static_cast<int>(pairs.size()), [&](int k) {
+    const auto [a, b] = pairs[static_cast<std::size_t>(k)];
+    const Eigen::MatrixXd part = blocks[a]->transpose() * *blocks[b];
+    gram.block(g.block_start[a], g.block_start[b], part.rows(), part.cols()) = part;
+    if (a != b) {
+      gram.block(g.block_start[b], g.block_start[a], part.cols(), part.rows()) = part.transpose();
+    }
+  });
+  if (total == 0) return g;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
+  const Eigen::VectorXd& lambda = eigen.eigenvalues();
+  // The blocks are orthonormal, so every eigenvalue lies in [0, blocks]; below this they are 0.
+  const double cut = 1e-10 * std::max(1.0, lambda.maxCoeff());
+  std::vector<int> kept;
+  for (int k = 0; k < total; ++k) {
+    if (lambda[k] > cut) kept.push_back(k);
+  }
+  g.rank = static_cast<int>(kept.size());
+  g.root.resize(total, g.rank);
+  for (int k = 0; k < g.rank; ++k) {
+    g.root.col(k) = eigen.eigenvectors().col(kept[k]) * std::sqrt(lambda[kept[k]]);
+  }
+  return g;
 }
 
 NullSelectionDistribution simulate(const StepDesign& d, int rows, double sigma_um, int replicates,
@@ -65,17 +141,26 @@ NullSelectionDistribution simulate(const StepDesign& d, int rows, double sigma_u
   std::vector<double> max_fs(static_cast<std::size_t>(std::max(replicates, 0)));
   std::vector<double> min_ps(max_fs.size());
   std::vector<char> tested(max_fs.size(), 0);
+  const GramNull g = replicates > 0 ? gram_null(d) : GramNull{};
+  const int selected_columns = static_cast<int>(d.q_selected.cols());
   tbb::parallel_for(0, replicates, [&](int k) {
-    Eigen::VectorXd eps(rows);
     RandomStream rng(seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
                      static_cast<std::uint32_t>(step));
-    for (int r = 0; r < rows; ++r) eps[r] = sigma_um * rng.normal();
-    const double rss = rss_after_selected(d, eps);
+    Eigen::VectorXd w(g.rank);
+    for (int c = 0; c < g.rank; ++c) w[c] = sigma_um * rng.normal();
+    const Eigen::VectorXd z = g.root * w;
+    const double outside =
+        rows > g.rank ? 2.0 * sample_standard_gamma(0.5 * (rows - g.rank), rng) : 0.0;
+    const double norm2 = w.squaredNorm() + sigma_um * sigma_um * outside;
+    const double rss = std::max(norm2 - z.head(selected_columns).squaredNorm(), 0.0);
     double max_f = 0.0, min_p = 1.0;
     bool any = false;
     for (std::size_t e = 0; e < d.candidates.size(); ++e) {
-      const Statistic s = nested_test(d, e, eps, rss);
-      if (s.q == 0 || s.dof <= 0) continue;
+      const int q = g.block_columns[e + 1];
+      const int dof = rows - selected_columns - q;
+      if (q == 0 || dof <= 0) continue;
+      const Statistic s =
+          nested_statistic(q, dof, z.segment(g.block_start[e + 1], q).squaredNorm(), rss);
       any = true;
       max_f = std::max(max_f, s.f);
       min_p = std::min(min_p, s.p);

@@ -7,7 +7,8 @@
 //     2nd ed., 2003, ch. 4), its p-value from the F table, Holm-adjusted over the candidates of
 //     the step (linear_model.h);
 //   * the same p-value calibrated on simulated null data: the residuals replaced by
-//     N(0, σ²) noise at the same points K times, the smallest F-table p-value over the step's
+//     N(0, σ²) noise at the same points K times (drawn in the space of the step's bases, with
+//     the same law as n draws: selection.cpp), the smallest F-table p-value over the step's
 //     candidates taken in each replicate, p_null = (1 + #{min p* ≤ p}) / (K + 1) — the
 //     single-step min-P adjustment of Westfall & Young ("Resampling-Based Multiple Testing",
 //     Wiley 1993), which also controls the family-wise error over the candidates and does not

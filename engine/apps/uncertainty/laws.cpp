@@ -268,26 +268,6 @@ double Law::quantile(double q) const {
   return 0.0;
 }
 
-double sample_standard_gamma(double k, TrialStream& s) {
-  if (k < 1.0) {
-    const double g = sample_standard_gamma(k + 1.0, s);
-    return g * std::pow(s.uniform(), 1.0 / k);
-  }
-  const double d = k - 1.0 / 3.0;
-  const double c = 1.0 / std::sqrt(9.0 * d);
-  for (;;) {
-    double x, v;
-    do {
-      x = s.normal();
-      v = 1.0 + c * x;
-    } while (v <= 0.0);
-    v = v * v * v;
-    const double u = s.uniform();
-    if (u < 1.0 - 0.0331 * x * x * x * x) return d * v;
-    if (std::log(u) < 0.5 * x * x + d * (1.0 - v + std::log(v))) return d * v;
-  }
-}
-
 double Law::sample(TrialStream& s) const {
   const auto& p = p_;
   switch (kind_) {

@@ -73,8 +73,6 @@ Law make_from_data(const std::vector<double>& values);
 // What the parameters of `name` are, for messages: "[mean, sd]".
 std::string law_signature(std::string_view name);
 
-// Standard gamma variate of shape k > 0 (Marsaglia & Tsang, ACM TOMS 26 (2000) 363; for k < 1
-// the boost G(k) = G(k+1) U^(1/k)).
-double sample_standard_gamma(double k, TrialStream& s);
+// sample_standard_gamma (the gamma variate of the laws below) is in core/random_stream.h.
 
 }  // namespace gearmc::uncertainty

@@ -3,11 +3,16 @@
 // decides alone on hand-made designs whose F and ΔBIC are known in closed form. α = 0.01.
 #include <gtest/gtest.h>
 
+#include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "core/random_stream.h"
+#include "core/special_functions.h"
 #include "engine/apps/diagnose/diagnosis.h"
+#include "engine/apps/diagnose/selection.h"
 #include "tests/support/diagnose_readings.h"
 
 namespace gearmc {
@@ -34,6 +39,89 @@ TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
       std::count_if(a.min_p.begin(), a.min_p.end(), [](double p) { return p <= 0.05 / 8; }));
   EXPECT_LE(hits / 200.0, bound);
   for (double f : a.max_f) EXPECT_TRUE(f > 0.0 && std::isfinite(f));
+}
+
+// The null simulation draws in the space of the step's bases (selection.cpp, GramNull: r normals
+// and one χ² per replicate); the direct way draws n normals and fits every candidate. Both must
+// give the same law of the step's smallest p-value and largest F. Direct here: Eigen's
+// column-pivoting QR of [X_S, X_c] on each replicate (not gearmc's orthonormal_basis). For the
+// baseline plan with nothing selected and with the first candidate selected, K = 1500 replicates
+// each; two-sample Kolmogorov–Smirnov test at α = 0.001 (critical distance
+// 1.949 √(2/K) = 0.071, Smirnov's asymptotic law); seeds 7 (gearmc) and 11 (direct).
+double rss_of(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, int* rank) {
+  if (x.cols() == 0) {
+    *rank = 0;
+    return y.squaredNorm();
+  }
+  Eigen::MatrixXd unit = x;  // each column to unit norm, so the rank threshold is relative
+  for (int c = 0; c < unit.cols(); ++c) {
+    if (unit.col(c).norm() > 0.0) unit.col(c).normalize();
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(unit);
+  qr.setThreshold(1e-6);  // selection.cpp nests a column below 1e-6 of its norm
+  *rank = static_cast<int>(qr.rank());
+  const Eigen::VectorXd fitted = unit * qr.solve(y);
+  return (y - fitted).squaredNorm();
+}
+
+double two_sample_ks(std::vector<double> a, std::vector<double> b) {
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  double d = 0.0;
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const double v = std::min(a[i], b[j]);
+    while (i < a.size() && a[i] <= v) ++i;
+    while (j < b.size() && b[j] <= v) ++j;
+    const double fa = static_cast<double>(i) / static_cast<double>(a.size());
+    const double fb = static_cast<double>(j) / static_cast<double>(b.size());
+    d = std::max(d, std::abs(fa - fb));
+  }
+  return d;
+}
+
+TEST(DiagnoseSelection, NullSimulationHasTheLawOfDirectSimulation) {
+  const Residuals r = compute_residuals(baseline(), hidden(""));
+  std::vector<PointContext> points;
+  for (const ResidualPoint& p : r.points) points.push_back(p.context);
+  const std::vector<CandidateDesign> c = candidate_designs(points);
+  const int n = static_cast<int>(points.size());
+  constexpr int kReplicates = 1500;
+  for (const std::vector<int>& selected : {std::vector<int>{}, std::vector<int>{0}}) {
+    const NullSelectionDistribution gram =
+        simulate_null_selection(c, selected, kNoiseUm, kReplicates, 7);
+    Eigen::MatrixXd xs = joint_columns(c, selected);
+    std::vector<double> direct_min_p, direct_max_f;
+    RandomStream rng(11, 0, StreamPurpose::kDiagnoseNull, 99);
+    for (int k = 0; k < kReplicates; ++k) {
+      Eigen::VectorXd e(n);
+      for (int i = 0; i < n; ++i) e[i] = kNoiseUm * rng.normal();
+      int p = 0;
+      const double rss_s = rss_of(xs, e, &p);
+      double min_p = 1.0, max_f = 0.0;
+      bool any = false;
+      for (int cand = 0; cand < static_cast<int>(c.size()); ++cand) {
+        if (std::find(selected.begin(), selected.end(), cand) != selected.end()) continue;
+        Eigen::MatrixXd both(n, xs.cols() + c[cand].observable_columns().cols());
+        both << xs, c[cand].observable_columns();
+        int pq = 0;
+        const double rss_c = rss_of(both, e, &pq);
+        const int q = pq - p, dof = n - pq;
+        if (q == 0 || dof <= 0) continue;
+        const double f = ((rss_s - rss_c) / q) / (rss_c / dof);
+        any = true;
+        max_f = std::max(max_f, f);
+        min_p = std::min(min_p, f_distribution_upper_tail(f, q, dof));
+      }
+      if (!any) continue;
+      direct_min_p.push_back(min_p);
+      direct_max_f.push_back(max_f);
+    }
+    ASSERT_EQ(gram.min_p.size(), direct_min_p.size());
+    const double critical = 1.949 * std::sqrt(2.0 / kReplicates);
+    EXPECT_LT(two_sample_ks(gram.min_p, direct_min_p), critical) << selected.size();
+    EXPECT_LT(two_sample_ks(gram.max_f, direct_max_f), critical) << selected.size();
+  }
 }
 
 // --- The selection's gates, each deciding alone -------------------------------------------------
