@@ -414,8 +414,15 @@ void simulate_null(const State& state, Diagnosis& out) {
   });
   if (subsample) {
     std::ostringstream text;
+    const int stride = (rows + options.null_rows - 1) / options.null_rows;
+    const int last_two = stride % 100, last = stride % 10;
+    const char* suffix = last_two >= 11 && last_two <= 13 ? "th"
+                         : last == 1                      ? "st"
+                         : last == 2                      ? "nd"
+                         : last == 3                      ? "rd"
+                                                          : "th";
     text << "the gap's null law was simulated on " << m << " of the " << rows << " readings (every "
-         << (rows + options.null_rows - 1) / options.null_rows << "th run of " << kNullRunLength
+         << stride << suffix << " run of " << kNullRunLength
          << " points along the scans) and rescaled to all of them: χ²/dof about 1 by √dof, the "
             "KS distance by √n; the spectrum's null bands from the exact covariance of its "
             "harmonic fit; the cluster energy test on the same readings";
