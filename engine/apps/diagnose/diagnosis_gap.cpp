@@ -426,6 +426,7 @@ void simulate_null(const State& state, Diagnosis& out) {
          << " points along the scans) and rescaled to all of them: χ²/dof about 1 by √dof, the "
             "KS distance by √n; the spectrum's null bands from the exact covariance of its "
             "harmonic fit; the cluster energy test on the same readings";
+    if (stage.ran) text << "; the white-variance test by its normal approximation";
     out.notes.push_back(text.str());
   }
   if (out.null_replicates > 0) {
