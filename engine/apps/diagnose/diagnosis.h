@@ -247,7 +247,7 @@ struct Diagnosis {
   std::vector<std::string> notes;
   int null_replicates = 0;
   // The readings the gap's null law was simulated on: `points`, or the subsample of
-  // DiagnoseOptions::null_rows (then null_asymptotic says how the rest was done).
+  // DiagnoseOptions::null_rows (then a note in `notes` says how the rest was done).
   int null_rows = 0;
   std::uint64_t seed = 0;
   double alpha = 0.0;
