@@ -11,7 +11,6 @@
 #include <type_traits>
 
 #include <tbb/parallel_for.h>
-#include <Eigen/Eigenvalues>
 
 #include "core/special_functions.h"
 #include "engine/apps/diagnose/cluster_tests.h"
@@ -280,14 +279,6 @@ std::vector<int> null_subsample(const std::vector<ResidualPoint>& points, int nu
   return rows;
 }
 
-// A square root L (L Lᵀ = cov) of a positive semi-definite covariance (eigenvalues below 0 from
-// rounding taken as 0).
-Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& cov) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(cov);
-  const Eigen::VectorXd root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-  return eigen.eigenvectors() * root.asDiagonal();
-}
-
 }  // namespace
 
 void simulate_null(const State& state, Diagnosis& out) {
@@ -401,6 +392,7 @@ void simulate_null(const State& state, Diagnosis& out) {
       Eigen::VectorXd w(root_before.cols());
       for (int i = 0; i < w.size(); ++i) w[i] = rng_spectrum.normal();
       sb = spectrum.amplitudes_of(root_before * w);
+      w.resize(root_after.cols());
       for (int i = 0; i < w.size(); ++i) w[i] = rng_spectrum.normal();
       sa = spectrum.amplitudes_of(root_after * w);
     } else {

@@ -118,6 +118,22 @@ std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eige
   return out;
 }
 
+Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& cov) {
+  if (cov.rows() == 0) return Eigen::MatrixXd(0, 0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(cov);
+  const Eigen::VectorXd& lambda = eigen.eigenvalues();
+  const double cut = 1e-10 * std::max(1.0, lambda.maxCoeff());
+  std::vector<int> kept;
+  for (int k = 0; k < lambda.size(); ++k) {
+    if (lambda[k] > cut) kept.push_back(k);
+  }
+  Eigen::MatrixXd root(cov.rows(), static_cast<int>(kept.size()));
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    root.col(static_cast<int>(k)) = eigen.eigenvectors().col(kept[k]) * std::sqrt(lambda[kept[k]]);
+  }
+  return root;
+}
+
 double scaled_condition_number(Eigen::MatrixXd x) {
   // The non-zero columns, scaled, moved to the front in place; then the singular values of the
   // k × k triangle R of X = QR (the same as X's), so the only n-row matrix is the argument.

@@ -55,6 +55,11 @@ std::vector<double> holm_adjust(const std::vector<double>& p);
 // methods for computing angles between linear subspaces", Math. Comp. 27, 1973).
 std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eigen::MatrixXd& qb);
 
+// A square root L (L Lᵀ = cov) of a symmetric positive semi-definite matrix, one column per
+// eigenvalue above 1e-10 · max(1, largest eigenvalue) (the rest, rounding, taken as 0): V_r Λ_r^½.
+// Draws of N(0, cov) are L w with w standard normal of L.cols() entries.
+Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& cov);
+
 // Condition number (largest / smallest singular value) of X with every column scaled to unit
 // length (Belsley, Kuh & Welsch, "Regression Diagnostics", 1980, ch. 3). Zero columns are left
 // out; +inf when the scaled columns are linearly dependent. X by value: it is overwritten (move a

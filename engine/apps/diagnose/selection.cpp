@@ -6,8 +6,6 @@
 #include <cmath>
 #include <utility>
 
-#include <Eigen/Eigenvalues>
-
 #include <tbb/parallel_for.h>
 
 #include "core/special_functions.h"
@@ -117,20 +115,10 @@ GramNull gram_null(const StepDesign& d) {
       gram.block(g.block_start[b], g.block_start[a], part.cols(), part.rows()) = part.transpose();
     }
   });
-  if (total == 0) return g;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
-  const Eigen::VectorXd& lambda = eigen.eigenvalues();
-  // The blocks are orthonormal, so every eigenvalue lies in [0, blocks]; below this they are 0.
-  const double cut = 1e-10 * std::max(1.0, lambda.maxCoeff());
-  std::vector<int> kept;
-  for (int k = 0; k < total; ++k) {
-    if (lambda[k] > cut) kept.push_back(k);
-  }
-  g.rank = static_cast<int>(kept.size());
-  g.root.resize(total, g.rank);
-  for (int k = 0; k < g.rank; ++k) {
-    g.root.col(k) = eigen.eigenvectors().col(kept[k]) * std::sqrt(lambda[kept[k]]);
-  }
+  // The blocks are orthonormal, so every eigenvalue lies in [0, blocks]; the root drops those of
+  // rounding size.
+  g.root = covariance_root(gram);
+  g.rank = static_cast<int>(g.root.cols());
   return g;
 }
 
