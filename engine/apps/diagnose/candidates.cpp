@@ -36,7 +36,7 @@ struct Pick {
 // Appends to `design` the columns `picks` of `effect`'s signature at every point, about `values`.
 void add_columns(CandidateDesign& design, const MeasurementEffect& effect,
                  const std::vector<double>& values, const std::vector<Pick>& picks,
-                 const std::vector<PointContext>& points) {
+                 const PointContexts& points) {
   const int first = static_cast<int>(design.x.cols());
   design.x.conservativeResize(static_cast<int>(points.size()),
                               first + static_cast<int>(picks.size()));
@@ -89,6 +89,15 @@ Eigen::MatrixXd CandidateDesign::observable_columns() const {
   return out;
 }
 
+const Eigen::MatrixXd& CandidateDesign::observable_columns(Eigen::MatrixXd& copy) const {
+  if (std::find(observable.begin(), observable.end(), false) == observable.end() &&
+      static_cast<int>(observable.size()) == x.cols()) {
+    return x;
+  }
+  copy = observable_columns();
+  return copy;
+}
+
 std::vector<int> CandidateDesign::observable_indices() const {
   std::vector<int> idx;
   for (std::size_t c = 0; c < observable.size(); ++c) {
@@ -106,7 +115,7 @@ const std::vector<std::string>& candidate_effect_names() {
   return names;
 }
 
-std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& points,
+std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                                                const CandidateOptions& options) {
   std::vector<CandidateDesign> out;
   {  // probe_lobing: p0, then cos/sin per order
@@ -218,7 +227,8 @@ std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& 
   if (!points.empty() && form_asked) {
     FormRanges r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
                  std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (const PointContext& p : points) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const PointContext& p = points[i];
       const double roll = ArtefactFormEffect::roll_length_mm(p);
       r.profile_from_mm = std::min(r.profile_from_mm, roll);
       r.profile_to_mm = std::max(r.profile_to_mm, roll);

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -68,6 +69,8 @@ struct CandidateDesign {
   std::vector<std::pair<std::string, double>> settings;
   // The observable columns only (what the selection and fits use).
   Eigen::MatrixXd observable_columns() const;
+  // x itself when every column is observable, otherwise a copy of the observable ones in `copy`.
+  const Eigen::MatrixXd& observable_columns(Eigen::MatrixXd& copy) const;
   std::vector<int> observable_indices() const;
 };
 
@@ -89,9 +92,33 @@ struct CandidateOptions {
 // this order).
 const std::vector<std::string>& candidate_effect_names();
 
+// The measured points' contexts read in place from an array of records that each hold one (a
+// vector of PointContext, or of residual points: no copy of 10⁶ contexts).
+class PointContexts {
+ public:
+  PointContexts(const std::vector<PointContext>& v)  // NOLINT: implicit on purpose
+      : first_(reinterpret_cast<const char*>(v.data())),
+        size_(v.size()),
+        stride_(sizeof(PointContext)) {}
+  template <class Record>
+  PointContexts(const std::vector<Record>& v, PointContext Record::*member)
+      : first_(v.empty() ? nullptr : reinterpret_cast<const char*>(&(v.front().*member))),
+        size_(v.size()),
+        stride_(sizeof(Record)) {}
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const PointContext& operator[](std::size_t i) const {
+    return *reinterpret_cast<const PointContext*>(first_ + i * stride_);
+  }
+
+ private:
+  const char* first_;
+  std::size_t size_, stride_;
+};
+
 // The candidates' design matrices at `points` (PointContext of each measured point: nominal p
 // and n in the CMM frame, mm; approach azimuth; order within its gear's sequence).
-std::vector<CandidateDesign> candidate_designs(const std::vector<PointContext>& points,
+std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                                                const CandidateOptions& options = {});
 
 // What extra measurement would tell effects `a` and `b` apart when this plan cannot (one

@@ -184,12 +184,8 @@ void select_and_fit(State& state, Diagnosis& out) {
     state.azimuths.push_back(residuals.points[k].context.azimuth_rad);
     state.r[k] = residuals.points[k].residual_um;
   }
-  state.candidates = [&] {
-    std::vector<PointContext> contexts;  // a copy only while the columns are made
-    contexts.reserve(residuals.points.size());
-    for (const ResidualPoint& p : residuals.points) contexts.push_back(p.context);
-    return candidate_designs(contexts, options.candidates);
-  }();
+  state.candidates = candidate_designs(PointContexts(residuals.points, &ResidualPoint::context),
+                                       options.candidates);
   const std::vector<CandidateDesign>& candidates = state.candidates;
   for (const CandidateDesign& c : candidates) out.candidate_names.push_back(c.name);
 
@@ -230,7 +226,6 @@ void select_and_fit(State& state, Diagnosis& out) {
   // Until the point-law stage says otherwise: the linear fit's residuals under the floor's law.
   state.law_before = floor_law(state.noise);
   state.law_after = state.law_before;
-  state.x_after = x_selected;
   state.p_after = p;
   state.r_after = state.r - fit.fitted;
 }
@@ -254,7 +249,9 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
     const int q = static_cast<int>(a.observable_indices().size());
     Eigen::VectorXd signal = x_selected.middleCols(offsets[s], q) * fit.beta.segment(offsets[s], q);
     signal -= q_others * (q_others.transpose() * signal);
-    const Eigen::MatrixXd q_a = orthonormal_basis(a.observable_columns(), q_others).q;
+    Eigen::MatrixXd copy_a;
+    const Eigen::MatrixXd q_a = orthonormal_basis(a.observable_columns(copy_a), q_others).q;
+    copy_a.resize(0, 0);
     const SelectionStep& step = out.selection.steps[s];
     const double a_bic = step.tests[step.accepted].delta_bic;
     // Each other candidate on its own (in parallel, into its own slot; kept in library order).
@@ -274,8 +271,9 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
         joint.push_back(selected[s]);
         joint.push_back(b);
         amb.condition_number = scaled_condition_number(joint_columns(candidates, joint));
+        Eigen::MatrixXd copy_b;
         const Eigen::MatrixXd q_b =
-            orthonormal_basis(candidates[b].observable_columns(), q_others).q;
+            orthonormal_basis(candidates[b].observable_columns(copy_b), q_others).q;
         const std::vector<double> cc = canonical_correlations(q_a, q_b);
         amb.canonical_correlation = cc.empty() ? 0.0 : cc.front();
         const double norm = signal.norm();
@@ -321,6 +319,7 @@ void apply_point_law(State& state, Diagnosis& out) {
   if (stage.chosen > 0) {
     const PointLawHypothesis& h = stage.best();
     x_after.resize(rows, static_cast<int>(h.columns.size()) + (h.constant_added ? 1 : 0));
+    state.x_after_set = true;
     for (std::size_t k = 0; k < h.columns.size(); ++k) {
       x_after.col(static_cast<int>(k)) = x_selected.col(h.columns[k]);
     }
@@ -382,11 +381,11 @@ PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readi
                                     const std::string& readings_path,
                                     const DiagnoseOptions& options) {
   check_readings_against_model(model, readings, readings_path);
-  const Residuals all = compute_residuals(model, readings, options.prediction);
+  Residuals all = compute_residuals(model, readings, options.prediction);
   check_residuals(all, readings, readings_path);
   PreparedResiduals out;
   out.outliers = screen_outliers(all);
-  out.residuals = without_excluded(all, out.outliers);
+  out.residuals = without_excluded(std::move(all), out.outliers);
   out.noise = estimate_noise_floor(model, out.residuals);
   if (options.noise_floor_um) {
     out.noise.sigma_um = *options.noise_floor_um;
@@ -467,10 +466,13 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   select_and_fit(state, out);                        // 2–4
   diagnosis_stages::per_gear_variation(state, out);  // 4c (per_gear.cpp)
   assess_ambiguity(state, out);                      // 7
-  apply_point_law(state, out);                       // 4b
-  diagnosis_stages::measure_gap(state, out);         // 5 (diagnosis_gap.cpp)
-  diagnosis_stages::simulate_null(state, out);       // 5–6
-  diagnosis_stages::make_verdict(state, out);        // 8
+  // The candidates' columns are not used after this (only their names and observable flags):
+  // freed, for the memory of the later stages at 10⁶ readings.
+  for (CandidateDesign& c : state.candidates) c.x.resize(0, 0);
+  apply_point_law(state, out);                  // 4b
+  diagnosis_stages::measure_gap(state, out);    // 5 (diagnosis_gap.cpp)
+  diagnosis_stages::simulate_null(state, out);  // 5–6
+  diagnosis_stages::make_verdict(state, out);   // 8
   // rotary_table's angular positioning error turns each tooth exactly as the gear's own pitch
   // deviation of that tooth would: no candidate can hold the gear's pitch, so the verdict says it.
   for (const FittedEffect& e : out.effects) {

@@ -210,7 +210,7 @@ ResidualLaw floor_law(const NoiseFloor& noise) {
 void measure_gap(const State& state, Diagnosis& out) {
   const int rows = state.rows;
   const Eigen::VectorXd& r = state.r;
-  const Eigen::MatrixXd& x_after = state.x_after;
+  const Eigen::MatrixXd& x_after = state.columns_after();
   const double mean_after = state.mean_after;
   // 5. Gap before / after and held-out check.
   out.residual_before_um = to_vector(r);
@@ -288,7 +288,7 @@ void simulate_null(const State& state, Diagnosis& out) {
   const Eigen::VectorXd& r_after_c = state.r_after;
   const ResidualLaw& law_before = state.law_before;
   const ResidualLaw& law_after = state.law_after;
-  const Eigen::MatrixXd& x_after = state.x_after;
+  const Eigen::MatrixXd& x_after = state.columns_after();
   const int p_after = state.p_after;
   const NoiseFloor& noise = state.noise;
   const DiagnoseOptions& options = state.options;
@@ -495,12 +495,12 @@ void refit_with_empirical(const State& state, Diagnosis& out) {
   EmpiricalTerm& e = out.empirical;
   const int rows = state.rows;
   const Eigen::MatrixXd b = empirical_columns(state.residuals.points, e);
-  Eigen::MatrixXd joint(rows, state.x_after.cols() + b.cols());
-  joint << state.x_after, b;
+  Eigen::MatrixXd joint(rows, state.columns_after().cols() + b.cols());
+  joint << state.columns_after(), b;
   const Eigen::VectorXd y =
       state.r - Eigen::VectorXd::Constant(rows, state.mean_after);  // a point law's mean taken out
   const LeastSquaresFit fit = least_squares(joint, y);
-  const int first = static_cast<int>(state.x_after.cols());
+  const int first = static_cast<int>(state.columns_after().cols());
   const double sigma2 = rows - fit.rank > 0 ? fit.rss / (rows - fit.rank) : 0.0;
   Eigen::VectorXd term = Eigen::VectorXd::Zero(b.cols());
   for (int c = 0; c < b.cols(); ++c) {

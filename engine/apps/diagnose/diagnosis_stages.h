@@ -34,13 +34,16 @@ struct State {
   // accepted, centred by its mean), the columns fitted out after, their parameter count, the
   // point law's mean (the shift a tied step explains) and the residuals after, centred.
   ResidualLaw law_before, law_after;
-  Eigen::MatrixXd x_after;
+  Eigen::MatrixXd x_after;  // empty while the columns after are x_selected (no copy of n rows)
   int p_after = 0;
   double mean_after = 0.0;
   Eigen::VectorXd r_after;
   // Step 4c: true when an effect's values are fitted per gear (x_after, p_after and r_after then
   // hold that fit).
   bool per_gear_fit = false;
+  // The columns fitted out after: x_after once a stage has set it, otherwise x_selected.
+  const Eigen::MatrixXd& columns_after() const { return x_after_set ? x_after : x_selected; }
+  bool x_after_set = false;
 };
 
 // Gap statistics of residual vector r (dof = points − fitted parameters) against the centred

@@ -22,29 +22,35 @@ ColumnBasis orthonormal_basis(const Eigen::MatrixXd& x, const Eigen::MatrixXd& a
   // before it by two matrix products (one pass over the n rows for the whole block, not one per
   // pair of columns), then its columns one by one off the block's columns kept before them
   // (modified Gram–Schmidt, twice). The same decisions as column-by-column Gram–Schmidt.
+  // The block is worked on in place, in the columns of the basis not yet filled (k ≤ start):
+  // no copy of n rows beyond the basis itself.
   constexpr int kBlock = 8;
   ColumnBasis out;
   out.q.resize(x.rows(), x.cols());
   int k = 0;
   for (int start = 0; start < x.cols(); start += kBlock) {
     const int w = std::min<int>(kBlock, static_cast<int>(x.cols()) - start);
-    Eigen::MatrixXd v = x.middleCols(start, w);
+    auto v = out.q.middleCols(k, w);
+    v = x.middleCols(start, w);
     Eigen::VectorXd norm0(w);
     for (int c = 0; c < w; ++c) norm0[c] = v.col(c).norm();
     for (int pass = 0; pass < 2; ++pass) {
       if (against.cols() > 0) v.noalias() -= against * (against.transpose() * v);
       if (k > 0) v.noalias() -= out.q.leftCols(k) * (out.q.leftCols(k).transpose() * v);
     }
+    // Column c of the block sits at block_first + c; a kept column moves left to k ≤ that.
     const int block_first = k;
     for (int c = 0; c < w; ++c) {
       if (!(norm0[c] > 0.0) || !std::isfinite(norm0[c])) continue;
-      Eigen::VectorXd col = v.col(c);
+      auto col = out.q.col(block_first + c);
       for (int pass = 0; pass < 2; ++pass) {
         for (int a = block_first; a < k; ++a) col -= out.q.col(a) * out.q.col(a).dot(col);
       }
       const double norm = col.norm();
       if (norm > relative_tolerance * norm0[c]) {
-        out.q.col(k++) = col / norm;
+        col /= norm;
+        if (k != block_first + c) out.q.col(k) = col;
+        ++k;
         out.kept.push_back(start + c);
       }
     }
@@ -61,28 +67,30 @@ LeastSquaresFit least_squares(const Eigen::MatrixXd& x, const Eigen::VectorXd& y
   fit.cov_unscaled = Eigen::MatrixXd::Zero(p, p);
   fit.estimable.assign(p, false);
   fit.fitted = Eigen::VectorXd::Zero(x.rows());
-  const ColumnBasis basis = orthonormal_basis(x, relative_tolerance);
-  const int k = static_cast<int>(basis.kept.size());
+  // Only the kept columns are needed from the basis (its n rows freed before the QR's copy).
+  const std::vector<int> kept = orthonormal_basis(x, relative_tolerance).kept;
+  const int k = static_cast<int>(kept.size());
   fit.rank = k;
   if (k > 0) {
     Eigen::MatrixXd xs(x.rows(), k);
     Eigen::VectorXd scale(k);
     for (int a = 0; a < k; ++a) {
-      scale[a] = x.col(basis.kept[a]).norm();
-      xs.col(a) = x.col(basis.kept[a]) / scale[a];
+      scale[a] = x.col(kept[a]).norm();
+      xs.col(a) = x.col(kept[a]) / scale[a];
     }
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(xs);
+    Eigen::Ref<Eigen::MatrixXd> in_place = xs;
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(in_place);  // overwrites xs
     const Eigen::VectorXd beta_s = qr.solve(y);
     const Eigen::MatrixXd r = qr.matrixQR().topLeftCorner(k, k).triangularView<Eigen::Upper>();
     const Eigen::MatrixXd r_inv =
         r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(k, k));
     const Eigen::MatrixXd cov_s = r_inv * r_inv.transpose();
     for (int a = 0; a < k; ++a) {
-      const int ca = basis.kept[a];
+      const int ca = kept[a];
       fit.beta[ca] = beta_s[a] / scale[a];
       fit.estimable[ca] = true;
       for (int b = 0; b < k; ++b) {
-        fit.cov_unscaled(ca, basis.kept[b]) = cov_s(a, b) / (scale[a] * scale[b]);
+        fit.cov_unscaled(ca, kept[b]) = cov_s(a, b) / (scale[a] * scale[b]);
       }
     }
     fit.fitted = x * fit.beta;

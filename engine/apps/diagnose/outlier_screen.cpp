@@ -118,19 +118,22 @@ OutlierScreen screen_outliers(const Residuals& residuals, double family_false_al
   return out;
 }
 
-Residuals without_excluded(const Residuals& residuals, const OutlierScreen& screen) {
+Residuals without_excluded(Residuals residuals, const OutlierScreen& screen) {
   if (screen.excluded.empty()) return residuals;
-  Residuals out;
-  out.artefact = residuals.artefact;
   std::vector<bool> drop(residuals.points.size(), false);
   for (const ExcludedReading& e : screen.excluded) drop[static_cast<std::size_t>(e.row)] = true;
-  out.points.reserve(residuals.points.size() - screen.excluded.size());
+  // Compacted in place (no second copy of the points).
+  std::size_t kept = 0;
+  residuals.nominal_fallback = 0;
   for (std::size_t k = 0; k < residuals.points.size(); ++k) {
     if (drop[k]) continue;
-    out.points.push_back(residuals.points[k]);
-    if (!out.points.back().model_contact) ++out.nominal_fallback;
+    if (kept != k) residuals.points[kept] = residuals.points[k];
+    if (!residuals.points[kept].model_contact) ++residuals.nominal_fallback;
+    ++kept;
   }
-  return out;
+  residuals.points.resize(kept);
+  residuals.points.shrink_to_fit();
+  return residuals;
 }
 
 }  // namespace gearmc

@@ -52,6 +52,6 @@ inline constexpr double kMaxOutlierFraction = 0.05;
 OutlierScreen screen_outliers(const Residuals& residuals, double family_false_alarm = 0.01);
 
 // The residuals without the excluded readings (same order otherwise).
-Residuals without_excluded(const Residuals& residuals, const OutlierScreen& screen);
+Residuals without_excluded(Residuals residuals, const OutlierScreen& screen);
 
 }  // namespace gearmc

@@ -122,7 +122,8 @@ void per_gear_variation(State& state, Diagnosis& out) {
     at += static_cast<std::size_t>(width[s]);
   }
   const LeastSquaresFit fit = least_squares(x, state.r);
-  state.x_after = x;
+  state.x_after = std::move(x);
+  state.x_after_set = true;
   state.p_after = fit.rank;
   state.r_after = state.r - fit.fitted;
   state.per_gear_fit = true;

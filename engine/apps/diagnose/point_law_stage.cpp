@@ -135,19 +135,24 @@ double maximise(F f, double lo, double hi) {
 
 // The least-squares projection onto the complement of a set of columns, with the pieces the
 // profile likelihood needs: ε(μ) = P⊥ r + μ (1 − P⊥ 1) for a law of mean μ.
+// The basis q (n × rank) is kept only when asked for (the white-variance test needs it).
 struct Projection {
   Eigen::MatrixXd q;
   Eigen::VectorXd r_perp, one_perp;
-  Projection(const Eigen::MatrixXd& x, const Eigen::VectorXd& r) {
+  int columns = 0;
+  Projection(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, bool keep_basis = false) {
     q = orthonormal_basis(x).q;
+    columns = static_cast<int>(q.cols());
     const Eigen::VectorXd one = Eigen::VectorXd::Ones(r.size());
     r_perp = r - q * (q.transpose() * r);
     one_perp = one - q * (q.transpose() * one);
+    if (!keep_basis) release_basis();
   }
+  void release_basis() { q.resize(0, 0); }
   Eigen::VectorXd residual(double mean) const {
     return r_perp + mean * (Eigen::VectorXd::Ones(r_perp.size()) - one_perp);
   }
-  int rank() const { return static_cast<int>(q.cols()); }
+  int rank() const { return columns; }
 };
 
 // Σ log f(e_i). Above kLikelihoodChunk points in chunks of that many, summed in parallel and
@@ -302,7 +307,7 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
     return x;
   };
 
-  const Projection full(columns_of(all, false), r);
+  Projection full(columns_of(all, false), r, /*keep_basis=*/true);
   // Model law.
   PointLawHypothesis model;
   model.name = "model";
@@ -339,6 +344,7 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
     const double mean = v0 * (1.0 - projected_difference_weight(full.q, triplets) / (6.0 * m));
     stage.white_p = upper_tail((stage.white_variance_um2 - mean) / sd);
   }
+  full.release_basis();  // the alternatives need only its projections
 
   // The alternatives.
   const double rms = std::sqrt(model.residual.squaredNorm() / n);

@@ -14,30 +14,98 @@
 namespace gearmc {
 namespace {
 
-// One step's geometry: an orthonormal basis of the selected columns and, for every other
-// candidate, an orthonormal basis of what its columns add.
+// One step's geometry, reduced to what its tests and their null law need: with Q_S an
+// orthonormal basis of the selected columns and A_e one of what candidate e's columns add
+// (⟂ Q_S), the products Q_Sᵀy and A_eᵀy with the residuals y, and the Gram matrix of
+// A = [Q_S, A_1, …, A_E]. The bases A_e are made one candidate at a time and dropped: only Q_S
+// (n × the selected columns) and the tasks' own A_e are ever held (memory at 10⁶ readings).
 struct StepDesign {
-  Eigen::MatrixXd q_selected;
+  int rows = 0;
   std::vector<int> candidates;           // candidate index of each entry below
-  std::vector<Eigen::MatrixXd> q_added;  // basis of the candidate's columns ⟂ selected
+  Eigen::VectorXd selected_y;            // Q_Sᵀ y
+  std::vector<Eigen::VectorXd> added_y;  // A_eᵀ y
+  std::vector<int> block_start;    // first row of each block of A's Gram: Q_S, then A_1, …, A_E
+  std::vector<int> block_columns;  // its columns
+  Eigen::MatrixXd gram;            // AᵀA (empty unless asked for)
+  int selected_columns() const { return block_columns.front(); }
+  int added_columns(std::size_t e) const { return block_columns[e + 1]; }
 };
 
+// The step design for residuals y (any vector of the rows' length; zero when only the null law is
+// wanted), with AᵀA when `with_gram`. The blocks of AᵀA: Q_SᵀQ_S and A_eᵀA_e and Q_SᵀA_e directly;
+// A_eᵀA_f (e ≠ f) as (A_eᵀX_f) R_f⁻¹, where X_f are f's kept columns and R_f = A_fᵀX_f the
+// triangle of their Gram–Schmidt (P⊥X_f = A_f R_f, and A_eᵀP⊥ = A_eᵀ as A_e ⟂ Q_S), so that
+// only one A_e is needed at a time.
 StepDesign step_design(const std::vector<CandidateDesign>& candidates,
-                       const std::vector<int>& selected) {
+                       const std::vector<int>& selected, const Eigen::VectorXd& y, bool with_gram) {
   StepDesign d;
-  d.q_selected = orthonormal_basis(joint_columns(candidates, selected)).q;
+  d.rows = static_cast<int>(y.size());
+  const Eigen::MatrixXd q_selected = orthonormal_basis(joint_columns(candidates, selected)).q;
+  d.selected_y = q_selected.transpose() * y;
   for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
     if (std::find(selected.begin(), selected.end(), c) == selected.end()) d.candidates.push_back(c);
   }
-  // Each candidate's basis on its own (in parallel, into its own slot).
-  d.q_added.resize(d.candidates.size());
-  tbb::parallel_for(0, static_cast<int>(d.candidates.size()), [&](int e) {
-    d.q_added[static_cast<std::size_t>(e)] =
-        orthonormal_basis(
-            candidates[d.candidates[static_cast<std::size_t>(e)]].observable_columns(),
-            d.q_selected)
-            .q;
+  const std::size_t entries = d.candidates.size();
+  d.added_y.resize(entries);
+  // Per entry: its kept columns (indices into x), R_e, Q_SᵀA_e, A_eᵀA_e and A_eᵀX_f of every f.
+  std::vector<std::vector<int>> kept(entries);
+  std::vector<Eigen::MatrixXd> triangle(entries), with_selected(entries), own(entries);
+  std::vector<std::vector<Eigen::MatrixXd>> with_columns(entries);
+  // Each candidate on its own (in parallel, into its own slots).
+  tbb::parallel_for(0, static_cast<int>(entries), [&](int e) {
+    const std::size_t u = static_cast<std::size_t>(e);
+    const CandidateDesign& candidate = candidates[d.candidates[u]];
+    const std::vector<int> observable = candidate.observable_indices();
+    Eigen::MatrixXd copy;
+    ColumnBasis basis = orthonormal_basis(candidate.observable_columns(copy), q_selected);
+    const Eigen::MatrixXd& a = basis.q;
+    d.added_y[u] = a.transpose() * y;
+    for (int k : basis.kept) kept[u].push_back(observable[static_cast<std::size_t>(k)]);
+    if (!with_gram || a.cols() == 0) return;
+    with_selected[u] = q_selected.transpose() * a;
+    own[u] = a.transpose() * a;
+    with_columns[u].resize(entries);
+    for (std::size_t f = 0; f < entries; ++f) {
+      if (f == u) continue;
+      with_columns[u][f] = a.transpose() * candidates[d.candidates[f]].x;  // q_e × all of f's
+    }
+    Eigen::MatrixXd r(a.cols(), a.cols());
+    for (int k = 0; k < static_cast<int>(a.cols()); ++k) {
+      r.col(k) = a.transpose() * candidate.x.col(kept[u][static_cast<std::size_t>(k)]);
+    }
+    triangle[u] = r;
   });
+  int total = 0;
+  d.block_start.push_back(0);
+  d.block_columns.push_back(static_cast<int>(q_selected.cols()));
+  total += static_cast<int>(q_selected.cols());
+  for (std::size_t e = 0; e < entries; ++e) {
+    d.block_start.push_back(total);
+    d.block_columns.push_back(static_cast<int>(d.added_y[e].size()));
+    total += static_cast<int>(d.added_y[e].size());
+  }
+  if (!with_gram) return d;
+  d.gram = Eigen::MatrixXd::Zero(total, total);
+  const int s = d.selected_columns();
+  d.gram.topLeftCorner(s, s) = q_selected.transpose() * q_selected;
+  for (std::size_t e = 0; e < entries; ++e) {
+    const int qe = d.added_columns(e), at = d.block_start[e + 1];
+    if (qe == 0) continue;
+    d.gram.block(at, at, qe, qe) = own[e];
+    d.gram.block(0, at, s, qe) = with_selected[e];
+    d.gram.block(at, 0, qe, s) = with_selected[e].transpose();
+    for (std::size_t f = e + 1; f < entries; ++f) {
+      const int qf = d.added_columns(f), bt = d.block_start[f + 1];
+      if (qf == 0) continue;
+      Eigen::MatrixXd ex(qe, qf);  // A_eᵀX_f on f's kept columns
+      for (int k = 0; k < qf; ++k)
+        ex.col(k) = with_columns[e][f].col(kept[f][static_cast<std::size_t>(k)]);
+      const Eigen::MatrixXd part =
+          triangle[f].triangularView<Eigen::Upper>().solve<Eigen::OnTheRight>(ex);
+      d.gram.block(at, bt, qe, qf) = part;
+      d.gram.block(bt, at, qf, qe) = part.transpose();
+    }
+  }
   return d;
 }
 
@@ -61,18 +129,16 @@ Statistic nested_statistic(int q, int dof, double reduction, double rss_selected
   return s;
 }
 
-// The nested test of adding candidate entry `e` for residuals y with RSS_S = rss_selected.
-Statistic nested_test(const StepDesign& d, std::size_t e, const Eigen::VectorXd& y,
-                      double rss_selected) {
-  const Eigen::MatrixXd& q = d.q_added[e];
-  const int q_cols = static_cast<int>(q.cols());
-  const int dof = static_cast<int>(y.size()) - static_cast<int>(d.q_selected.cols()) - q_cols;
+// The nested test of adding candidate entry `e` with RSS_S = rss_selected.
+Statistic nested_test(const StepDesign& d, std::size_t e, double rss_selected) {
+  const int q_cols = d.added_columns(e);
+  const int dof = d.rows - d.selected_columns() - q_cols;
   if (q_cols == 0 || dof <= 0) return nested_statistic(q_cols, dof, 0.0, rss_selected);
-  return nested_statistic(q_cols, dof, (q.transpose() * y).squaredNorm(), rss_selected);
+  return nested_statistic(q_cols, dof, d.added_y[e].squaredNorm(), rss_selected);
 }
 
 double rss_after_selected(const StepDesign& d, const Eigen::VectorXd& y) {
-  return std::max(y.squaredNorm() - (d.q_selected.transpose() * y).squaredNorm(), 0.0);
+  return std::max(y.squaredNorm() - d.selected_y.squaredNorm(), 0.0);
 }
 
 // The null law of a step's statistics, simulated in the space of its bases. For ε ~ N(0, σ² I_n)
@@ -83,41 +149,15 @@ double rss_after_selected(const StepDesign& d, const Eigen::VectorXd& y) {
 // independent of w (Cochran's theorem). A replicate therefore draws r normals and one χ² instead
 // of n normals and n·C products: the same law, exactly, at any number of readings.
 struct GramNull {
-  Eigen::MatrixXd root;            // C × r: V_r Λ_r^(1/2)
-  std::vector<int> block_start;    // first row of each block of z: Q_S, then Q_1, …, Q_E
-  std::vector<int> block_columns;  // its columns
+  Eigen::MatrixXd root;  // C × r: V_r Λ_r^(1/2)
   int rank = 0;
 };
 
 GramNull gram_null(const StepDesign& d) {
   GramNull g;
-  std::vector<const Eigen::MatrixXd*> blocks = {&d.q_selected};
-  for (const Eigen::MatrixXd& q : d.q_added) blocks.push_back(&q);
-  int total = 0;
-  for (const Eigen::MatrixXd* b : blocks) {
-    g.block_start.push_back(total);
-    g.block_columns.push_back(static_cast<int>(b->cols()));
-    total += static_cast<int>(b->cols());
-  }
-  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(total, total);
-  // Each block pair on its own (in parallel; each writes only its own cells).
-  std::vector<std::pair<int, int>> pairs;
-  for (int a = 0; a < static_cast<int>(blocks.size()); ++a) {
-    for (int b = a; b < static_cast<int>(blocks.size()); ++b) {
-      if (g.block_columns[a] > 0 && g.block_columns[b] > 0) pairs.emplace_back(a, b);
-    }
-  }
-  tbb::parallel_for(0, static_cast<int>(pairs.size()), [&](int k) {
-    const auto [a, b] = pairs[static_cast<std::size_t>(k)];
-    const Eigen::MatrixXd part = blocks[a]->transpose() * *blocks[b];
-    gram.block(g.block_start[a], g.block_start[b], part.rows(), part.cols()) = part;
-    if (a != b) {
-      gram.block(g.block_start[b], g.block_start[a], part.cols(), part.rows()) = part.transpose();
-    }
-  });
   // The blocks are orthonormal, so every eigenvalue lies in [0, blocks]; the root drops those of
   // rounding size.
-  g.root = covariance_root(gram);
+  g.root = covariance_root(d.gram);
   g.rank = static_cast<int>(g.root.cols());
   return g;
 }
@@ -130,7 +170,7 @@ NullSelectionDistribution simulate(const StepDesign& d, int rows, double sigma_u
   std::vector<double> min_ps(max_fs.size());
   std::vector<char> tested(max_fs.size(), 0);
   const GramNull g = replicates > 0 ? gram_null(d) : GramNull{};
-  const int selected_columns = static_cast<int>(d.q_selected.cols());
+  const int selected_columns = d.selected_columns();
   tbb::parallel_for(0, replicates, [&](int k) {
     RandomStream rng(seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream,
                      static_cast<std::uint32_t>(step));
@@ -144,11 +184,11 @@ NullSelectionDistribution simulate(const StepDesign& d, int rows, double sigma_u
     double max_f = 0.0, min_p = 1.0;
     bool any = false;
     for (std::size_t e = 0; e < d.candidates.size(); ++e) {
-      const int q = g.block_columns[e + 1];
+      const int q = d.added_columns(e);
       const int dof = rows - selected_columns - q;
       if (q == 0 || dof <= 0) continue;
       const Statistic s =
-          nested_statistic(q, dof, z.segment(g.block_start[e + 1], q).squaredNorm(), rss);
+          nested_statistic(q, dof, z.segment(d.block_start[e + 1], q).squaredNorm(), rss);
       any = true;
       max_f = std::max(max_f, s.f);
       min_p = std::min(min_p, s.p);
@@ -182,9 +222,7 @@ Eigen::MatrixXd joint_columns(const std::vector<CandidateDesign>& candidates,
   Eigen::MatrixXd x(rows, cols);
   int at = 0;
   for (int c : which) {
-    const Eigen::MatrixXd part = candidates[c].observable_columns();
-    x.middleCols(at, part.cols()) = part;
-    at += static_cast<int>(part.cols());
+    for (int k : candidates[c].observable_indices()) x.col(at++) = candidates[c].x.col(k);
   }
   return x;
 }
@@ -193,9 +231,17 @@ NullSelectionDistribution simulate_null_selection(const std::vector<CandidateDes
                                                   const std::vector<int>& selected, double sigma_um,
                                                   int replicates, std::uint64_t seed, int step) {
   if (candidates.empty()) return {};
-  const StepDesign d = step_design(candidates, selected);
-  return simulate(d, static_cast<int>(candidates.front().x.rows()), sigma_um, replicates, seed,
-                  step);
+  const int rows = static_cast<int>(candidates.front().x.rows());
+  const StepDesign d =
+      step_design(candidates, selected, Eigen::VectorXd::Zero(rows), replicates > 0);
+  return simulate(d, rows, sigma_um, replicates, seed, step);
+}
+
+Eigen::MatrixXd step_gram(const std::vector<CandidateDesign>& candidates,
+                          const std::vector<int>& selected) {
+  if (candidates.empty()) return {};
+  const int rows = static_cast<int>(candidates.front().x.rows());
+  return step_design(candidates, selected, Eigen::VectorXd::Zero(rows), true).gram;
 }
 
 Selection forward_select(const std::vector<CandidateDesign>& candidates,
@@ -208,7 +254,8 @@ Selection forward_select(const std::vector<CandidateDesign>& candidates,
     if (out.selected.size() == candidates.size()) break;
     SelectionStep s;
     s.selected_before = out.selected;
-    const StepDesign d = step_design(candidates, out.selected);
+    const int replicates = effective_null_replicates(options);
+    const StepDesign d = step_design(candidates, out.selected, residual_um, replicates > 0);
     s.rss_before = rss_after_selected(d, residual_um);
     std::vector<double> p_testable;
     std::vector<std::size_t> testable;
@@ -216,7 +263,7 @@ Selection forward_select(const std::vector<CandidateDesign>& candidates,
       CandidateTest t;
       t.candidate = d.candidates[e];
       t.name = candidates[t.candidate].name;
-      const Statistic st = nested_test(d, e, residual_um, s.rss_before);
+      const Statistic st = nested_test(d, e, s.rss_before);
       t.added_rank = st.q;
       t.dof_residual = st.dof;
       if (st.q == 0) {
@@ -238,9 +285,8 @@ Selection forward_select(const std::vector<CandidateDesign>& candidates,
     }
     if (testable.empty()) break;
     const std::vector<double> holm = holm_adjust(p_testable);
-    const NullSelectionDistribution null =
-        simulate(d, rows, noise_floor_um > 0.0 ? noise_floor_um : 1.0,
-                 effective_null_replicates(options), options.seed, step);
+    const NullSelectionDistribution null = simulate(
+        d, rows, noise_floor_um > 0.0 ? noise_floor_um : 1.0, replicates, options.seed, step);
     if (!null.max_f.empty()) s.null_max_f_95 = sample_quantile(null.max_f, 0.95);
     for (std::size_t a = 0; a < testable.size(); ++a) {
       CandidateTest& t = s.tests[testable[a]];

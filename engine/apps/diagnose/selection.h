@@ -105,6 +105,12 @@ NullSelectionDistribution simulate_null_selection(const std::vector<CandidateDes
                                                   const std::vector<int>& selected, double sigma_um,
                                                   int replicates, std::uint64_t seed, int step = 0);
 
+// The Gram matrix AᵀA of one step's orthonormal bases A = [Q_S, A_1, …, A_E] (Q_S: the selected
+// candidates' columns; A_e: what candidate e, not selected, adds beyond them; each by Gram–Schmidt
+// in column order, blocks in library order), whose root the null simulation draws with.
+Eigen::MatrixXd step_gram(const std::vector<CandidateDesign>& candidates,
+                          const std::vector<int>& selected);
+
 // Forward selection on residuals `residual_um` (one per row of the candidates' matrices) with the
 // noise floor σ (µm) for the practical size.
 Selection forward_select(const std::vector<CandidateDesign>& candidates,

@@ -3,6 +3,7 @@
 // decides alone on hand-made designs whose F and ΔBIC are known in closed form. α = 0.01.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -122,6 +123,78 @@ TEST(DiagnoseSelection, NullSimulationHasTheLawOfDirectSimulation) {
     EXPECT_LT(two_sample_ks(gram.min_p, direct_min_p), critical) << selected.size();
     EXPECT_LT(two_sample_ks(gram.max_f, direct_max_f), critical) << selected.size();
   }
+}
+
+// The Gram matrix of a step's bases (selection.cpp builds its off-diagonal blocks from one basis at
+// a time, A_eᵀA_f = (A_eᵀX_f) R_f⁻¹) against an independent route: Q_S as the thin Q of Eigen's
+// Householder QR of X_S with the signs that make R's diagonal positive (Gram–Schmidt's), P⊥ = I −
+// Q_S Q_Sᵀ, and A_e = P⊥X_e R_e⁻¹ with R_e the Cholesky factor of (P⊥X_e)ᵀ(P⊥X_e) (Gram–Schmidt's
+// positive-diagonal triangle), X_S and X_e the columns kept by the same 1e-6 rule (kept_columns);
+// every block of [Q_S, A_1, …]ᵀ[Q_S, A_1, …] within 1e-9. The baseline plan with nothing and with
+// the first two candidates selected (then some columns are nested: the test requires one).
+// The columns of `all` kept by selection.cpp's rule: what is left of a column off `before` and the
+// columns kept before it exceeds 1e-6 of its norm (decided by least squares with Eigen's pivoting
+// QR), as one matrix.
+Eigen::MatrixXd kept_columns(const Eigen::MatrixXd& before, const Eigen::MatrixXd& all) {
+  const int n = static_cast<int>(all.rows());
+  Eigen::MatrixXd kept(n, 0);
+  for (int j = 0; j < all.cols(); ++j) {
+    Eigen::MatrixXd span(n, before.cols() + kept.cols());
+    span << before, kept;
+    Eigen::VectorXd left = all.col(j);
+    if (span.cols() > 0) left -= span * span.colPivHouseholderQr().solve(left);
+    if (!(left.norm() > 1e-6 * all.col(j).norm())) continue;
+    Eigen::MatrixXd wider(n, kept.cols() + 1);
+    wider << kept, all.col(j);
+    kept = wider;
+  }
+  return kept;
+}
+
+TEST(DiagnoseSelection, StepGramEqualsTheProductOfIndependentlyMadeBases) {
+  const Residuals r = compute_residuals(baseline(), hidden(""));
+  std::vector<PointContext> points;
+  for (const ResidualPoint& p : r.points) points.push_back(p.context);
+  const std::vector<CandidateDesign> c = candidate_designs(points);
+  const int n = static_cast<int>(points.size());
+  int nested = 0;  // columns the rule dropped (the cases the test is about include some)
+  for (const std::vector<int>& selected : {std::vector<int>{}, std::vector<int>{0, 1}}) {
+    const Eigen::MatrixXd gram = step_gram(c, selected);
+    const Eigen::MatrixXd xs = kept_columns(Eigen::MatrixXd(n, 0), joint_columns(c, selected));
+    nested += static_cast<int>(joint_columns(c, selected).cols() - xs.cols());
+    Eigen::MatrixXd qs(n, xs.cols());
+    if (xs.cols() > 0) {
+      const Eigen::HouseholderQR<Eigen::MatrixXd> qr(xs);
+      qs = qr.householderQ() * Eigen::MatrixXd::Identity(n, xs.cols());
+      for (int k = 0; k < xs.cols(); ++k) {
+        if (qr.matrixQR()(k, k) < 0.0) qs.col(k) *= -1.0;
+      }
+    }
+    Eigen::MatrixXd a = qs;
+    for (int cand = 0; cand < static_cast<int>(c.size()); ++cand) {
+      if (std::find(selected.begin(), selected.end(), cand) != selected.end()) continue;
+      const Eigen::MatrixXd all = c[cand].observable_columns();
+      const Eigen::MatrixXd x = kept_columns(qs, all);
+      nested += static_cast<int>(all.cols() - x.cols());
+      if (x.cols() == 0) continue;
+      const Eigen::MatrixXd perp = x - qs * (qs.transpose() * x);
+      const Eigen::LLT<Eigen::MatrixXd> llt(perp.transpose() * perp);
+      ASSERT_EQ(llt.info(), Eigen::Success) << c[cand].name;
+      const Eigen::MatrixXd upper = llt.matrixU();
+      const Eigen::MatrixXd block =
+          upper.transpose().triangularView<Eigen::Lower>().solve(perp.transpose()).transpose();
+      Eigen::MatrixXd wider(n, a.cols() + block.cols());
+      wider << a, block;
+      a = wider;
+    }
+    ASSERT_EQ(gram.rows(), a.cols()) << selected.size();
+    const Eigen::MatrixXd expected = a.transpose() * a;
+    EXPECT_LT((gram - expected).cwiseAbs().maxCoeff(), 1e-9) << selected.size();
+    // Not the identity: the candidates' bases overlap, so the off-diagonal blocks are tested.
+    EXPECT_GT((expected - Eigen::MatrixXd::Identity(a.cols(), a.cols())).cwiseAbs().maxCoeff(),
+              0.1);
+  }
+  EXPECT_GT(nested, 0);
 }
 
 // --- The selection's gates, each deciding alone -------------------------------------------------
