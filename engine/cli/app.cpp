@@ -123,7 +123,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                   "A DMIS program (.dmi) whose FEAT/POINT nominals and vectors are the probing "
                   "plan, instead of the scenario's grid");
   run->add_option("--only-gear", run_options.only_gear,
-                  "Re-run gear K (0-based) alone, exactly as in the full run");
+                  "Re-run gear K (0-based) alone, exactly as in the full run (outputs in "
+                  "results/<name>/gear_K unless --out)");
   run->add_flag("--quiet", run_options.quiet, "No progress bar");
   run->add_flag("--force", run_options.force,
                 "With --points: write points.csv even when it would exceed 4 GB");

@@ -96,7 +96,11 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   std::ofstream points_file;
   ranks.agree([&] {
     if (!ranks.is_root()) return;
-    folder.dir = o.out_dir.empty() ? fs::path("results") / scenario.name : fs::path(o.out_dir);
+    // One gear re-run (--only-gear K) goes beside the full run's results, not over them.
+    folder.dir = !o.out_dir.empty() ? fs::path(o.out_dir)
+                 : o.only_gear      ? fs::path("results") / scenario.name /
+                                     ("gear_" + std::to_string(*o.only_gear))
+                               : fs::path("results") / scenario.name;
     if (o.out_dir.empty()) refuse_another_scenarios_folder(folder.dir, scenario);
     prepare_output_folder(folder.dir, &folder.created);
     files.emplace(folder.dir);

@@ -373,6 +373,35 @@ TEST(RunCommand, TwoScenarioFilesWithOneNameDoNotOverwriteEachOther) {
   EXPECT_EQ(run_in_work("run b.yaml --out results/b"), 0);
 }
 
+TEST(RunCommand, OneGearReRunGoesBesideTheFullRunNotOverIt) {
+  // `run --only-gear K` without --out writes results/<name>/gear_K/: the full run's report and
+  // summary stay as they were (byte for byte), and the re-run's summary counts one gear.
+  namespace fs = std::filesystem;
+  const fs::path work = fs::path(testing::TempDir()) / "gearmc_only_gear";
+  fs::remove_all(work);
+  fs::create_directories(work);
+  std::ofstream(work / "a.yaml") << reference_with("");
+  const auto run_in_work = [&](const std::string& args) {
+    const std::string cmd = "cd " + work.string() + " && " + std::string(GEARMC_BINARY) + " " +
+                            args + " --quiet >/dev/null 2>err.txt";
+    return WEXITSTATUS(std::system(cmd.c_str()));
+  };
+  const auto text_of = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  ASSERT_EQ(run_in_work("run a.yaml --gears 3"), 0);
+  const fs::path full = work / "results" / "p1_reference";
+  const std::string report = text_of(full / "report.html");
+  const std::string summary = text_of(full / "summary.json");
+  ASSERT_FALSE(report.empty());
+  ASSERT_EQ(run_in_work("run a.yaml --gears 3 --only-gear 1"), 0);
+  EXPECT_EQ(text_of(full / "report.html"), report);
+  EXPECT_EQ(text_of(full / "summary.json"), summary);
+  const std::string one = text_of(full / "gear_1" / "summary.json");
+  EXPECT_NE(one.find("\"only_gear\": 1"), std::string::npos) << one;
+}
+
 TEST(RunCommand, BadOptionsExitWithTwo) {
   EXPECT_EQ(run_cli("run --gears 0").exit_code, 2);
   EXPECT_EQ(run_cli("run --only-gear 60 --gears 5 --out " + testing::TempDir() + "x").exit_code, 2);
