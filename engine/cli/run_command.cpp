@@ -107,10 +107,8 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
     if (o.points) {
       points_file = files->open("points.csv");
       points_file << std::setprecision(17);
-      points_file << "# "
-                  << provenance_line(make_provenance(o.command_line, scenario.source_path,
-                                                     scenario.source_text))
-                  << "\n";
+      // The header first (pandas, R and spreadsheets read it with their defaults); what made
+      // the file is in summary.json's provenance beside it.
       points_file << points_csv_header();
     }
   });

@@ -233,7 +233,7 @@ std::string run_histograms_csv(const RunResults& r, const RunPresentation& view)
                                                     "total_abs"};
   std::ostringstream csv;
   csv << std::setprecision(17);
-  csv << "# " << provenance_line(view.provenance) << "\n";
+  // The header first (read with any tool's defaults); the provenance is summary.json's.
   csv << "quantity,side,bin_lo_um,bin_hi_um,count\n";
   for (int q = 0; q < kRunQuantities; ++q) {
     for (int s = 0; s < 2; ++s) {

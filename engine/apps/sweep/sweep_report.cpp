@@ -47,7 +47,7 @@ std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s) {
 
 std::string sweep_csv(const SweepOutcome& s) {
   std::ostringstream csv;
-  csv << "# " << provenance_line(s.provenance) << "\n";
+  // The header first (read with any tool's defaults); the provenance is sweep.json's.
   for (const SweepAxis& a : s.axes) csv << csv_field(a.key) << ",";
   csv << "gears,contacts,failed_contacts";
   const std::string unit = *s.statistic.unit() ? "_um" : "";

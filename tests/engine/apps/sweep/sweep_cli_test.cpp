@@ -93,6 +93,8 @@ TEST(SweepCli, TheCountHasNoUnitAndVariedGearCountsAreSaid) {
       << r.out;
   EXPECT_EQ(r.out.find("µm"), std::string::npos) << r.out;
   const std::string csv = read(out / "sweep.csv");
+  // The header is the first line (read with the defaults of pandas, R and spreadsheets).
+  EXPECT_EQ(csv.rfind("run.gears,gears,contacts,failed_contacts,", 0), 0u) << csv;
   EXPECT_NE(
       csv.find(",delta_rcomp.point.n_left,delta_rcomp.point.n_right,delta_rcomp.point.n_both\n"),
       std::string::npos)
