@@ -152,7 +152,7 @@ def main():
         return self_test()
     if not args.gearmc:
         parser.error("--gearmc is required")
-    root = pathlib.Path(args.root)
+    root = pathlib.Path(args.root).resolve()
     files = [pathlib.Path(f) for f in args.files] or [root / "README.md"] + sorted(
         (root / "docs").glob("*.md"))
     binary = pathlib.Path(args.gearmc).resolve()

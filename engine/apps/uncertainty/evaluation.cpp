@@ -41,9 +41,9 @@ Evaluation evaluate(const UncertaintyModel& model, const McmOptions& options) {
     const GumOutput& g = e.gum.outputs[j];
     const McmOutput& m = e.mcm.outputs[j];
     e.validation.push_back(
-        validate_gum(g.estimate, g.U, g.u, m.symmetric, options.significant_digits));
+        validate_gum(g.estimate, g.U, g.u, m.symmetric, options.significant_digits, m.sorted));
     e.validation_shortest.push_back(
-        validate_gum(g.estimate, g.U, g.u, m.shortest, options.significant_digits));
+        validate_gum(g.estimate, g.U, g.u, m.shortest, options.significant_digits, m.sorted));
     Evaluation::Conformity c;
     const ModelOutput& o = model.outputs[j];
     if (o.has_tolerance) {
@@ -170,9 +170,20 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
     vj["delta"] = v.delta;
     vj["d_low"] = v.d_low;
     vj["d_high"] = v.d_high;
+    vj["s_low"] = v.s_low;
+    vj["s_high"] = v.s_high;
     vj["gum_validated"] = v.validated;
+    vj["verdict"] = v.undecided ? "undecided" : v.validated ? "validated" : "not_validated";
+    vj["trials_to_decide"] = v.undecided && std::isfinite(v.trials_to_decide)
+                                 ? nlohmann::ordered_json(std::ceil(v.trials_to_decide))
+                                 : nlohmann::ordered_json();
     vj["mcm_interval"] = "symmetric";
-    vj["shortest"] = {{"d_low", vs.d_low}, {"d_high", vs.d_high}, {"gum_validated", vs.validated}};
+    vj["shortest"] = {{"d_low", vs.d_low},
+                      {"d_high", vs.d_high},
+                      {"gum_validated", vs.validated},
+                      {"verdict", vs.undecided   ? "undecided"
+                                  : vs.validated ? "validated"
+                                                 : "not_validated"}};
     outputs[g.name] = {{"gum", gj}, {"mcm", mj}, {"validation", vj}};
     if (e.conformity[k].set) {
       const ModelOutput& limits = model.outputs[k];
@@ -231,8 +242,16 @@ void print_evaluation(std::ostream& out, const UncertaintyModel& model, const Mc
         << "shortest  " << iv(m.shortest.lo, m.shortest.hi) << "\n";
     out << "  validation (JCGM 101 §8, ndig " << o.significant_digits << "): delta "
         << std::defaultfloat << std::setprecision(3) << v.delta << ", d_low " << v.d_low
-        << ", d_high " << v.d_high << " -> GUM " << (v.validated ? "validated" : "NOT validated")
-        << "\n";
+        << ", d_high " << v.d_high << " -> GUM " << v.verdict();
+    if (v.undecided) {
+      out << " (the MCM endpoints' own standard errors " << v.s_low << ", " << v.s_high
+          << " blur d against delta";
+      if (std::isfinite(v.trials_to_decide)) {
+        out << "; about " << std::setprecision(2) << v.trials_to_decide << " trials would decide";
+      }
+      out << ")";
+    }
+    out << "\n";
     if (e.conformity[k].set) {
       const ModelOutput& mo = model.outputs[k];
       out << "  conformity (JCGM 106) within [" << (mo.lower ? fixed(*mo.lower, d) : "-inf") << ", "

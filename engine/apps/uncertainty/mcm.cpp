@@ -9,9 +9,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "core/check.h"
 #include "core/number_text.h"
@@ -418,12 +420,47 @@ McmResult run_mcm(const UncertaintyModel& model, const McmOptions& o) {
   return r;
 }
 
-Validation validate_gum(double y, double U, double u_gum, const Interval& mcm, int ndig) {
+double quantile_standard_error(const std::vector<double>& sorted, double value) {
+  const std::size_t m = sorted.size();
+  if (m < 3) return 0.0;
+  const std::size_t i = static_cast<std::size_t>(
+      std::lower_bound(sorted.begin(), sorted.end(), value) - sorted.begin());
+  const double a = std::clamp(static_cast<double>(i) / static_cast<double>(m), 0.0, 1.0);
+  const std::size_t k = static_cast<std::size_t>(
+      std::ceil(std::sqrt(static_cast<double>(m) * std::max(a * (1.0 - a), 1.0 / m))));
+  const std::size_t lo = i > k ? i - k : 0, hi = std::min(m - 1, i + k);
+  // The ranks lo … hi span (hi − lo)/M of probability: scale to the ±k/M of the formula.
+  const double span = static_cast<double>(hi - lo);
+  return span > 0.0 ? (sorted[hi] - sorted[lo]) * static_cast<double>(k) / span : 0.0;
+}
+
+Validation validate_gum(double y, double U, double u_gum, const Interval& mcm, int ndig,
+                        const std::vector<double>& sorted) {
   Validation v;
   v.delta = numerical_tolerance(u_gum, ndig);
   v.d_low = std::fabs(y - U - mcm.lo);
   v.d_high = std::fabs(y + U - mcm.hi);
-  v.validated = v.d_low <= v.delta && v.d_high <= v.delta;
+  v.s_low = quantile_standard_error(sorted, mcm.lo);
+  v.s_high = quantile_standard_error(sorted, mcm.hi);
+  const bool fails =
+      v.d_low - kValidationZ * v.s_low > v.delta || v.d_high - kValidationZ * v.s_high > v.delta;
+  v.validated = !fails && v.d_low + kValidationZ * v.s_low <= v.delta &&
+                v.d_high + kValidationZ * v.s_high <= v.delta;
+  v.undecided = !fails && !v.validated;
+  if (v.undecided) {
+    // z s/√(M'/M) = |d − δ| at each end still within reach; the larger M' of the two.
+    const double m = static_cast<double>(sorted.size());
+    double needed = m;
+    for (const auto [d, s] : {std::pair{v.d_low, v.s_low}, std::pair{v.d_high, v.s_high}}) {
+      const double gap = std::fabs(d - v.delta);
+      if (std::fabs(d - v.delta) <= kValidationZ * s) {
+        needed = gap > 0.0
+                     ? std::max(needed, m * (kValidationZ * s / gap) * (kValidationZ * s / gap))
+                     : std::numeric_limits<double>::infinity();
+      }
+    }
+    v.trials_to_decide = needed;
+  }
   return v;
 }
 

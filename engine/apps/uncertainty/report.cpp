@@ -111,15 +111,14 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     const McmOutput& m = e.mcm.outputs[k];
     const Validation& v = e.validation[k];
     const int d = display_decimals(std::min(g.u, m.u), o.significant_digits);
-    summary.rows.push_back(
-        {{g.name, "GUM", fmt(g.estimate, d), fmt(g.u, d),
-          g.first_order_vanishes    ? std::string("undefined (no first-order term)")
-          : std::isfinite(g.nu_eff) ? fmt(g.nu_eff, 1)
-                                    : "∞",
-          fmt(g.k, 3), "[" + fmt(g.lo, d) + ", " + fmt(g.hi, d) + "]",
-          std::string(v.validated ? "validated" : "NOT validated") + " (δ " + fmt(v.delta, d + 1) +
-              ", d_low " + fmt(v.d_low, d + 1) + ", d_high " + fmt(v.d_high, d + 1) + ")"},
-         false});
+    summary.rows.push_back({{g.name, "GUM", fmt(g.estimate, d), fmt(g.u, d),
+                             g.first_order_vanishes ? std::string("undefined (no first-order term)")
+                             : std::isfinite(g.nu_eff) ? fmt(g.nu_eff, 1)
+                                                       : "∞",
+                             fmt(g.k, 3), "[" + fmt(g.lo, d) + ", " + fmt(g.hi, d) + "]",
+                             std::string(v.verdict()) + " (δ " + fmt(v.delta, d + 1) + ", d_low " +
+                                 fmt(v.d_low, d + 1) + ", d_high " + fmt(v.d_high, d + 1) + ")"},
+                            false});
     summary.rows.push_back(
         {{g.name, "MCM symmetric", fmt(m.estimate, d), fmt(m.u, d), "", "",
           "[" + fmt(m.symmetric.lo, d) + ", " + fmt(m.symmetric.hi, d) + "]", ""},
@@ -264,9 +263,17 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
                    std::to_string(o.significant_digits) +
                    " significant digits), d_low = |y − U − y_low| = " + fmt(v.d_low, d + 1) +
                    ", d_high = |y + U − y_high| = " + fmt(v.d_high, d + 1) +
-                   " against the MCM probabilistically symmetric interval: the GUM is " +
-                   (v.validated ? "validated" : "NOT validated") + " for this model." +
-                   (v.validated ? "" : " Use the MCM results."));
+                   " against the MCM probabilistically symmetric interval, whose endpoints' own "
+                   "Monte-Carlo standard errors are s = " +
+                   fmt(v.s_low, d + 1) + " and " + fmt(v.s_high, d + 1) + ": the GUM is " +
+                   v.verdict() + " for this model (decided at d ± 3s against δ)." +
+                   (v.undecided ? " Run more trials (" +
+                                      (std::isfinite(v.trials_to_decide)
+                                           ? "about " + fmt(v.trials_to_decide, 0)
+                                           : std::string("many more")) +
+                                      ") to decide; until then use the MCM results."
+                    : v.validated ? ""
+                                  : " Use the MCM results."));
     if (e.conformity[k].set) {
       page.paragraph(
           "Conformity (JCGM 106:2012 §7.6): the probability that " + limits.name +
