@@ -9,6 +9,9 @@
 #include <numeric>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
+#include <cstdio>
+
 #include "core/constants.h"
 #include "core/special_functions.h"
 #include "engine/statistics/distribution_fit.h"
@@ -298,6 +301,92 @@ double Law::sample(TrialStream& s) const {
       return p[0];
   }
   return 0.0;
+}
+
+namespace {
+
+// Nodes and weights of the N-point Gauss–Hermite rule for the standard normal weight φ(z): the
+// eigenvalues of the symmetric tridiagonal Jacobi matrix of the probabilists' Hermite polynomials
+// (off-diagonal √k) and the squared first components of its eigenvectors (Golub–Welsch).
+struct NormalRule {
+  std::vector<double> z, w;
+};
+const NormalRule& normal_rule() {
+  static const NormalRule rule = [] {
+    constexpr int kN = 64;
+    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(kN, kN);
+    for (int k = 1; k < kN; ++k) j(k, k - 1) = j(k - 1, k) = std::sqrt(static_cast<double>(k));
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(j);
+    NormalRule r;
+    for (int k = 0; k < kN; ++k) {
+      r.z.push_back(eig.eigenvalues()[k]);
+      r.w.push_back(eig.eigenvectors()(0, k) * eig.eigenvectors()(0, k));
+    }
+    return r;
+  }();
+  return rule;
+}
+
+// F⁻¹(Φ(z)), kept inside (0, 1) where Φ rounds to 0 or 1.
+double through_copula(const Law& law, double z) {
+  if (law.kind() == LawKind::kNormal) return law.parameters()[0] + law.parameters()[1] * z;
+  const double u =
+      std::clamp(normal_cdf(z), std::numeric_limits<double>::min(), std::nextafter(1.0, 0.0));
+  return law.quantile(u);
+}
+
+void require_spread(const Law& law) {
+  if (law.kind() == LawKind::kConstant || !(law.variance() > 0.0) ||
+      !std::isfinite(law.variance())) {
+    throw std::invalid_argument(
+        "a law with a finite, non-zero variance (a correlation coefficient needs one; this " +
+        std::string(law_name(law.kind())) + " has variance " + std::to_string(law.variance()) +
+        ")");
+  }
+}
+
+}  // namespace
+
+double copula_input_correlation(const Law& a, const Law& b, double rho) {
+  require_spread(a);
+  require_spread(b);
+  const NormalRule& r = normal_rule();
+  const std::size_t n = r.z.size();
+  const double c = std::sqrt(std::max(0.0, 1.0 - rho * rho));
+  double mean_a = 0.0, mean_b = 0.0, var_a = 0.0, var_b = 0.0, cross = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double ga = through_copula(a, r.z[i]), gb = through_copula(b, r.z[i]);
+    mean_a += r.w[i] * ga;
+    mean_b += r.w[i] * gb;
+    var_a += r.w[i] * ga * ga;
+    var_b += r.w[i] * gb * gb;
+    for (std::size_t k = 0; k < n; ++k) {
+      cross += r.w[i] * r.w[k] * ga * through_copula(b, rho * r.z[i] + c * r.z[k]);
+    }
+  }
+  // The moments by the same rule, so that ρ = 0 gives 0 and equal laws at ρ = 1 give 1.
+  var_a -= mean_a * mean_a;
+  var_b -= mean_b * mean_b;
+  return (cross - mean_a * mean_b) / std::sqrt(var_a * var_b);
+}
+
+double copula_correlation_for(const Law& a, const Law& b, double r) {
+  if (a.kind() == LawKind::kNormal && b.kind() == LawKind::kNormal) return r;
+  constexpr double kEdge = 0.9999;
+  const double lo_r = copula_input_correlation(a, b, -kEdge);
+  const double hi_r = copula_input_correlation(a, b, kEdge);
+  if (!(r > lo_r && r < hi_r)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "a correlation these two laws can have: about %.3f … %.3f",
+                  lo_r, hi_r);
+    throw std::invalid_argument(text);
+  }
+  double lo = -kEdge, hi = kEdge;
+  for (int it = 0; it < 60 && hi - lo > 1e-12; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (copula_input_correlation(a, b, mid) < r ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 }  // namespace gearmc::uncertainty

@@ -75,4 +75,20 @@ std::string law_signature(std::string_view name);
 
 // sample_standard_gamma (the gamma variate of the laws below) is in core/random_stream.h.
 
+// Correlated inputs of any laws are drawn through a Gaussian copula: x_i = F_i⁻¹(Φ(z_i)) with
+// (z_i) jointly normal, unit variances, correlation ρ_ij (for two normal laws x is μ + σz itself).
+// The joint law is an assumption of ours (JCGM 101 §6.4.8 treats only the multivariate normal);
+// ρ_ij is chosen so that the inputs have the correlation coefficient r(x_i, x_j) the model states,
+// which is the one the GUM's law of propagation uses (JCGM 100 5.2.2).
+//
+// The correlation coefficient of F_a⁻¹(Φ(z_1)) and F_b⁻¹(Φ(z_2)) for normal (z_1, z_2) with
+// correlation ρ: E[g_a(z_1) g_b(ρ z_1 + √(1 − ρ²) z_2)] by a 64 × 64-node Gauss–Hermite rule
+// (Golub & Welsch, Math. Comp. 23, 1969), minus the product of the means, over the two standard
+// deviations. Both laws need a finite variance and a spread.
+double copula_input_correlation(const Law& a, const Law& b, double rho);
+// The ρ in (−1, 1) that gives the inputs correlation r (bisection: the correlation rises with ρ);
+// throws std::invalid_argument naming the correlations these two laws can have when r is not
+// one of them.
+double copula_correlation_for(const Law& a, const Law& b, double r);
+
 }  // namespace gearmc::uncertainty

@@ -18,6 +18,7 @@
 #include "core/check.h"
 #include "core/number_text.h"
 #include "core/random_stream.h"
+#include "core/special_functions.h"
 #include "core/thread_arena.h"
 #include "engine/apps/uncertainty/model_function.h"
 #include "engine/statistics/conformity.h"
@@ -29,7 +30,17 @@ namespace {
 constexpr std::uint64_t kGrain = 4096;
 constexpr std::uint64_t kChunk = 1u << 18;
 
-// The inputs of trial t into x (size n); `z` is scratch for correlated normals.
+// Whether input i is correlated with another (then it is drawn through the copula).
+bool in_copula(const UncertaintyModel& model, std::size_t i) {
+  const auto row = static_cast<Eigen::Index>(i);
+  for (Eigen::Index k = 0; k < model.copula.cols(); ++k) {
+    if (k != row && model.copula(row, k) != 0.0) return true;
+  }
+  return false;
+}
+
+// The inputs of trial t into x (size n); `z` is scratch for the correlated inputs' normals.
+
 void draw_inputs(const UncertaintyModel& model, std::uint64_t seed, std::uint64_t t, double* x,
                  double* z) {
   const std::size_t n = model.inputs.size();
@@ -40,11 +51,12 @@ void draw_inputs(const UncertaintyModel& model, std::uint64_t seed, std::uint64_
     }
     return;
   }
-  // Correlated normal inputs (JCGM 101 §6.4.8): x = μ + σ ∘ (L z), L the Cholesky factor of
-  // the correlation matrix; its rows of the other inputs are unit rows.
+  // Correlated inputs: v = L z, L the Cholesky factor of the copula's correlation (its rows of
+  // uncorrelated inputs are unit rows); normal inputs x = μ + σ v (JCGM 101 §6.4.8), the others
+  // x = F⁻¹(Φ(v)) (the Gaussian copula, laws.h). An input in no correlation keeps its own sampler.
   for (std::size_t i = 0; i < n; ++i) {
     TrialStream s(seed, t, static_cast<std::uint32_t>(i));
-    if (model.inputs[i].law.kind() == LawKind::kNormal) {
+    if (model.inputs[i].law.kind() == LawKind::kNormal || in_copula(model, i)) {
       z[i] = s.normal();
     } else {
       z[i] = 0.0;
@@ -53,11 +65,17 @@ void draw_inputs(const UncertaintyModel& model, std::uint64_t seed, std::uint64_
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Law& law = model.inputs[i].law;
-    if (law.kind() != LawKind::kNormal) continue;
+    if (law.kind() != LawKind::kNormal && !in_copula(model, i)) continue;
     double v = 0.0;
     for (std::size_t k = 0; k <= i; ++k)
       v += model.cholesky(Eigen::Index(i), Eigen::Index(k)) * z[k];
-    x[i] = law.parameters()[0] + law.parameters()[1] * v;
+    if (law.kind() == LawKind::kNormal) {
+      x[i] = law.parameters()[0] + law.parameters()[1] * v;
+    } else {
+      const double u =
+          std::clamp(normal_cdf(v), std::numeric_limits<double>::min(), std::nextafter(1.0, 0.0));
+      x[i] = law.quantile(u);
+    }
   }
 }
 

@@ -114,6 +114,7 @@ void read_correlations(const YamlValue& v, UncertaintyModel& model) {
   const std::size_t n = model.inputs.size();
   model.correlation =
       Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  model.copula = model.correlation;
   std::vector<std::string> names;
   for (const ModelInput& in : model.inputs) names.push_back(in.name);
   const std::string expected_pair = "[INPUT, INPUT, r], e.g. [X1, X2, 0.5]";
@@ -128,30 +129,44 @@ void read_correlations(const YamlValue& v, UncertaintyModel& model) {
       const auto it = std::find(names.begin(), names.end(), name);
       if (it == names.end()) throw parts[k].error("an input name", did_you_mean(name, names));
       idx[k] = static_cast<std::size_t>(it - names.begin());
-      if (model.inputs[idx[k]].law.kind() != LawKind::kNormal) {
-        throw parts[k].error("a normal input (correlations are between normal inputs only; " +
-                             name + " is " +
-                             std::string(law_name(model.inputs[idx[k]].law.kind())) + ")");
+      if (model.inputs[idx[k]].law.kind() == LawKind::kConstant) {
+        throw parts[k].error("an input with a spread (" + name + " is a constant)");
       }
     }
     if (idx[0] == idx[1]) throw parts[1].error("another input than " + parts[0].as_string());
     const double r = parts[2].as_number(NumberRange::open(-1.0, 1.0), "a correlation coefficient");
     const auto key = std::minmax(idx[0], idx[1]);
     if (!seen.insert(key).second) throw item.error("each pair of inputs at most once");
-    model.correlation(static_cast<Eigen::Index>(idx[0]), static_cast<Eigen::Index>(idx[1])) = r;
-    model.correlation(static_cast<Eigen::Index>(idx[1]), static_cast<Eigen::Index>(idx[0])) = r;
+    // The copula's normal correlation that gives the inputs this r (laws.h; r itself for two
+    // normal inputs).
+    double rho = r;
+    try {
+      rho = copula_correlation_for(model.inputs[idx[0]].law, model.inputs[idx[1]].law, r);
+    } catch (const std::invalid_argument& e) {
+      throw parts[2].error(std::string(e.what()) + " (" + parts[0].as_string() + ": " +
+                           std::string(law_name(model.inputs[idx[0]].law.kind())) + ", " +
+                           parts[1].as_string() + ": " +
+                           std::string(law_name(model.inputs[idx[1]].law.kind())) + ")");
+    }
+    const auto a = static_cast<Eigen::Index>(idx[0]), b = static_cast<Eigen::Index>(idx[1]);
+    model.correlation(a, b) = model.correlation(b, a) = r;
+    model.copula(a, b) = model.copula(b, a) = rho;
     model.correlated = true;
   }
   if (!model.correlated) return;
-  Eigen::LLT<Eigen::MatrixXd> llt(model.correlation);
-  if (llt.info() != Eigen::Success) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(model.correlation);
+  for (const Eigen::MatrixXd* m : {&model.correlation, &model.copula}) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(*m);
+    if (llt.info() == Eigen::Success) continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(*m);
     throw InputError(v.location(), v.path(), v.shown(),
-                     "correlations that make a positive definite correlation matrix (its "
-                     "smallest eigenvalue is " +
+                     std::string(m == &model.correlation
+                                     ? "correlations that make a positive definite correlation "
+                                       "matrix (its smallest eigenvalue is "
+                                     : "correlations whose Gaussian copula has a positive "
+                                       "definite correlation matrix (its smallest eigenvalue is ") +
                          std::to_string(eig.eigenvalues().minCoeff()) + ")");
   }
-  model.cholesky = llt.matrixL();
+  model.cholesky = Eigen::LLT<Eigen::MatrixXd>(model.copula).matrixL();
 }
 
 }  // namespace
@@ -195,6 +210,7 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
   } else {
     const auto n = static_cast<Eigen::Index>(model.inputs.size());
     model.correlation = Eigen::MatrixXd::Identity(n, n);
+    model.copula = model.correlation;
   }
 
   const auto outputs = top.find("outputs");

@@ -1,5 +1,5 @@
 // A measurement model for `gearmc uncertainty` (JCGM 101:2008 §6): named inputs with their
-// probability laws, named constants, correlations between normal inputs, and one or more
+// probability laws, named constants, correlations between inputs (of any laws), and one or more
 // outputs written as muParser expressions of the inputs, the constants and the earlier outputs
 // — or a compiled (builtin) model — plus the settings of the evaluation. Read from YAML as
 // strictly as a scenario: every mistake is an InputError at file:line:column (docs/uncertainty.md
@@ -59,6 +59,9 @@ struct UncertaintyModel {
   // Correlation matrix of all inputs (identity where nothing is stated) and whether any
   // correlation is stated; its Cholesky factor (lower) when correlated.
   Eigen::MatrixXd correlation;
+  // The Gaussian copula's correlation of the normal variables behind the inputs (laws.h: equal
+  // to `correlation` between normal inputs) and its Cholesky factor (lower) when correlated.
+  Eigen::MatrixXd copula;
   Eigen::MatrixXd cholesky;
   bool correlated = false;
   std::vector<ModelOutput> outputs;

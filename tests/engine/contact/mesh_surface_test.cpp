@@ -339,8 +339,7 @@ TEST(MeshSurfaceCli, RunWritesPointsOnTheExportedMesh) {
   EXPECT_THAT(r.out, HasSubstr("flank 3R is the mesh"));
   std::ifstream points(dir / "out" / "points.csv");
   std::string line;
-  std::getline(points, line);  // provenance ("# gearmc ...")
-  std::getline(points, line);  // column names
+  std::getline(points, line);  // column names (the first line)
   ASSERT_EQ(line.rfind("gear,tooth,flank", 0), 0u) << line;
   int rows = 0, mesh_rows = 0;
   std::vector<std::string> first_gear_rows;

@@ -160,6 +160,10 @@ TEST(UncertaintyCli, BadModelFilesExit2WithPlaceAndWriteNothing) {
        replace(g, "X2: {uniform: [-1, 1]}", "X2: {normal: [0, 1]}") +
            "correlations: [[X1, X2, 0.9], [X1, X3, 0.9], [X2, X3, -0.9]]\n",
        ":9:15:", "positive definite"},
+      {"unreachable_r",
+       replace(g, "X2: {uniform: [-1, 1]}", "X2: {exponential: [1]}") +
+           "correlations: [[X1, X2, 0.99]]\n",
+       ":9:25:", "a correlation these two laws can have"},
       {"top_key", replace(g, "settings:", "setings:"), ":8:1:", "did you mean 'settings'"},
       {"setting_key", replace(g, "trials: 20000", "trails: 20000"),
        ":8:12:", "did you mean 'trials'"},

@@ -117,5 +117,34 @@ TEST(UncertaintyLaws, BadParametersAreRefused) {
   EXPECT_THROW(make_from_data({1.0}), std::invalid_argument);
 }
 
+// The Gaussian copula (laws.h). Between two uniform inputs the correlation coefficient is
+// (6/π) arcsin(ρ/2) (Pearson 1907; Kruskal, JASA 53, 1958: for uniform marginals Pearson's r is
+// Spearman's ρ_S of the normal pair), so the copula's ρ for r is 2 sin(πr/6); two normal inputs
+// need none (ρ = r); a law without a finite variance, and a correlation the two laws cannot have
+// (an exponential and a uniform input cannot reach ±0.99), are refused.
+TEST(UncertaintyLaws, GaussianCopulaGivesTheStatedCorrelation) {
+  const Law u1 = make_law(LawKind::kUniform, {0.0, 1.0});
+  const Law u2 = make_law(LawKind::kUniform, {-3.0, 5.0});
+  for (double r : {0.5, -0.3, 0.9}) {
+    EXPECT_NEAR(copula_correlation_for(u1, u2, r), 2.0 * std::sin(std::numbers::pi * r / 6.0), 1e-4)
+        << r;
+  }
+  EXPECT_NEAR(copula_input_correlation(u1, u2, 0.7), 6.0 / std::numbers::pi * std::asin(0.35),
+              1e-4);
+  const Law n1 = make_law(LawKind::kNormal, {1.0, 2.0});
+  const Law n2 = make_law(LawKind::kNormal, {0.0, 1.0});
+  EXPECT_EQ(copula_correlation_for(n1, n2, 0.37), 0.37);
+  // Normal–normal through the quadrature too: r = ρ (the rule is exact for these polynomials).
+  EXPECT_NEAR(copula_input_correlation(n1, n2, 0.37), 0.37, 1e-12);
+  // A skewed pair: the stated r is met (the copula's ρ differs from it).
+  const Law e = make_law(LawKind::kExponential, {2.0});
+  const double rho = copula_correlation_for(e, u1, 0.6);
+  EXPECT_NEAR(copula_input_correlation(e, u1, rho), 0.6, 1e-9);
+  EXPECT_GT(std::abs(rho - 0.6), 0.01);
+  EXPECT_THROW(copula_correlation_for(e, u1, 0.99), std::invalid_argument);
+  const Law t2 = make_law(LawKind::kStudentT, {0.0, 1.0, 2.0});  // ν = 2: no finite variance
+  EXPECT_THROW(copula_correlation_for(t2, u1, 0.5), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace gearmc::uncertainty
