@@ -238,6 +238,17 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
   const Eigen::MatrixXd& x_selected = state.x_selected;
   const LeastSquaresFit& fit = state.fit;
   const std::vector<int>& offsets = state.offsets;
+  // The condition number of the joint design of every selected effect and a candidate b not
+  // selected: the same set of columns for each selected effect a, so computed once per b (in
+  // parallel, into its own slot; the column order does not change singular values).
+  std::vector<double> with_selected(candidates.size(), kNotAvailable);
+  tbb::parallel_for(0, static_cast<int>(candidates.size()), [&](int b) {
+    if (std::find(selected.begin(), selected.end(), b) != selected.end()) return;
+    std::vector<int> joint = selected;
+    joint.push_back(b);
+    with_selected[static_cast<std::size_t>(b)] =
+        scaled_condition_number(joint_columns(candidates, joint));
+  });
   for (std::size_t s = 0; s < selected.size(); ++s) {
     FittedEffect& e = out.effects[s];
     const CandidateDesign& a = candidates[selected[s]];
@@ -267,10 +278,7 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
           amb.reason = "condition_number";
         }
       } else {
-        std::vector<int> joint = others;
-        joint.push_back(selected[s]);
-        joint.push_back(b);
-        amb.condition_number = scaled_condition_number(joint_columns(candidates, joint));
+        amb.condition_number = with_selected[static_cast<std::size_t>(b)];
         Eigen::MatrixXd copy_b;
         const Eigen::MatrixXd q_b =
             orthonormal_basis(candidates[b].observable_columns(copy_b), q_others).q;
