@@ -23,11 +23,14 @@ using testing_support::baseline;
 using testing_support::hidden;
 using testing_support::kNoiseUm;
 
-TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
+// The library's candidate designs at the points of the baseline plan.
+std::vector<CandidateDesign> baseline_candidates() {
   const Residuals r = compute_residuals(baseline(), hidden(""));
-  std::vector<PointContext> points;
-  for (const ResidualPoint& p : r.points) points.push_back(p.context);
-  const std::vector<CandidateDesign> c = candidate_designs(points);
+  return candidate_designs(PointContexts(r.points, &ResidualPoint::context));
+}
+
+TEST(DiagnoseSelection, NullSimulationIsReproducibleAndBonferroniBounded) {
+  const std::vector<CandidateDesign> c = baseline_candidates();
   const NullSelectionDistribution a = simulate_null_selection(c, {}, kNoiseUm, 200, 7);
   const NullSelectionDistribution b = simulate_null_selection(c, {}, kNoiseUm, 200, 7);
   ASSERT_EQ(a.max_f.size(), 200u);
@@ -82,11 +85,8 @@ double two_sample_ks(std::vector<double> a, std::vector<double> b) {
 }
 
 TEST(DiagnoseSelection, NullSimulationHasTheLawOfDirectSimulation) {
-  const Residuals r = compute_residuals(baseline(), hidden(""));
-  std::vector<PointContext> points;
-  for (const ResidualPoint& p : r.points) points.push_back(p.context);
-  const std::vector<CandidateDesign> c = candidate_designs(points);
-  const int n = static_cast<int>(points.size());
+  const std::vector<CandidateDesign> c = baseline_candidates();
+  const int n = static_cast<int>(c.front().x.rows());
   constexpr int kReplicates = 1500;
   for (const std::vector<int>& selected : {std::vector<int>{}, std::vector<int>{0}}) {
     const NullSelectionDistribution gram =
@@ -152,11 +152,8 @@ Eigen::MatrixXd kept_columns(const Eigen::MatrixXd& before, const Eigen::MatrixX
 }
 
 TEST(DiagnoseSelection, StepGramEqualsTheProductOfIndependentlyMadeBases) {
-  const Residuals r = compute_residuals(baseline(), hidden(""));
-  std::vector<PointContext> points;
-  for (const ResidualPoint& p : r.points) points.push_back(p.context);
-  const std::vector<CandidateDesign> c = candidate_designs(points);
-  const int n = static_cast<int>(points.size());
+  const std::vector<CandidateDesign> c = baseline_candidates();
+  const int n = static_cast<int>(c.front().x.rows());
   int nested = 0;  // columns the rule dropped (the cases the test is about include some)
   for (const std::vector<int>& selected : {std::vector<int>{}, std::vector<int>{0, 1}}) {
     const Eigen::MatrixXd gram = step_gram(c, selected);
