@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
+
+#include <Eigen/QR>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -80,6 +83,13 @@ CandidateDesign start(const std::string& name) {
   return d;
 }
 
+// The R factor (min(rows, cols) × cols, upper trapezoidal) of x's Householder QR.
+Eigen::MatrixXd upper_triangle(Eigen::MatrixXd x) {
+  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(x);
+  const int k = static_cast<int>(std::min(x.rows(), x.cols()));
+  return x.topRows(k).triangularView<Eigen::Upper>();
+}
+
 }  // namespace
 
 Eigen::MatrixXd CandidateDesign::observable_columns() const {
@@ -115,10 +125,44 @@ const std::vector<std::string>& candidate_effect_names() {
   return names;
 }
 
-std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
-                                               const CandidateOptions& options) {
+namespace {
+
+// artefact_form's evaluation ranges: the measured points' own smallest and largest roll length
+// and z (a range of 1 mm about a single profile position or section: the orders 2, 3 columns are
+// then constant or repeat each other and are marked not observable).
+FormRanges form_ranges(const PointContexts& points) {
+  FormRanges r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+               std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const PointContext& p = points[i];
+    const double roll = ArtefactFormEffect::roll_length_mm(p);
+    r.profile_from_mm = std::min(r.profile_from_mm, roll);
+    r.profile_to_mm = std::max(r.profile_to_mm, roll);
+    r.face_from_mm = std::min(r.face_from_mm, p.p.z());
+    r.face_to_mm = std::max(r.face_to_mm, p.p.z());
+  }
+  if (!(r.profile_to_mm > r.profile_from_mm)) r.profile_to_mm = r.profile_from_mm + 1.0;
+  if (!(r.face_to_mm > r.face_from_mm)) r.face_to_mm = r.face_from_mm + 1.0;
+  return r;
+}
+
+bool form_asked(const CandidateOptions& options) {
+  return std::find(options.only.begin(), options.only.end(), "artefact_form") != options.only.end();
+}
+
+// The candidates' columns at `points`, in library order, without the observable flags;
+// artefact_form when `form` holds its ranges (taken from all points, also when `points` is a
+// chunk of them).
+std::vector<CandidateDesign> build_designs(const PointContexts& points,
+                                           const CandidateOptions& options,
+                                           const std::optional<FormRanges>& form) {
   std::vector<CandidateDesign> out;
-  {  // probe_lobing: p0, then cos/sin per order
+  // Only the candidates `only` names are made (all when it is empty).
+  auto wanted = [&](const char* name) {
+    return options.only.empty() ||
+           std::find(options.only.begin(), options.only.end(), name) != options.only.end();
+  };
+  if (wanted("probe_lobing")) {  // probe_lobing: p0, then cos/sin per order
     CandidateDesign d = start("probe_lobing");
     bool first = true;
     for (int k : options.lobing_orders) {
@@ -140,20 +184,20 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
     }
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("stylus_radius")) {
     CandidateDesign d = start("stylus_radius");
     add_columns(d, StylusRadiusEffect(fixed_parameter(0.0)), {0.0}, {{0, "error_um", "µm"}},
                 points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("scale")) {
     CandidateDesign d = start("scale");
     add_columns(d, ScaleEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0)),
                 {0.0, 0.0, 0.0}, {{0, "x_ppm", "ppm"}, {1, "y_ppm", "ppm"}, {2, "z_ppm", "ppm"}},
                 points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("thermal_expansion")) {
     CandidateDesign d = start("thermal_expansion");
     add_columns(d,
                 ThermalExpansionEffect(fixed_parameter(0.0), fixed_parameter(0.0),
@@ -161,13 +205,13 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                 {0.0, 0.0, 11.5, 0.0}, {{0, "workpiece_delta_t_k", "K"}}, points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("drift")) {
     CandidateDesign d = start("drift");
     add_columns(d, DriftEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0)),
                 {0.0, 0.0, 0.0}, {{0, "x_um", "µm"}, {1, "y_um", "µm"}, {2, "z_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("squareness")) {
     CandidateDesign d = start("squareness");
     add_columns(d,
                 SquarenessEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0)),
@@ -175,25 +219,25 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                 {{0, "xy_urad", "µrad"}, {1, "xz_urad", "µrad"}, {2, "yz_urad", "µrad"}}, points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("eccentricity")) {
     CandidateDesign d = start("eccentricity");
     add_columns(d, EccentricityEffect(fixed_parameter(0.0), fixed_parameter(0.0)), {0.0, 0.0},
                 {{0, "x_um", "µm"}, {1, "y_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("step_quantization")) {
     CandidateDesign d = start("step_quantization");
     add_columns(d, StepQuantizationEffect(fixed_parameter(0.0), 2.0), {0.0}, {{0, "step_um", "µm"}},
                 points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("probe_warmup")) {
     CandidateDesign d = start("probe_warmup");
     add_columns(d, ProbeWarmupEffect(fixed_parameter(0.0), kWarmupTimeConstant), {0.0},
                 {{0, "change_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
-  {
+  if (wanted("straightness")) {
     CandidateDesign d = start("straightness");
     add_columns(d,
                 StraightnessEffect(fixed_parameter(0.0), fixed_parameter(0.0), fixed_parameter(0.0),
@@ -203,7 +247,8 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                 points);
     out.push_back(std::move(d));
   }
-  {  // rotary_table: every parameter is linear; the axial pair vanishes on a spur gear (n_z = 0)
+  // rotary_table: every parameter is linear; the axial pair vanishes on a spur gear (n_z = 0).
+  if (wanted("rotary_table")) {
     CandidateDesign d = start("rotary_table");
     std::vector<Pick> picks;
     for (std::size_t i = 0; i < RotaryTableEffect::parameter_names().size(); ++i) {
@@ -214,31 +259,15 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                 std::vector<double>(8, 0.0), picks, points);
     out.push_back(std::move(d));
   }
-  {  // stylus_bending with a vertical stylus (the default)
+  if (wanted("stylus_bending")) {  // with a vertical stylus (the default)
     CandidateDesign d = start("stylus_bending");
     add_columns(d, StylusBendingEffect(fixed_parameter(0.0), Eigen::Vector3d::UnitZ()), {0.0},
                 {{0, "deflection_um", "µm"}}, points);
     out.push_back(std::move(d));
   }
-  // artefact_form: only when asked for (`only` names it; see candidates.h); the ranges are the
-  // measured points' own.
-  const bool form_asked =
-      std::find(options.only.begin(), options.only.end(), "artefact_form") != options.only.end();
-  if (!points.empty() && form_asked) {
-    FormRanges r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-                 std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const PointContext& p = points[i];
-      const double roll = ArtefactFormEffect::roll_length_mm(p);
-      r.profile_from_mm = std::min(r.profile_from_mm, roll);
-      r.profile_to_mm = std::max(r.profile_to_mm, roll);
-      r.face_from_mm = std::min(r.face_from_mm, p.p.z());
-      r.face_to_mm = std::max(r.face_to_mm, p.p.z());
-    }
-    // One profile position or one section: a range of 1 mm about it (the orders 2, 3 columns are
-    // then constant or repeat each other and are marked not observable).
-    if (!(r.profile_to_mm > r.profile_from_mm)) r.profile_to_mm = r.profile_from_mm + 1.0;
-    if (!(r.face_to_mm > r.face_from_mm)) r.face_to_mm = r.face_from_mm + 1.0;
+  // artefact_form: only when asked for (`only` names it; see candidates.h).
+  if (form) {
+    const FormRanges& r = *form;
     CandidateDesign d = start("artefact_form");
     std::vector<Pick> picks;
     for (int k = 0; k < kArtefactFormParameters; ++k) {
@@ -252,13 +281,97 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                   {"face_to_mm", r.face_to_mm}};
     out.push_back(std::move(d));
   }
-  if (!options.only.empty()) {
-    std::erase_if(out, [&](const CandidateDesign& d) {
-      return std::find(options.only.begin(), options.only.end(), d.name) == options.only.end();
-    });
-  }
+  return out;
+}
+
+// artefact_form's ranges when it is asked for and there are points.
+std::optional<FormRanges> ranges_if_asked(const PointContexts& points,
+                                          const CandidateOptions& options) {
+  if (points.empty() || !form_asked(options)) return std::nullopt;
+  return form_ranges(points);
+}
+
+}  // namespace
+
+std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
+                                               const CandidateOptions& options) {
+  std::vector<CandidateDesign> out =
+      build_designs(points, options, ranges_if_asked(points, options));
   for (CandidateDesign& d : out) mark_observable(d);
   return out;
+}
+
+CompressedDesigns compressed_candidate_designs(const PointContexts& points,
+                                               const Eigen::VectorXd& residual_um,
+                                               const CandidateOptions& options) {
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t n = points.size();
+  const std::optional<FormRanges> form = ranges_if_asked(points, options);
+  CompressedDesigns out;
+  out.rows = static_cast<int>(n);
+  // The layout: the designs of an empty chunk (names, coefficients, settings; no rows).
+  out.candidates = build_designs(points.slice(0, 0), options, form);
+  int columns = 1;
+  for (const CandidateDesign& d : out.candidates)
+    columns += static_cast<int>(d.coefficients.size());
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<Eigen::MatrixXd> triangles(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t k) {
+    const std::size_t begin = k * kChunk, count = std::min(kChunk, n - begin);
+    const std::vector<CandidateDesign> part =
+        build_designs(points.slice(begin, count), options, form);
+    Eigen::MatrixXd x(static_cast<int>(count), columns);
+    int at = 0;
+    for (const CandidateDesign& d : part) {
+      x.middleCols(at, d.x.cols()) = d.x;
+      at += static_cast<int>(d.x.cols());
+    }
+    x.col(at) = residual_um.segment(static_cast<int>(begin), static_cast<int>(count));
+    triangles[k] = upper_triangle(std::move(x));
+  });
+  int stacked = 0;
+  for (const Eigen::MatrixXd& t : triangles) stacked += static_cast<int>(t.rows());
+  Eigen::MatrixXd all(stacked, columns);
+  for (std::size_t k = 0, at = 0; k < chunks; ++k) {
+    all.middleRows(static_cast<int>(at), triangles[k].rows()) = triangles[k];
+    at += static_cast<std::size_t>(triangles[k].rows());
+    triangles[k].resize(0, 0);
+  }
+  Eigen::MatrixXd r =
+      chunks == 0 ? Eigen::MatrixXd::Zero(columns, columns) : upper_triangle(std::move(all));
+  int at = 0;
+  for (CandidateDesign& d : out.candidates) {
+    const int q = static_cast<int>(d.coefficients.size());
+    d.x = r.middleCols(at, q);
+    at += q;
+    mark_observable(d);
+  }
+  out.residual_um = r.col(at);
+  return out;
+}
+
+Eigen::MatrixXd full_columns(const PointContexts& points, const CandidateOptions& options,
+                             const std::vector<CandidateDesign>& compressed,
+                             const std::vector<int>& which) {
+  CandidateOptions only = options;
+  only.only.clear();
+  int cols = 0;
+  for (int c : which) {
+    only.only.push_back(compressed[c].name);
+    cols += static_cast<int>(compressed[c].observable_indices().size());
+  }
+  const std::vector<CandidateDesign> built =
+      which.empty() ? std::vector<CandidateDesign>{}
+                    : build_designs(points, only, ranges_if_asked(points, only));
+  Eigen::MatrixXd x(static_cast<int>(points.size()), cols);
+  int at = 0;
+  for (int c : which) {
+    const auto found = std::find_if(built.begin(), built.end(), [&](const CandidateDesign& d) {
+      return d.name == compressed[c].name;
+    });
+    for (int k : compressed[c].observable_indices()) x.col(at++) = found->x.col(k);
+  }
+  return x;
 }
 
 std::string separating_measurement(std::string_view a, std::string_view b) {

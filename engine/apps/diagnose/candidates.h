@@ -107,6 +107,13 @@ class PointContexts {
         stride_(sizeof(Record)) {}
   std::size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
+  // The `count` contexts from `begin` on (a view of the same records).
+  PointContexts slice(std::size_t begin, std::size_t count) const {
+    PointContexts s = *this;
+    s.first_ = first_ + begin * stride_;
+    s.size_ = count;
+    return s;
+  }
   const PointContext& operator[](std::size_t i) const {
     return *reinterpret_cast<const PointContext*>(first_ + i * stride_);
   }
@@ -120,6 +127,33 @@ class PointContexts {
 // and n in the CMM frame, mm; approach azimuth; order within its gear's sequence).
 std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
                                                const CandidateOptions& options = {});
+
+// The candidates' designs compressed for the selection and the ambiguity checks, which use the
+// columns only through their inner products: [X_1 … X_C, y] (every candidate's columns, then the
+// residuals) = Q R by Householder QR of row chunks of 4 096 points and QR of the chunks' stacked
+// triangles (the tall-skinny QR of Demmel, Grigori, Hoemmen & Langou, SIAM J. Sci. Comput. 34,
+// 2012), and each candidate's x replaced by its columns of R (m + 1 rows for m columns), the
+// residuals by R's last column. Q has orthonormal columns, so X_iᵀX_j = R_iᵀR_j, X_iᵀy = R_iᵀr and
+// |y|² = |r|²: every nested fit, F statistic, rank decision (relative norms), condition number
+// and canonical correlation is the one of the N rows, up to rounding, while no N-row matrix of
+// all candidates is ever held (a chunk at a time per thread). The chunks are fixed and the
+// triangles stacked in chunk order: the same R for any number of threads. `rows` keeps N for
+// the degrees of freedom. Observable columns are decided on the compressed columns (the same
+// norms and inner products).
+struct CompressedDesigns {
+  std::vector<CandidateDesign> candidates;  // x: (m + 1) × the candidate's columns
+  Eigen::VectorXd residual_um;              // m + 1 entries
+  int rows = 0;                             // N, the points
+};
+CompressedDesigns compressed_candidate_designs(const PointContexts& points,
+                                               const Eigen::VectorXd& residual_um,
+                                               const CandidateOptions& options = {});
+
+// The N-row observable columns of candidates `which` (indices into `compressed`, which says
+// which columns are observable), side by side in that order: what the joint fit needs.
+Eigen::MatrixXd full_columns(const PointContexts& points, const CandidateOptions& options,
+                             const std::vector<CandidateDesign>& compressed,
+                             const std::vector<int>& which);
 
 // What extra measurement would tell effects `a` and `b` apart when this plan cannot (one
 // sentence, for diagnosis.json and the report).

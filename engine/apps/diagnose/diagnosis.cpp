@@ -184,17 +184,21 @@ void select_and_fit(State& state, Diagnosis& out) {
     state.azimuths.push_back(residuals.points[k].context.azimuth_rad);
     state.r[k] = residuals.points[k].residual_um;
   }
-  state.candidates = candidate_designs(PointContexts(residuals.points, &ResidualPoint::context),
-                                       options.candidates);
-  const std::vector<CandidateDesign>& candidates = state.candidates;
-  for (const CandidateDesign& c : candidates) out.candidate_names.push_back(c.name);
+  // The candidates' columns compressed with the residuals (the selection and the ambiguity checks
+  // use only their inner products; candidates.h): no N-row matrix of every candidate is held.
+  const PointContexts contexts(residuals.points, &ResidualPoint::context);
+  CompressedDesigns compressed =
+      compressed_candidate_designs(contexts, state.r, options.candidates);
+  for (const CandidateDesign& c : compressed.candidates) out.candidate_names.push_back(c.name);
 
   // 3. Selection.
-  out.selection = forward_select(candidates, state.r, state.noise.sigma_um, so);
+  out.selection = forward_select(compressed, state.noise.sigma_um, so);
   const std::vector<int>& selected = out.selection.selected;
+  state.candidates = std::move(compressed.candidates);
+  const std::vector<CandidateDesign>& candidates = state.candidates;
 
-  // 4. Joint fit of the selected effects.
-  state.x_selected = joint_columns(candidates, selected);
+  // 4. Joint fit of the selected effects, on their N-row columns.
+  state.x_selected = full_columns(contexts, options.candidates, candidates, selected);
   state.fit = least_squares(state.x_selected, state.r);
   const Eigen::MatrixXd& x_selected = state.x_selected;
   const LeastSquaresFit& fit = state.fit;
@@ -235,9 +239,10 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
   const DiagnoseOptions& options = state.options;
   const std::vector<CandidateDesign>& candidates = state.candidates;
   const std::vector<int>& selected = out.selection.selected;
-  const Eigen::MatrixXd& x_selected = state.x_selected;
   const LeastSquaresFit& fit = state.fit;
   const std::vector<int>& offsets = state.offsets;
+  // Every column here is compressed (state.candidates: R's columns, the same inner products as
+  // the N rows'), the selected effect's fitted signal too.
   // The condition number of the joint design of every selected effect and a candidate b not
   // selected: the same set of columns for each selected effect a, so computed once per b (in
   // parallel, into its own slot; the column order does not change singular values).
@@ -258,7 +263,8 @@ void assess_ambiguity(const State& state, Diagnosis& out) {
     }
     const Eigen::MatrixXd q_others = orthonormal_basis(joint_columns(candidates, others)).q;
     const int q = static_cast<int>(a.observable_indices().size());
-    Eigen::VectorXd signal = x_selected.middleCols(offsets[s], q) * fit.beta.segment(offsets[s], q);
+    Eigen::VectorXd signal =
+        joint_columns(candidates, {selected[s]}) * fit.beta.segment(offsets[s], q);
     signal -= q_others * (q_others.transpose() * signal);
     Eigen::MatrixXd copy_a;
     const Eigen::MatrixXd q_a = orthonormal_basis(a.observable_columns(copy_a), q_others).q;
@@ -474,13 +480,10 @@ Diagnosis diagnose_residuals(const Residuals& residuals, const NoiseFloor& noise
   select_and_fit(state, out);                        // 2–4
   diagnosis_stages::per_gear_variation(state, out);  // 4c (per_gear.cpp)
   assess_ambiguity(state, out);                      // 7
-  // The candidates' columns are not used after this (only their names and observable flags):
-  // freed, for the memory of the later stages at 10⁶ readings.
-  for (CandidateDesign& c : state.candidates) c.x.resize(0, 0);
-  apply_point_law(state, out);                  // 4b
-  diagnosis_stages::measure_gap(state, out);    // 5 (diagnosis_gap.cpp)
-  diagnosis_stages::simulate_null(state, out);  // 5–6
-  diagnosis_stages::make_verdict(state, out);   // 8
+  apply_point_law(state, out);                       // 4b
+  diagnosis_stages::measure_gap(state, out);         // 5 (diagnosis_gap.cpp)
+  diagnosis_stages::simulate_null(state, out);       // 5–6
+  diagnosis_stages::make_verdict(state, out);        // 8
   // rotary_table's angular positioning error turns each tooth exactly as the gear's own pitch
   // deviation of that tooth would: no candidate can hold the gear's pitch, so the verdict says it.
   for (const FittedEffect& e : out.effects) {

@@ -351,10 +351,10 @@ void simulate_null(const State& state, Diagnosis& out) {
   // (normal: each is a weighted sum of n independent residuals).
   Eigen::MatrixXd root_before, root_after;
   if (subsample) {
-    root_before = covariance_root(spectrum.unit_covariance(Eigen::MatrixXd(rows, 0)) *
-                                  sim_before.variance_um2());
-    root_after = covariance_root(spectrum.unit_covariance(q_after) *
-                                 (stage.chosen > 0 ? sim_after : sim_before).variance_um2());
+    root_before =
+        gram_root(spectrum.unit_covariance(Eigen::MatrixXd(rows, 0)) * sim_before.variance_um2());
+    root_after = gram_root(spectrum.unit_covariance(q_after) *
+                           (stage.chosen > 0 ? sim_after : sim_before).variance_um2());
   }
   // The replicates in parallel: replicate k draws from its own counter-based streams and writes
   // only its own slots, so the result is the same for any number of threads.

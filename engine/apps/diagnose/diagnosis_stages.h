@@ -25,6 +25,8 @@ struct State {
   int rows = 0;
   Eigen::VectorXd r;             // residuals before (measured − predicted)
   std::vector<double> azimuths;  // approach azimuth of each residual, rad
+  // The candidates with compressed columns (compressed_candidate_designs: R's columns, m + 1
+  // rows).
   std::vector<CandidateDesign> candidates;
   // Steps 3–4: the selected effects' joint columns and fit, each effect's first column.
   Eigen::MatrixXd x_selected;

@@ -126,20 +126,26 @@ std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eige
   return out;
 }
 
-Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& cov) {
-  if (cov.rows() == 0) return Eigen::MatrixXd(0, 0);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(cov);
-  const Eigen::VectorXd& lambda = eigen.eigenvalues();
-  const double cut = 1e-10 * std::max(1.0, lambda.maxCoeff());
-  std::vector<int> kept;
-  for (int k = 0; k < lambda.size(); ++k) {
-    if (lambda[k] > cut) kept.push_back(k);
+// Cholesky–Banachiewicz by columns (Golub & Van Loan, "Matrix Computations", 4th ed., 2013,
+// §4.2.5), a column left out when its pivot is below the rank rule (the semi-definite
+// Cholesky of Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed., §10.3, without
+// its pivoting, so that the column order decides as in orthonormal_basis).
+Eigen::MatrixXd gram_root(const Eigen::MatrixXd& gram, double relative_tolerance) {
+  const int c = static_cast<int>(gram.rows());
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(c, c);
+  int kept = 0;
+  for (int j = 0; j < c; ++j) {
+    const double own = gram(j, j);
+    const double left = own - l.row(j).head(kept).squaredNorm();
+    if (!(own > 0.0) || !(left > relative_tolerance * relative_tolerance * own)) continue;
+    const double pivot = std::sqrt(left);
+    l(j, kept) = pivot;
+    for (int i = j + 1; i < c; ++i) {
+      l(i, kept) = (gram(i, j) - l.row(i).head(kept).dot(l.row(j).head(kept))) / pivot;
+    }
+    ++kept;
   }
-  Eigen::MatrixXd root(cov.rows(), static_cast<int>(kept.size()));
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    root.col(static_cast<int>(k)) = eigen.eigenvectors().col(kept[k]) * std::sqrt(lambda[kept[k]]);
-  }
-  return root;
+  return l.leftCols(kept);
 }
 
 double scaled_condition_number(Eigen::MatrixXd x) {
@@ -222,40 +228,63 @@ double sample_quantile(std::vector<double> values, double q) {
 }
 
 HarmonicSpectrum::HarmonicSpectrum(const std::vector<double>& azimuth_rad, int max_order)
-    : max_order_(max_order) {
-  const int rows = static_cast<int>(azimuth_rad.size());
-  // Xᵀ is built in place of the operator and overwritten block by block, so the memory is one
-  // (2K + 1) × rows matrix (at 10⁶ readings 200 MB, not three of them).
-  solve_.resize(2 * max_order + 1, rows);
-  for (int r = 0; r < rows; ++r) {
-    solve_(0, r) = 1.0;
-    for (int k = 1; k <= max_order; ++k) {
-      solve_(2 * k - 1, r) = std::cos(k * azimuth_rad[r]);
-      solve_(2 * k, r) = std::sin(k * azimuth_rad[r]);
-    }
+    : max_order_(max_order),
+      cos_(static_cast<int>(azimuth_rad.size())),
+      sin_(static_cast<int>(azimuth_rad.size())) {
+  for (std::size_t r = 0; r < azimuth_rad.size(); ++r) {
+    cos_[static_cast<int>(r)] = std::cos(azimuth_rad[r]);
+    sin_[static_cast<int>(r)] = std::sin(azimuth_rad[r]);
   }
   // Minimum-norm least squares, pinv(X) = pinv(XᵀX) Xᵀ (complete orthogonal decomposition of
   // the small Gram matrix): a plan that covers too few azimuths for the high orders still gives
   // finite amplitudes.
-  const Eigen::MatrixXd gram = solve_ * solve_.transpose();
-  const Eigen::MatrixXd pinv =
-      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(gram).pseudoInverse();
-  constexpr int kBlock = 4096;
+  const Eigen::MatrixXd gram = design_transpose_times(Eigen::MatrixXd(), true);
+  pinv_ = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(gram).pseudoInverse();
+}
+
+// X's rows in blocks of kBlock, each made from cos φ and sin φ by the angle-addition recurrence
+// cos (k+1)φ = cos kφ cos φ − sin kφ sin φ, sin (k+1)φ = sin kφ cos φ + cos kφ sin φ (its
+// rounding grows like k ε: below 1e-14 for the orders used here), and Xᵀm (or XᵀX) accumulated
+// block by block in row order.
+Eigen::MatrixXd HarmonicSpectrum::design_transpose_times(const Eigen::MatrixXd& m,
+                                                         bool gram) const {
+  constexpr int kBlock = 512;
+  const int rows = static_cast<int>(cos_.size());
+  const int coefficients = 2 * max_order_ + 1;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(coefficients, gram ? coefficients : m.cols());
+  Eigen::MatrixXd xt(coefficients, kBlock);
   for (int b = 0; b < rows; b += kBlock) {
     const int w = std::min(kBlock, rows - b);
-    const Eigen::MatrixXd block = pinv * solve_.middleCols(b, w);
-    solve_.middleCols(b, w) = block;
+    for (int j = 0; j < w; ++j) {
+      const double c1 = cos_[b + j], s1 = sin_[b + j];
+      double c = 1.0, s = 0.0;
+      xt(0, j) = 1.0;
+      for (int k = 1; k <= max_order_; ++k) {
+        const double next_c = c * c1 - s * s1;
+        s = s * c1 + c * s1;
+        c = next_c;
+        xt(2 * k - 1, j) = c;
+        xt(2 * k, j) = s;
+      }
+    }
+    if (gram) {
+      out.noalias() += xt.leftCols(w) * xt.leftCols(w).transpose();
+    } else {
+      out.noalias() += xt.leftCols(w) * m.middleRows(b, w);
+    }
   }
+  return out;
 }
 
 std::vector<double> HarmonicSpectrum::amplitudes(const Eigen::VectorXd& residual_um) const {
-  return amplitudes_of(solve_ * residual_um);
+  return amplitudes_of(pinv_ * design_transpose_times(residual_um, false));
 }
 
 Eigen::MatrixXd HarmonicSpectrum::unit_covariance(const Eigen::MatrixXd& q) const {
-  Eigen::MatrixXd cov = solve_ * solve_.transpose();
+  // S Sᵀ = pinv XᵀX pinv, and S q = pinv Xᵀq.
+  Eigen::MatrixXd cov = pinv_ * design_transpose_times(Eigen::MatrixXd(), true) * pinv_;
   if (q.cols() > 0) {
-    const Eigen::MatrixXd sq = solve_ * q;
+    const Eigen::MatrixXd sq = pinv_ * design_transpose_times(q, false);
     cov -= sq * sq.transpose();
   }
   return cov;

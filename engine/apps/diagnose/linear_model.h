@@ -55,10 +55,15 @@ std::vector<double> holm_adjust(const std::vector<double>& p);
 // methods for computing angles between linear subspaces", Math. Comp. 27, 1973).
 std::vector<double> canonical_correlations(const Eigen::MatrixXd& qa, const Eigen::MatrixXd& qb);
 
-// A square root L (L Lᵀ = cov) of a symmetric positive semi-definite matrix, one column per
-// eigenvalue above 1e-10 · max(1, largest eigenvalue) (the rest, rounding, taken as 0): V_r Λ_r^½.
-// Draws of N(0, cov) are L w with w standard normal of L.cols() entries.
-Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& cov);
+// A root L (L Lᵀ = gram) of a Gram matrix (symmetric positive semi-definite) by Cholesky in
+// column order with a rank rule: column c is kept when what is left of its diagonal after the
+// kept columns before it exceeds `relative_tolerance`² times its own diagonal (the squared form
+// of orthonormal_basis's rule), one column of L per kept column. Draws of N(0, gram) are L w with
+// w standard normal of L.cols() entries. L moves continuously with the matrix away from rank
+// decisions, unlike a root from eigenvectors (V Λ^½), which turns freely inside a repeated
+// eigenvalue: rounding-level changes of the matrix (the same columns summed in another order)
+// would then change every draw made from it.
+Eigen::MatrixXd gram_root(const Eigen::MatrixXd& gram, double relative_tolerance = 1e-6);
 
 // Condition number (largest / smallest singular value) of X with every column scaled to unit
 // length (Belsley, Kuh & Welsch, "Regression Diagnostics", 1980, ch. 3). Zero columns are left
@@ -107,8 +112,9 @@ double sample_quantile(std::vector<double> values, double q);
 // Least-squares harmonic spectrum of residuals against the approach azimuth φ (rad):
 // r ≈ a_0 + Σ_{k=1..K} (a_k cos kφ + b_k sin kφ), fitted jointly (the orders are not
 // orthogonal on an uneven azimuth sampling); amplitude_0 = |a_0|, amplitude_k = √(a_k² + b_k²)
-// in the residuals' unit (µm). The operator is factored once, so many residual vectors (the null
-// simulation) are cheap.
+// in the residuals' unit (µm). Only cos φ, sin φ of each point and the pseudo-inverse of the
+// (2K + 1)² Gram matrix are held (16 bytes a point, not the (2K + 1) × N operator: 200 MB at 10⁶
+// readings); X's rows are made again, block by block, whenever it is applied.
 class HarmonicSpectrum {
  public:
   HarmonicSpectrum(const std::vector<double>& azimuth_rad, int max_order);
@@ -123,8 +129,11 @@ class HarmonicSpectrum {
   std::vector<double> amplitudes_of(const Eigen::VectorXd& c) const;
 
  private:
+  // Xᵀm (gram false; m: rows × any columns) or XᵀX (gram true; m unused).
+  Eigen::MatrixXd design_transpose_times(const Eigen::MatrixXd& m, bool gram) const;
   int max_order_;
-  Eigen::MatrixXd solve_;  // (2K + 1) × rows: the least-squares operator (XᵀX)⁻¹Xᵀ
+  Eigen::VectorXd cos_, sin_;  // of each point's azimuth
+  Eigen::MatrixXd pinv_;       // (XᵀX)⁺, (2K + 1)²
 };
 
 }  // namespace gearmc

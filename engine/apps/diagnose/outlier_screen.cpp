@@ -3,8 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <tuple>
 
 #include "engine/statistics/distribution_fit.h"
 
@@ -29,17 +27,15 @@ OutlierScreen screen_outliers(const Residuals& residuals, double family_false_al
   OutlierScreen out;
   out.family_false_alarm = family_false_alarm;
   const int n = static_cast<int>(residuals.points.size());
-  std::map<std::tuple<int, int, int, int>, std::map<int, int>> by_scan;
-  for (int k = 0; k < n; ++k) {
-    const ResidualPoint& p = residuals.points[k];
-    by_scan[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = k;
-  }
   std::vector<std::vector<int>> scans;
-  for (const auto& [key, scan] : by_scan) {
-    if (scan.size() < 3) continue;
-    std::vector<int>& s = scans.emplace_back();
-    for (const auto& [i, k] : scan) s.push_back(k);
-    out.screened += static_cast<int>(s.size());
+  {
+    const ProfileScans all = profile_scans(residuals.points);
+    for (std::size_t s = 0; s < all.count(); ++s) {
+      if (all.start[s + 1] - all.start[s] < 3) continue;
+      scans.emplace_back(all.points.begin() + static_cast<std::ptrdiff_t>(all.start[s]),
+                         all.points.begin() + static_cast<std::ptrdiff_t>(all.start[s + 1]));
+      out.screened += static_cast<int>(scans.back().size());
+    }
   }
   std::vector<double> r;
   r.reserve(residuals.points.size());

@@ -174,21 +174,40 @@ Residuals compute_residuals(const Scenario& model, const Readings& readings,
   return out;
 }
 
-std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& points) {
-  std::map<std::tuple<int, int, int, int>, std::map<int, int>> scans;
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const ResidualPoint& p = points[k];
-    scans[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = static_cast<int>(k);
+ProfileScans profile_scans(const std::vector<ResidualPoint>& points) {
+  const auto key = [&](int k) {
+    const ResidualPoint& p = points[static_cast<std::size_t>(k)];
+    return std::make_tuple(p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j, p.i);
+  };
+  std::vector<int> order(points.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  ProfileScans out;
+  out.points.reserve(order.size());
+  for (std::size_t at = 0; at < order.size(); ++at) {
+    // Of equal keys (stable: in file order) the last one stands for the position.
+    if (at + 1 < order.size() && key(order[at]) == key(order[at + 1])) continue;
+    const ResidualPoint& p = points[static_cast<std::size_t>(order[at])];
+    const bool new_scan = out.points.empty() || [&] {
+      const ResidualPoint& q = points[static_cast<std::size_t>(out.points.back())];
+      return q.gear != p.gear || q.tooth != p.tooth || q.side != p.side || q.j != p.j;
+    }();
+    if (new_scan) out.start.push_back(out.points.size());
+    out.points.push_back(order[at]);
   }
+  out.start.push_back(out.points.size());
+  if (out.points.empty()) out.start.clear();
+  return out;
+}
+
+std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& points) {
+  const ProfileScans scans = profile_scans(points);
   std::vector<std::array<int, 3>> out;
-  for (const auto& [key, scan] : scans) {
-    if (scan.size() < 3) continue;
-    auto a = scan.begin();
-    auto b = std::next(a), c = std::next(b);
-    for (; c != scan.end(); ++a, ++b, ++c) {
-      if (b->first == a->first + 1 && c->first == b->first + 1) {
-        out.push_back({a->second, b->second, c->second});
-      }
+  const auto i_of = [&](int k) { return points[static_cast<std::size_t>(k)].i; };
+  for (std::size_t s = 0; s < scans.count(); ++s) {
+    for (std::size_t at = scans.start[s]; at + 2 < scans.start[s + 1]; ++at) {
+      const int a = scans.points[at], b = scans.points[at + 1], c = scans.points[at + 2];
+      if (i_of(b) == i_of(a) + 1 && i_of(c) == i_of(b) + 1) out.push_back({a, b, c});
     }
   }
   return out;

@@ -118,6 +118,16 @@ inline constexpr double kNumericalFloorUm = 1e-3;
 inline constexpr int kMinFloorSamples = 10;
 NoiseFloor estimate_noise_floor(const Scenario& model, const Residuals& residuals);
 
+// The points' profile scans: the points of one gear, tooth, flank and section j, ordered by
+// roll index i (of two points with the same i the later in the file), scans in that key order.
+// Sorted indices rather than a tree of 10⁶ nodes (memory at 10⁶ readings).
+struct ProfileScans {
+  std::vector<int> points;         // point indices, scan after scan
+  std::vector<std::size_t> start;  // scan s is points[start[s] .. start[s + 1])
+  std::size_t count() const { return start.empty() ? 0 : start.size() - 1; }
+};
+ProfileScans profile_scans(const std::vector<ResidualPoint>& points);
+
 // Index triplets (i−1, i, i+1) of consecutive points along each profile scan (same gear, tooth,
 // flank and section j, consecutive i), scan after scan (the support of the second differences).
 std::vector<std::array<int, 3>> scan_triplets(const std::vector<ResidualPoint>& points);

@@ -31,15 +31,17 @@ struct StepDesign {
   int added_columns(std::size_t e) const { return block_columns[e + 1]; }
 };
 
-// The step design for residuals y (any vector of the rows' length; zero when only the null law is
-// wanted), with AᵀA when `with_gram`. The blocks of AᵀA: Q_SᵀQ_S and A_eᵀA_e and Q_SᵀA_e directly;
-// A_eᵀA_f (e ≠ f) as (A_eᵀX_f) R_f⁻¹, where X_f are f's kept columns and R_f = A_fᵀX_f the
-// triangle of their Gram–Schmidt (P⊥X_f = A_f R_f, and A_eᵀP⊥ = A_eᵀ as A_e ⟂ Q_S), so that
-// only one A_e is needed at a time.
+// The step design for residuals y (any vector of the columns' length; zero when only the null law
+// is wanted), with AᵀA when `with_gram`, for `rows` points (y.size() on the N rows themselves,
+// N on compressed columns: compressed_candidate_designs). The blocks of AᵀA: Q_SᵀQ_S and A_eᵀA_e
+// and Q_SᵀA_e directly; A_eᵀA_f (e ≠ f) as (A_eᵀX_f) R_f⁻¹, where X_f are f's kept columns and R_f
+// = A_fᵀX_f the triangle of their Gram–Schmidt (P⊥X_f = A_f R_f, and A_eᵀP⊥ = A_eᵀ as A_e ⟂ Q_S),
+// so that only one A_e is needed at a time.
 StepDesign step_design(const std::vector<CandidateDesign>& candidates,
-                       const std::vector<int>& selected, const Eigen::VectorXd& y, bool with_gram) {
+                       const std::vector<int>& selected, const Eigen::VectorXd& y, bool with_gram,
+                       int rows) {
   StepDesign d;
-  d.rows = static_cast<int>(y.size());
+  d.rows = rows;
   const Eigen::MatrixXd q_selected = orthonormal_basis(joint_columns(candidates, selected)).q;
   d.selected_y = q_selected.transpose() * y;
   for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
@@ -143,21 +145,22 @@ double rss_after_selected(const StepDesign& d, const Eigen::VectorXd& y) {
 
 // The null law of a step's statistics, simulated in the space of its bases. For ε ~ N(0, σ² I_n)
 // the statistics depend on ε only through z = Aᵀε, A = [Q_S, Q_1, …, Q_E] (n × C, the selected
-// basis and each candidate's added basis), and through ‖ε‖². With the Gram matrix
-// AᵀA = V Λ Vᵀ of rank r, U = A V_r Λ_r^(−1/2) is an orthonormal basis of span A, so
-// w = Uᵀε ~ N(0, σ² I_r), z = V_r Λ_r^(1/2) w, and ‖ε‖² = ‖w‖² + σ² χ²(n − r) with the χ² term
-// independent of w (Cochran's theorem). A replicate therefore draws r normals and one χ² instead
-// of n normals and n·C products: the same law, exactly, at any number of readings.
+// basis and each candidate's added basis), and through ‖ε‖². With any root L (C × r, rank r) of
+// the Gram matrix, L Lᵀ = AᵀA, U = A L⁺ᵀ is an orthonormal basis of span A (UᵀU = L⁺L LᵀL⁺ᵀ = I)
+// with AᵀU = L, so w = Uᵀε ~ N(0, σ² I_r), z = L w, and ‖ε‖² = ‖w‖² + σ² χ²(n − r) with the χ²
+// term independent of w (Cochran's theorem). A replicate therefore draws r normals and one χ²
+// instead of n normals and n·C products: the same law, exactly, at any number of readings. The
+// root is gram_root's (Cholesky in column order), which moves only with rounding when the
+// columns are summed another way (compressed or not; linear_model.h), so the same data give the
+// same replicates.
 struct GramNull {
-  Eigen::MatrixXd root;  // C × r: V_r Λ_r^(1/2)
+  Eigen::MatrixXd root;  // C × r
   int rank = 0;
 };
 
 GramNull gram_null(const StepDesign& d) {
   GramNull g;
-  // The blocks are orthonormal, so every eigenvalue lies in [0, blocks]; the root drops those of
-  // rounding size.
-  g.root = covariance_root(d.gram);
+  g.root = gram_root(d.gram);
   g.rank = static_cast<int>(g.root.cols());
   return g;
 }
@@ -233,7 +236,7 @@ NullSelectionDistribution simulate_null_selection(const std::vector<CandidateDes
   if (candidates.empty()) return {};
   const int rows = static_cast<int>(candidates.front().x.rows());
   const StepDesign d =
-      step_design(candidates, selected, Eigen::VectorXd::Zero(rows), replicates > 0);
+      step_design(candidates, selected, Eigen::VectorXd::Zero(rows), replicates > 0, rows);
   return simulate(d, rows, sigma_um, replicates, seed, step);
 }
 
@@ -241,21 +244,22 @@ Eigen::MatrixXd step_gram(const std::vector<CandidateDesign>& candidates,
                           const std::vector<int>& selected) {
   if (candidates.empty()) return {};
   const int rows = static_cast<int>(candidates.front().x.rows());
-  return step_design(candidates, selected, Eigen::VectorXd::Zero(rows), true).gram;
+  return step_design(candidates, selected, Eigen::VectorXd::Zero(rows), true, rows).gram;
 }
 
-Selection forward_select(const std::vector<CandidateDesign>& candidates,
-                         const Eigen::VectorXd& residual_um, double noise_floor_um,
-                         const SelectionOptions& options) {
+namespace {
+
+// forward_select on columns and residuals of `rows` points (their own length, or compressed).
+Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::VectorXd& residual_um,
+                 int rows, double noise_floor_um, const SelectionOptions& options) {
   Selection out;
-  const int rows = static_cast<int>(residual_um.size());
   const double n = static_cast<double>(rows);
   for (int step = 0; step < options.max_effects; ++step) {
     if (out.selected.size() == candidates.size()) break;
     SelectionStep s;
     s.selected_before = out.selected;
     const int replicates = effective_null_replicates(options);
-    const StepDesign d = step_design(candidates, out.selected, residual_um, replicates > 0);
+    const StepDesign d = step_design(candidates, out.selected, residual_um, replicates > 0, rows);
     s.rss_before = rss_after_selected(d, residual_um);
     std::vector<double> p_testable;
     std::vector<std::size_t> testable;
@@ -325,6 +329,21 @@ Selection forward_select(const std::vector<CandidateDesign>& candidates,
     if (best < 0) break;
   }
   return out;
+}
+
+}  // namespace
+
+Selection forward_select(const std::vector<CandidateDesign>& candidates,
+                         const Eigen::VectorXd& residual_um, double noise_floor_um,
+                         const SelectionOptions& options) {
+  return select(candidates, residual_um, static_cast<int>(residual_um.size()), noise_floor_um,
+                options);
+}
+
+Selection forward_select(const CompressedDesigns& compressed, double noise_floor_um,
+                         const SelectionOptions& options) {
+  return select(compressed.candidates, compressed.residual_um, compressed.rows, noise_floor_um,
+                options);
 }
 
 }  // namespace gearmc

@@ -117,6 +117,11 @@ Selection forward_select(const std::vector<CandidateDesign>& candidates,
                          const Eigen::VectorXd& residual_um, double noise_floor_um,
                          const SelectionOptions& options = {});
 
+// The same on compressed columns (compressed_candidate_designs): the same tests, with N =
+// compressed.rows for the degrees of freedom, ΔBIC, the practical size and the null's χ².
+Selection forward_select(const CompressedDesigns& compressed, double noise_floor_um,
+                         const SelectionOptions& options = {});
+
 // The observable columns of the candidates `which`, side by side in that order.
 Eigen::MatrixXd joint_columns(const std::vector<CandidateDesign>& candidates,
                               const std::vector<int>& which);

@@ -4,9 +4,12 @@
 // gear. Readings are simulated from the built-in reference with fixed seeds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "engine/apps/diagnose/diagnosis.h"
@@ -86,6 +89,47 @@ TEST(DiagnoseHeldOut, OnAPlanOfOddTeethTheHeldOutRmsIsTheNoiseNotTheGapBefore) {
   EXPECT_GT(d.gap_before.rms_um, 0.5);
   EXPECT_GT(d.held_out_rms_um, 0.27);
   EXPECT_LT(d.held_out_rms_um, 0.36);
+}
+
+// profile_scans (sorted indices) groups and orders the points as a tree keyed by (gear, tooth,
+// flank, section) and then roll index does when filled in file order (a later point with the same
+// key replaces the earlier): reference built here with std::map. Points of 2 gears × 3 teeth ×
+// 2 flanks × 3 sections × 7 roll indices, shuffled (seed 4), 40 repeated positions appended, and a
+// scan of 2 points.
+TEST(DiagnoseOutliers, ProfileScansGroupAndOrderThePointsAsAKeyedTreeWould) {
+  std::vector<ResidualPoint> points;
+  for (int gear = 0; gear < 2; ++gear) {
+    for (ResidualPoint p : plan_points({1, 2, 3}, {FlankSide::kLeft, FlankSide::kRight}, 7, 3)) {
+      p.gear = gear;
+      points.push_back(p);
+    }
+  }
+  std::mt19937 rng(4);
+  std::shuffle(points.begin(), points.end(), rng);
+  for (int k = 0; k < 40; ++k) points.push_back(points[static_cast<std::size_t>(k * 5)]);
+  ResidualPoint lone;
+  lone.tooth = 9;
+  points.push_back(lone);
+  lone.i = 1;
+  points.push_back(lone);
+  std::map<std::tuple<int, int, int, int>, std::map<int, int>> tree;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const ResidualPoint& p = points[k];
+    tree[{p.gear, p.tooth, p.side == FlankSide::kRight ? 1 : 0, p.j}][p.i] = static_cast<int>(k);
+  }
+  const ProfileScans scans = profile_scans(points);
+  ASSERT_EQ(scans.count(), tree.size());
+  std::size_t s = 0;
+  for (const auto& [key, scan] : tree) {
+    std::vector<int> expected;
+    for (const auto& [i, k] : scan) expected.push_back(k);
+    const std::vector<int> got(
+        scans.points.begin() + static_cast<std::ptrdiff_t>(scans.start[s]),
+        scans.points.begin() + static_cast<std::ptrdiff_t>(scans.start[s + 1]));
+    EXPECT_EQ(got, expected) << "scan " << s;
+    ++s;
+  }
+  EXPECT_EQ(profile_scans({}).count(), 0u);
 }
 
 TEST(DiagnoseOutliers, TheScreenKeepsItsFalseAlarmRateAndFindsGrossOutliers) {

@@ -84,6 +84,32 @@ TEST(DiagnoseTools, LeastSquaresLeavesDependentColumnsOut) {
   EXPECT_NEAR(fit.cov_unscaled(0, 2), -15.0 / 105.0, 1e-12);
 }
 
+// gram_root: L Lᵀ reproduces a rank-deficient Gram matrix (checked by the product, not by the
+// Cholesky recurrence), with one column per independent column: four columns of which the third
+// is the sum of the first two and the fourth repeats the second, so rank 2. Its last row repeats
+// the second's (the same column). A Gram matrix with a repeated eigenvalue (the identity plus a
+// rounding-size change of 1e-15) gives a root within 1e-12 of the identity's, where an
+// eigenvector root may turn by any angle inside the repeated eigenvalue.
+TEST(DiagnoseTools, GramRootIsARootOfRankDeficientGramsAndMovesOnlyWithTheMatrix) {
+  Eigen::MatrixXd x(5, 4);
+  x << 1, 0, 1, 0,  //
+      2, 1, 3, 1,   //
+      0, 3, 3, 3,   //
+      -1, 2, 1, 2,  //
+      4, -1, 3, -1;
+  const Eigen::MatrixXd g = x.transpose() * x;
+  const Eigen::MatrixXd l = gram_root(g);
+  ASSERT_EQ(l.rows(), 4);
+  EXPECT_EQ(l.cols(), 2);
+  EXPECT_LE((l * l.transpose() - g).cwiseAbs().maxCoeff(), 1e-12 * g.cwiseAbs().maxCoeff());
+  EXPECT_LE((l.row(3) - l.row(1)).norm(), 1e-12 * l.norm());
+  Eigen::MatrixXd i3 = Eigen::MatrixXd::Identity(3, 3);
+  Eigen::MatrixXd nudged = i3;
+  nudged(0, 1) = nudged(1, 0) = 1e-15;
+  EXPECT_LE((gram_root(nudged) - gram_root(i3)).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LE((gram_root(i3) - i3).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(DiagnoseTools, HarmonicSpectrumRecoversAmplitudesOnUnevenAzimuths) {
   std::vector<double> phi;
   Eigen::VectorXd r(300);
