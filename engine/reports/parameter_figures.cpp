@@ -181,6 +181,19 @@ std::vector<RunFigure> parameter_figures(const MonteCarloRun& mc, const RunResul
   return figures;
 }
 
+namespace {
+// ", " and " ≤ " with no-break spaces (U+00A0), so that an interval or a limit stays on one line
+// in a narrow table column.
+constexpr const char* kNoBreak = ",\u00a0";
+std::string acceptance_text(const ParameterConformity& k) {
+  const std::string le = "\u00a0≤\u00a0";
+  const std::string upper = parameter_text(*k.acceptance.upper, 2);
+  if (!k.acceptance.lower) return "y" + le + upper;
+  if (std::abs(*k.acceptance.lower + *k.acceptance.upper) < 0.005) return "|y|" + le + upper;
+  return parameter_text(*k.acceptance.lower, 2) + le + "y" + le + upper;
+}
+}  // namespace
+
 void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
                            const ParameterPresentation& p, const std::vector<RunFigure>& figures) {
   const ParameterEvaluator& e = *mc.parameter_evaluator();
@@ -202,8 +215,9 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       "sampling error: true at the points − dense true (standard deviations).");
   HtmlTable t;
   t.caption = "Parameters (µm)";
-  t.header = {"parameter", "side",          "n",       "true mean", "measured mean", "bias", "u",
-              "U",         "95 % interval", "u meas.", "u sampl."};
+  t.header = {"parameter",     "side",           "n",       "true mean",
+              "measured mean", "bias",           "u",       "U",
+              "95 % interval", "95 % symmetric", "u meas.", "u sampl."};
   for (const ParameterSummary& s : p.parameters) {
     for (const ParameterSideSummary& side : s.sides) {
       const bool any = side.error_moments.count() > 0;
@@ -213,9 +227,12 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
             any ? parameter_text(side.measured_moments.mean(), 2) : "–",
             any ? parameter_text(side.bias_um, 3) : "–", any ? parameter_text(side.u_um, 3) : "–",
             any ? parameter_text(side.U95_um, 2) : "–",
-            side.interval95 ? "[" + parameter_text(side.interval95->lo, 2) + ", " +
+            side.interval95 ? "[" + parameter_text(side.interval95->lo, 2) + kNoBreak +
                                   parameter_text(side.interval95->hi, 2) + "]"
                             : "–",
+            side.symmetric95 ? "[" + parameter_text(side.symmetric95->lo, 2) + kNoBreak +
+                                   parameter_text(side.symmetric95->hi, 2) + "]"
+                             : "–",
             side.measurement_error.count() > 1 ? parameter_text(side.measurement_error.stddev(), 3)
                                                : "–",
             side.sampling_error.count() > 1 ? parameter_text(side.sampling_error.stddev(), 3)
@@ -228,12 +245,16 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       "Conformity, rule " + e.spec().decision_rule +
       " (ISO 14253-1): false accept = accepted although the true value is out of "
       "tolerance; false reject = rejected although it conforms; fractions of all items. "
-      "p_c: the run's worst measured value (its flank side) and the JCGM 106 probability that "
-      "its true value conforms, with that side's bias and u.";
+      "U/T: the largest U over the tolerance interval's width (2T for ±T). The guard-banded "
+      "acceptance narrows each limit by how far the error's probabilistically symmetric 95 % "
+      "interval reaches past zero on that side (a skewed error law gets unequal bands). "
+      "p_c: the run's worst measured value (its flank side) and the probability, from that "
+      "side's error law, that its true value conforms.";
   c.header = {"parameter",
               "tolerance",
               "T",
-              "acceptance limit",
+              "U/T",
+              "acceptance",
               "false accept",
               "false reject",
               "false reject (guard-banded)",
@@ -241,13 +262,13 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
   for (const ParameterSummary& s : p.parameters) {
     const ParameterConformity& k = s.conformity;
     if (!k.tolerance_um) {
-      c.rows.push_back(
-          {{parameter_symbol(s.parameter), "–", "no tolerance in the set", "", "", "", "", ""}});
+      c.rows.push_back({{parameter_symbol(s.parameter), "–", "no tolerance in the set", "", "", "",
+                         "", "", ""}});
       continue;
     }
     c.rows.push_back({{parameter_symbol(s.parameter), k.tolerance_symbol,
                        (k.two_sided ? "±" : "") + parameter_text(*k.tolerance_um, 1),
-                       parameter_text(*k.acceptance.upper, 2),
+                       parameter_text(k.u_over_t, 2), acceptance_text(k),
                        parameter_text(100 * k.chosen().false_accept_rate(), 2) + " %",
                        parameter_text(100 * k.chosen().false_reject_rate(), 2) + " %",
                        parameter_text(100 * k.guard_banded.false_reject_rate(), 2) + " %",

@@ -92,9 +92,10 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
     std::vector<double> all_true, all_measured;
     RunningStats all_error;
     // The worst measured value (largest |y| for a signed parameter) and the side it is on: its
-    // conformance probability takes that side's bias and u (docs/parameters.md).
+    // conformance probability takes that side's error law (docs/parameters.md).
     double worst = kNaN;
     std::size_t worst_side = 0;
+    double largest_U95 = 0.0;
     for (int s = 0; s < 2; ++s) {
       if (values[s].empty()) continue;
       ParameterSideSummary side;
@@ -136,6 +137,7 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
         // The bias is not corrected in a reading, so U covers it: U = k √(u² + b²).
         side.U95_um = kCoverageFactor * std::hypot(side.u_um, side.bias_um);
         side.interval95 = shortest_coverage_interval(side.errors, 0.95);
+        side.symmetric95 = symmetric_coverage_interval(side.errors, 0.95);
       }
       if (side.not_evaluated > 0) {
         view.notes.push_back(parameter_symbol(p) + " " + side.side + ": " +
@@ -143,15 +145,24 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
                              std::to_string(side.items) +
                              " items without a value (too few valid points in a trace)");
       }
-      c.guard_band_um = std::max(c.guard_band_um, side.U95_um);
+      if (side.error_moments.count() > 0) {
+        c.guard_band_upper_um =
+            std::max(c.guard_band_upper_um,
+                     side.symmetric95 ? std::max(0.0, -side.symmetric95->lo) : side.U95_um);
+        c.guard_band_lower_um =
+            std::max(c.guard_band_lower_um,
+                     side.symmetric95 ? std::max(0.0, side.symmetric95->hi) : side.U95_um);
+        largest_U95 = std::max(largest_U95, side.U95_um);
+      }
       summary.sides.push_back(std::move(side));
     }
     if (c.tolerance_um) {
       const double T = *c.tolerance_um;
       c.tolerance = c.two_sided ? ToleranceLimits{-T, T} : ToleranceLimits{std::nullopt, T};
       const ToleranceLimits simple = acceptance_limits(c.tolerance, DecisionRule::kSimple, 0.0);
-      const ToleranceLimits guarded =
-          acceptance_limits(c.tolerance, DecisionRule::kGuardBanded, c.guard_band_um);
+      const ToleranceLimits guarded = acceptance_limits(
+          c.tolerance, DecisionRule::kGuardBanded, c.guard_band_lower_um, c.guard_band_upper_um);
+      c.u_over_t = largest_U95 / (c.two_sided ? 2.0 * T : T);
       c.acceptance = c.rule == DecisionRule::kSimple ? simple : guarded;
       c.simple = decision_rates(all_true, all_measured, c.tolerance, simple);
       c.guard_banded = decision_rates(all_true, all_measured, c.tolerance, guarded);
@@ -159,8 +170,8 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
         const ParameterSideSummary& side = summary.sides[worst_side];
         c.worst_measured_um = worst;
         c.worst_side = side.side;
-        c.conformance_probability_of_worst = conformance_probability(
-            worst - side.bias_um, side.u_um, c.tolerance.lower, c.tolerance.upper);
+        c.conformance_probability_of_worst = empirical_conformance_probability(
+            side.errors, worst, c.tolerance.lower, c.tolerance.upper);
       }
     }
     view.parameters.push_back(std::move(summary));
@@ -179,6 +190,13 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
       "dense trace";
   how["coverage_factor"] = kCoverageFactor;
   how["U95_definition"] = "k * sqrt(u^2 + bias^2) (the bias is not corrected in a reading)";
+  how["guard_band_definition"] =
+      "guard_banded: at the upper limit max(0, -e_lo), at the lower limit max(0, e_hi), from "
+      "each side's probabilistically symmetric 95 % interval [e_lo, e_hi] of the errors (the "
+      "largest over the sides; U95 for a side with too few errors): an item measured at an "
+      "acceptance limit has a 2.5 % chance of a true value beyond the tolerance";
+  how["U_over_T_definition"] =
+      "the largest U95 of the sides over the tolerance interval's width (2T for +-T, T for <= T)";
   how["profile_range_mm"] = {e.profile_start_mm(), e.profile_end_mm()};
   how["helix_range_mm"] = {e.helix_start_mm(), e.helix_end_mm()};
   how["profile_trace"] =
@@ -221,8 +239,11 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
       j["interval95_um"] = side.interval95
                                ? nlohmann::ordered_json{side.interval95->lo, side.interval95->hi}
                                : nlohmann::ordered_json();
+      j["interval95_symmetric_um"] =
+          side.symmetric95 ? nlohmann::ordered_json{side.symmetric95->lo, side.symmetric95->hi}
+                           : nlohmann::ordered_json();
       if (!side.interval95) {
-        j["interval95_note"] = "not enough values: the shortest 95 % interval needs at least 21";
+        j["interval95_note"] = "not enough values: a 95 % interval needs at least 21";
       }
       j["measurement_error"] = moments_json(side.measurement_error);
       j["sampling_error"] = moments_json(side.sampling_error);
@@ -248,7 +269,10 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
       k["note"] = "the scenario's tolerance set has no value for this parameter";
     } else {
       k["acceptance_limit_um"] = *c.acceptance.upper;
-      k["guard_band_um"] = c.guard_band_um;
+      if (c.acceptance.lower) k["acceptance_lower_limit_um"] = *c.acceptance.lower;
+      k["guard_band_upper_um"] = c.guard_band_upper_um;
+      if (c.tolerance.lower) k["guard_band_lower_um"] = c.guard_band_lower_um;
+      k["U_over_T"] = c.u_over_t;
       k["false_accept"] = c.chosen().false_accept_rate();
       k["false_reject"] = c.chosen().false_reject_rate();
       k["rates"] = {{"simple", rates_json(c.simple)}, {"guard_banded", rates_json(c.guard_banded)}};
@@ -261,6 +285,16 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
   summary["parameters"] = parameters;
   summary["conformity"] = conformity;
 }
+
+namespace {
+// `text` right-aligned in `width` terminal columns (UTF-8: a column per code point, so "±" and
+// "≤" take one column as they do on screen, not their two or three bytes).
+std::string right_aligned(const std::string& text, std::size_t width) {
+  std::size_t columns = 0;
+  for (const char ch : text) columns += (static_cast<unsigned char>(ch) & 0xC0) != 0x80 ? 1 : 0;
+  return std::string(width > columns ? width - columns : 0, ' ') + text;
+}
+}  // namespace
 
 void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
                             const ParameterPresentation& p) {
@@ -300,8 +334,8 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
          "of true at the points − dense true)\n";
   out << "\nConformity (ISO 14253-1, rule " << e.spec().decision_rule
       << "; over every flank, tooth or gear of the run)\n";
-  std::snprintf(line, sizeof line, "%-9s %-10s %8s %11s %11s %11s %12s %16s\n", "parameter",
-                "tolerance", "T", "accept if", "false acc.", "false rej.", "rej. (other)",
+  std::snprintf(line, sizeof line, "%-9s %-10s %8s %6s %15s %11s %11s %12s %16s\n", "parameter",
+                "tolerance", "T", "U/T", "accept if", "false acc.", "false rej.", "rej. (other)",
                 "p_c(worst)");
   out << line;
   for (const ParameterSummary& s : p.parameters) {
@@ -312,24 +346,34 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
       out << line;
       continue;
     }
-    const std::string accept =
-        (c.two_sided ? "|y| ≤ " : "y ≤ ") + parameter_text(*c.acceptance.upper, 2);
+    const bool symmetric_zone =
+        !c.acceptance.lower || std::abs(*c.acceptance.lower + *c.acceptance.upper) < 0.005;
+    const std::string accept = c.two_sided && symmetric_zone
+                                   ? "|y| ≤ " + parameter_text(*c.acceptance.upper, 2)
+                               : c.two_sided ? parameter_text(*c.acceptance.lower, 2) + " ≤ y ≤ " +
+                                                   parameter_text(*c.acceptance.upper, 2)
+                                             : "y ≤ " + parameter_text(*c.acceptance.upper, 2);
     const DecisionRates& other = c.rule == DecisionRule::kSimple ? c.guard_banded : c.simple;
-    std::snprintf(line, sizeof line, "%-9s %-10s %8s %13s %11s %11s %12s %16s\n",
-                  parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
-                  ((c.two_sided ? "±" : "") + parameter_text(*c.tolerance_um, 1)).c_str(),
-                  accept.c_str(), percent(c.chosen().false_accept_rate()).c_str(),
-                  percent(c.chosen().false_reject_rate()).c_str(),
-                  percent(1.0 - static_cast<double>(other.accepted) /
-                                    static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
-                      .c_str(),
-                  (parameter_text(c.worst_measured_um, 2) + ": " +
-                   parameter_text(c.conformance_probability_of_worst, 3))
-                      .c_str());
+    std::snprintf(
+        line, sizeof line, "%-9s %-10s %s %6s %s %11s %11s %12s %16s\n",
+        parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
+        right_aligned((c.two_sided ? "±" : "") + parameter_text(*c.tolerance_um, 1), 8).c_str(),
+        parameter_text(c.u_over_t, 2).c_str(), right_aligned(accept, 15).c_str(),
+        percent(c.chosen().false_accept_rate()).c_str(),
+        percent(c.chosen().false_reject_rate()).c_str(),
+        percent(1.0 - static_cast<double>(other.accepted) /
+                          static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
+            .c_str(),
+        (parameter_text(c.worst_measured_um, 2) + ": " +
+         parameter_text(c.conformance_probability_of_worst, 3))
+            .c_str());
     out << line;
   }
-  out << "  (rej. (other): the share rejected under the other rule; p_c(worst): the run's "
-         "worst measured value and the JCGM 106 probability that its true value conforms)\n";
+  out << "  (U/T: the largest U over the tolerance interval's width; guard_banded narrows each "
+         "limit by how far the error's symmetric 95 % interval reaches past zero on that side; "
+         "rej. (other): the share rejected under the other rule; p_c(worst): the run's worst "
+         "measured value and the probability, from the error's law, that its true value "
+         "conforms)\n";
   if (!p.budget_sources.empty()) {
     out << "\nError budget per parameter: u of measured − true at the same points, each source "
            "alone (with δRcomp), µm\n";

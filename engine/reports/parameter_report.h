@@ -31,7 +31,9 @@ struct ParameterSideSummary {
   RelativeHistogram true_values, measured_values, error_values;
   std::vector<double> errors;  // sorted ascending (for the interval and the histogram)
   double bias_um = 0.0, u_um = 0.0, U95_um = 0.0;
-  std::optional<CoverageInterval> interval95;
+  std::optional<CoverageInterval> interval95;  // shortest (JCGM 101 §7.7.2)
+  // Probabilistically symmetric (JCGM 101 §7.7.1): 2.5 % of the errors below, 2.5 % above.
+  std::optional<CoverageInterval> symmetric95;
   // Per budget variant (each effect alone, then δRcomp alone): the error against the true value
   // at the same points.
   std::vector<RunningStats> budget;
@@ -42,16 +44,25 @@ struct ParameterConformity {
   std::string tolerance_symbol;        // the set's symbol, e.g. "F_alpha" or "f_f"
   bool two_sided = false;              // ±T (slope, single pitch)
   DecisionRule rule = DecisionRule::kSimple;
-  double guard_band_um = 0.0;  // the largest U95 of the parameter's sides (guard_banded)
+  // guard_banded's band at each limit, from the error's own law (each side's probabilistically
+  // symmetric 95 % interval [e_lo, e_hi], the largest over the sides): at the upper limit
+  // max(0, −e_lo) — the true value exceeds the measured one by more than that 2.5 % of the time —
+  // and at the lower limit max(0, e_hi); a side with too few errors for the interval takes U95.
+  // An item measured at an acceptance limit then has a 2.5 % chance of a true value beyond the
+  // tolerance (JCGM 106 §8.3, specific risk), also when the error law is skewed.
+  double guard_band_lower_um = 0.0, guard_band_upper_um = 0.0;
+  // U/T: the largest U95 of the sides over the tolerance interval's width (2T for ±T, T for ≤ T).
+  double u_over_t = 0.0;
   ToleranceLimits tolerance, acceptance;
   DecisionRates simple, guard_banded;  // over every item of both sides (true = dense value)
   const DecisionRates& chosen() const {
     return rule == DecisionRule::kSimple ? simple : guard_banded;
   }
-  // JCGM 106 §7.6 for one measured value: the run's worst measured item (largest value, or
-  // largest |value| for ±T), corrected by the bias, with u: the probability that its true value
-  // conforms, p_c = Φ((T_U − y + b)/u) − Φ((T_L − y + b)/u) (bias b and u of the errors of the
-  // side the worst item is on: "left", "right", or "both" for F_r).
+  // JCGM 106 §7.5 for one measured value: the run's worst measured item y (largest value, or
+  // largest |value| for ±T): the probability that its true value conforms, from the error law of
+  // the side it is on ("left", "right", or "both" for F_r) — the fraction of that side's errors e
+  // with T_L ≤ y − e ≤ T_U (empirical_conformance_probability; for a normal law N(b, u²) this is
+  // Φ((T_U − y + b)/u) − Φ((T_L − y + b)/u), JCGM 106 §7.6).
   double worst_measured_um = 0.0, conformance_probability_of_worst = 0.0;
   std::string worst_side;
 };

@@ -214,7 +214,8 @@ std::vector<ScenarioKey> make_table() {
       number_key("evaluation.helix_end_exclusion_mm", kNum, std::nullopt, "min(5 % b, m_n)",
                  "helix evaluation range L_β: b minus this at each end"),
       choice_key("evaluation.decision_rule", {"simple", "guard_banded"}, "simple",
-                 "ISO 14253-1 acceptance: within T, or within T narrowed by U"),
+                 "ISO 14253-1 acceptance: within T, or within T narrowed at each limit by the "
+                 "error's 95 % reach past zero (docs/parameters.md)"),
   };
   t.insert(t.end(), rest.begin(), rest.end());
   // The three reliefs of gear.modifications, after its map key: amount, length, shape each.

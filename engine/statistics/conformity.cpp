@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -46,12 +47,41 @@ std::optional<CoverageInterval> shortest_coverage_interval(std::span<const doubl
   return CoverageInterval{sorted[best], sorted[best + q]};
 }
 
+std::optional<CoverageInterval> symmetric_coverage_interval(std::span<const double> sorted,
+                                                            double p) {
+  const std::uint64_t M = sorted.size();
+  if (M == 0) return std::nullopt;
+  const std::uint64_t q = coverage_count(M, p);
+  if (q >= M) return std::nullopt;
+  std::uint64_t r = (M - q) % 2 == 0 ? (M - q) / 2 : (M - q + 1) / 2;  // 1-based
+  if (r < 1) r = 1;
+  if (r + q > M) return std::nullopt;
+  return CoverageInterval{sorted[r - 1], sorted[r + q - 1]};
+}
+
+double empirical_conformance_probability(std::span<const double> sorted_errors, double y,
+                                         std::optional<double> lower, std::optional<double> upper) {
+  if (sorted_errors.empty()) return std::numeric_limits<double>::quiet_NaN();
+  // lower ≤ y − e ≤ upper  ⇔  y − upper ≤ e ≤ y − lower.
+  const auto from = upper ? std::lower_bound(sorted_errors.begin(), sorted_errors.end(), y - *upper)
+                          : sorted_errors.begin();
+  const auto to = lower ? std::upper_bound(sorted_errors.begin(), sorted_errors.end(), y - *lower)
+                        : sorted_errors.end();
+  const auto inside = to > from ? to - from : 0;
+  return static_cast<double>(inside) / static_cast<double>(sorted_errors.size());
+}
+
 ToleranceLimits acceptance_limits(const ToleranceLimits& tolerance, DecisionRule rule,
                                   double guard_band) {
+  return acceptance_limits(tolerance, rule, guard_band, guard_band);
+}
+
+ToleranceLimits acceptance_limits(const ToleranceLimits& tolerance, DecisionRule rule,
+                                  double lower_guard_band, double upper_guard_band) {
   if (rule == DecisionRule::kSimple) return tolerance;
   ToleranceLimits a = tolerance;
-  if (a.lower) *a.lower += guard_band;
-  if (a.upper) *a.upper -= guard_band;
+  if (a.lower) *a.lower += lower_guard_band;
+  if (a.upper) *a.upper -= upper_guard_band;
   return a;
 }
 

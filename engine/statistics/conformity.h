@@ -27,6 +27,19 @@ std::uint64_t coverage_count(std::uint64_t M, double p);
 std::optional<CoverageInterval> shortest_coverage_interval(std::span<const double> sorted,
                                                            double p);
 
+// The probabilistically symmetric [y_(r), y_(r+q)] of the ascending `sorted` values (JCGM 101
+// §7.7.1): r = (M − q)/2 when that is an integer, else floor((M − q + 1)/2), at least 1 — as many
+// values below the interval as above it, up to one. Needs q < M: nullopt otherwise.
+std::optional<CoverageInterval> symmetric_coverage_interval(std::span<const double> sorted,
+                                                            double p);
+
+// The fraction of the ascending `sorted` errors e = measured − true with lower ≤ y − e ≤ upper:
+// the probability that the true value of an item measured as y conforms, from the error's own
+// distribution (JCGM 106:2012 §7.5, the conformance probability of any law; an absent limit is
+// infinite). NaN without values.
+double empirical_conformance_probability(std::span<const double> sorted_errors, double y,
+                                         std::optional<double> lower, std::optional<double> upper);
+
 // The decision rules of ISO 14253-1:2017 for a tolerance interval [lower, upper]:
 //  kSimple       accept when the measured value lies within the tolerance (shared risk);
 //  kGuardBanded  accept when it lies within the tolerance narrowed by the guard band g at each
@@ -40,6 +53,10 @@ struct ToleranceLimits {
 // The acceptance zone of `rule` for the limits and guard band g >= 0 (ignored by kSimple).
 ToleranceLimits acceptance_limits(const ToleranceLimits& tolerance, DecisionRule rule,
                                   double guard_band);
+// The same with a guard band of its own at each limit (a skewed error law: the band at the
+// upper limit is how far the error reaches below zero, at the lower limit above it).
+ToleranceLimits acceptance_limits(const ToleranceLimits& tolerance, DecisionRule rule,
+                                  double lower_guard_band, double upper_guard_band);
 bool within(const ToleranceLimits& limits, double value);
 
 // The outcome of a decision rule over a population of (true, measured) pairs:

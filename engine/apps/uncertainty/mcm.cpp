@@ -160,15 +160,11 @@ void sort_values(std::vector<double>& v) {
 std::uint64_t coverage_count(std::uint64_t M, double p) { return gearmc::coverage_count(M, p); }
 
 Interval symmetric_interval(const std::vector<double>& sorted, double p) {
-  const std::uint64_t M = sorted.size();
-  const std::uint64_t q = coverage_count(M, p);
-  // r + q − 1 must index a value: q < M (callers check; the R-Test's axes once passed 5 values
-  // left of 2000 trials at p 0.95, q = 5, and read one past the end).
-  GEARMC_CHECK(q < M, "symmetric_interval: fewer values than the coverage needs");
-  // 1-based r; (M − q)/2 when an integer, else floor((M − q + 1)/2).
-  std::uint64_t r = (M - q) % 2 == 0 ? (M - q) / 2 : (M - q + 1) / 2;
-  if (r < 1) r = 1;
-  return {sorted[r - 1], sorted[r + q - 1]};
+  // JCGM 101 §7.7.1 in engine/statistics/conformity; callers check q < M first (the R-Test's
+  // axes once passed 5 values left of 2000 trials at p 0.95, q = 5, and read one past the end).
+  const std::optional<CoverageInterval> c = symmetric_coverage_interval(sorted, p);
+  GEARMC_CHECK(c.has_value(), "symmetric_interval: fewer values than the coverage needs");
+  return {c->lo, c->hi};
 }
 
 Interval shortest_interval(const std::vector<double>& sorted, double p) {

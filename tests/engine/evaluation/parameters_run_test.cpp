@@ -158,13 +158,15 @@ TEST(ParameterRun, SameValuesForOneAndTwoThreads) {
   }
 }
 
-// The conformance probability of the run's worst measured item (JCGM 106 §7.6) takes the bias
-// and u of the flank side that item is on, as docs/parameters.md says (it once pooled both
-// sides: F_α 0.0266 printed where the right flank's values give 0.0301). An x scale error of
-// 60 ppm makes the two sides' slope errors differ; the reference is computed here from the
-// per-item values by hand: the worst |y| (or largest y), that side's mean and sample standard
-// deviation of measured − true, and Φ from std::erfc.
-TEST(ParameterRun, ConformanceOfTheWorstItemUsesItsSidesBiasAndU) {
+// The conformance probability of the run's worst measured item takes the error law of the flank
+// side that item is on, as docs/parameters.md says (it once pooled both sides: F_α 0.0266 printed
+// where the right flank's values give 0.0301): the fraction of that side's errors e with
+// T_L ≤ y − e ≤ T_U. The guard bands are each limit's reach of the sides' probabilistically
+// symmetric 95 % intervals. An x scale error of 60 ppm makes the two sides' slope errors differ;
+// the references are computed here from the per-item values by hand: the worst |y| (or largest
+// y), a count over that side's errors, and the order statistics y_(r), y_(r+q) of JCGM 101
+// §7.7.1 (q = floor(0.95 M + 1/2), r = floor((M − q + 1)/2)).
+TEST(ParameterRun, ConformanceOfTheWorstItemAndTheGuardBandsUseEachSidesErrorLaw) {
   const Scenario s = scenario_with(
       "evaluation: {parameters: all, profile_points: 12}\n"
       "effects: {noise: {sigma_um: 0.3}, scale: {x_ppm: 60}}\n");
@@ -174,7 +176,6 @@ TEST(ParameterRun, ConformanceOfTheWorstItemUsesItsSidesBiasAndU) {
   const RunResults r = mc.run(o);
   const std::optional<ParameterPresentation> view = present_parameters(mc, r);
   ASSERT_TRUE(view.has_value());
-  const auto phi = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
   int checked = 0, sides_differ = 0;
   for (const ParameterSummary& summary : view->parameters) {
     const ParameterConformity& c = summary.conformity;
@@ -182,8 +183,10 @@ TEST(ParameterRun, ConformanceOfTheWorstItemUsesItsSidesBiasAndU) {
     double worst = 0.0;
     int worst_side = -1;
     double mean[2] = {0, 0}, sd[2] = {0, 0};
+    std::vector<double> side_errors[2];
+    double band_upper = 0.0, band_lower = 0.0;
     for (int side = 0; side < 2; ++side) {
-      std::vector<double> errors;
+      std::vector<double>& errors = side_errors[side];
       for (const ParameterValue& v : values(r, summary.parameter, side)) {
         if (!std::isfinite(v.measured) || !std::isfinite(v.true_dense) ||
             !std::isfinite(v.true_points)) {
@@ -200,11 +203,32 @@ TEST(ParameterRun, ConformanceOfTheWorstItemUsesItsSidesBiasAndU) {
       for (double e : errors) mean[side] += e / n;
       for (double e : errors) sd[side] += (e - mean[side]) * (e - mean[side]);
       sd[side] = std::sqrt(sd[side] / (n - 1.0));
+      std::vector<double> sorted = errors;
+      std::sort(sorted.begin(), sorted.end());
+      const std::size_t m = sorted.size();
+      const std::size_t q =
+          static_cast<std::size_t>(std::floor(0.95 * static_cast<double>(m) + 0.5));
+      if (q >= m) {  // too few for an interval (F_p, F_r: a value per gear): U = 2 √(u² + b²)
+        band_upper = std::max(band_upper, 2.0 * std::hypot(sd[side], mean[side]));
+        band_lower = std::max(band_lower, 2.0 * std::hypot(sd[side], mean[side]));
+        continue;
+      }
+      const std::size_t r = std::max<std::size_t>(1, (m - q + 1) / 2);
+      band_upper = std::max(band_upper, std::max(0.0, -sorted[r - 1]));
+      band_lower = std::max(band_lower, std::max(0.0, sorted[r + q - 1]));
     }
     ASSERT_GE(worst_side, 0);
     const double T = *c.tolerance_um;
-    const double lower = c.two_sided ? phi((-T - worst + mean[worst_side]) / sd[worst_side]) : 0.0;
-    const double expected = phi((T - worst + mean[worst_side]) / sd[worst_side]) - lower;
+    double inside = 0.0;
+    for (double e : side_errors[worst_side]) {
+      const double true_value = worst - e;
+      inside += true_value <= T && (!c.two_sided || true_value >= -T) ? 1.0 : 0.0;
+    }
+    const double expected = inside / static_cast<double>(side_errors[worst_side].size());
+    EXPECT_NEAR(c.guard_band_upper_um, band_upper, 1e-12) << parameter_symbol(summary.parameter);
+    if (c.two_sided) {
+      EXPECT_NEAR(c.guard_band_lower_um, band_lower, 1e-12) << parameter_symbol(summary.parameter);
+    }
     EXPECT_EQ(c.worst_measured_um, worst) << parameter_symbol(summary.parameter);
     EXPECT_EQ(c.worst_side, worst_side == 0 ? "left" : "right");
     EXPECT_NEAR(c.conformance_probability_of_worst, expected, 1e-12)

@@ -3,6 +3,7 @@
 // (engine/statistics/conformity.h) against JCGM 106's example and a closed-form Gaussian case.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -246,6 +247,62 @@ TEST(Conformity, ShortestIntervalOfASample) {
   ASSERT_TRUE(b);
   EXPECT_EQ(b->hi, 95.0 * 95.0);
   EXPECT_FALSE(shortest_coverage_interval(std::vector<double>(10, 1.0), 0.95));  // q = M
+}
+
+TEST(Conformity, SymmetricIntervalAndEmpiricalConformanceOfASample) {
+  // JCGM 101 §7.7.1: M = 100 values 0 … 99, p = 0.95: q = 95, (M − q)/2 = 2.5 is not an
+  // integer, r = floor((M − q + 1)/2) = 3: [y_(3), y_(98)] = [2, 97] (1-based order statistics)
+  // — 2 values below, 2 above. M = 1000 values 0 … 999: r = 25, [y_(25), y_(975)] = [24, 974].
+  std::vector<double> v, w;
+  for (int i = 0; i < 100; ++i) v.push_back(i);
+  for (int i = 0; i < 1000; ++i) w.push_back(i);
+  const auto a = symmetric_coverage_interval(v, 0.95);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->lo, 2.0);
+  EXPECT_EQ(a->hi, 97.0);
+  const auto b = symmetric_coverage_interval(w, 0.95);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->lo, 24.0);
+  EXPECT_EQ(b->hi, 974.0);
+  EXPECT_FALSE(symmetric_coverage_interval(std::vector<double>(10, 1.0), 0.95));
+  // Errors 0 … 99 (µm) and a reading y = 150 against T_U = 100: the true value y − e conforms for
+  // e ≥ 50, 50 of the 100 errors; with T_L = 60 also e ≤ 90: 41 of them (50 … 90). Counted by
+  // hand.
+  EXPECT_DOUBLE_EQ(empirical_conformance_probability(v, 150.0, std::nullopt, 100.0), 0.50);
+  EXPECT_DOUBLE_EQ(empirical_conformance_probability(v, 150.0, 60.0, 100.0), 0.41);
+  EXPECT_DOUBLE_EQ(empirical_conformance_probability(v, 0.0, std::nullopt, 100.0), 1.0);
+  EXPECT_TRUE(std::isnan(empirical_conformance_probability({}, 0.0, std::nullopt, 1.0)));
+  // Unequal guard bands: the lower limit moves up by its band, the upper down by its own.
+  const ToleranceLimits a2 = acceptance_limits({-3.0, 5.0}, DecisionRule::kGuardBanded, 0.25, 1.5);
+  EXPECT_EQ(*a2.lower, -2.75);
+  EXPECT_EQ(*a2.upper, 3.5);
+  EXPECT_EQ(*acceptance_limits({-3.0, 5.0}, DecisionRule::kSimple, 0.25, 1.5).upper, 5.0);
+}
+
+// The guard band from a skewed error law keeps the specific risk at the acceptance limit at
+// 2.5 % (JCGM 106 §8.3), where a band of U = 2·√(u² + b²) does not. Errors E = 3 − X, X
+// exponential of mean 3 (E: mean 0, u = 3, the long lower tail of a reading that misses high
+// values), 400 000 draws (std::mt19937_64, seed 21). The band at the upper limit is
+// −e_lo of the symmetric 95 % interval; an item measured at T_U − g has a true value
+// T_U − g − E beyond T_U when E < −g: by construction 2.5 % of the errors (±2 binomial standard
+// errors). With the band U = 6 the same risk is P(E < −6) = P(X > 9) = e⁻³ = 5.0 %.
+TEST(Conformity, AGuardBandFromTheSymmetricIntervalHoldsTheSpecificRiskOfASkewedLaw) {
+  std::mt19937_64 rng(21);
+  std::exponential_distribution<double> x(1.0 / 3.0);
+  const int n = 400000;
+  std::vector<double> e(n);
+  for (double& v : e) v = 3.0 - x(rng);
+  std::sort(e.begin(), e.end());
+  const auto interval = symmetric_coverage_interval(e, 0.95);
+  ASSERT_TRUE(interval);
+  const double g = -interval->lo;
+  // Exponential quantile: E_lo = 3 − 3 ln(1/0.025) = 3 − 11.07 = −8.07 (independent, closed form).
+  EXPECT_NEAR(g, 3.0 * std::log(40.0) - 3.0, 0.15);
+  const double beyond = 1.0 - empirical_conformance_probability(e, 10.0 - g, std::nullopt, 10.0);
+  EXPECT_NEAR(beyond, 0.025, 2 * std::sqrt(0.025 * 0.975 / n) + 1.0 / n);
+  const double beyond_u =
+      1.0 - empirical_conformance_probability(e, 10.0 - 6.0, std::nullopt, 10.0);
+  EXPECT_NEAR(beyond_u, std::exp(-3.0), 4 * std::sqrt(0.05 * 0.95 / n));
 }
 
 }  // namespace
