@@ -44,7 +44,7 @@ ClaimQuantity read_quantity(const YamlValue& value, bool has_effects) {
 }
 
 void read_statistic(const YamlValue& value, ClaimSpec& claim, InputWarnings* warnings) {
-  const std::string expected = "mean, std, max or {quantile: p} with 1e-9 <= p <= 1 - 1e-9";
+  const std::string expected = "mean, std, max, U or {quantile: p} with 1e-9 <= p <= 1 - 1e-9";
   if (value.is_map()) {
     const YamlMap map = value.as_map(child_keys("claims.statistic"));
     const YamlValue p =
@@ -60,8 +60,14 @@ void read_statistic(const YamlValue& value, ClaimSpec& claim, InputWarnings* war
   bool known = false;
   for (const std::string& a : allowed) known = known || a == word;
   if (!known) throw value.error(expected, did_you_mean(word, allowed));
+  if (word == "U" && claim.quantity != ClaimQuantity::kParameterError) {
+    throw value.error(
+        "a statistic of this quantity: U, the expanded uncertainty 2·√(u² + bias²), is a "
+        "statistic of a parameter error (quantity parameters.<symbol>.error)");
+  }
   claim.statistic = word == "mean"  ? ClaimStatistic::kMean
                     : word == "std" ? ClaimStatistic::kStd
+                    : word == "U"   ? ClaimStatistic::kExpandedUncertainty
                                     : ClaimStatistic::kMax;
 }
 
@@ -84,12 +90,14 @@ std::string statistic_text(const ClaimSpec& claim) {
       return "std";
     case ClaimStatistic::kMax:
       return "max";
+    case ClaimStatistic::kExpandedUncertainty:
+      return "U (k = 2)";
   }
   return "";
 }
 
 // claims: a list of {name (required, unique), quantity (required), side (left | right | both,
-// default both), statistic (required: mean | std | max | {quantile: p}), exactly one of
+// default both), statistic (required: mean | std | max | U | {quantile: p}), exactly one of
 // at_most_um / at_least_um, confidence (1e-9 <= c <= 1 - 1e-9, default 0.95)}.
 std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
                                    std::vector<std::string>* warnings) {
@@ -126,7 +134,8 @@ std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
     claim.side = side == "left"    ? ClaimSide::kLeft
                  : side == "right" ? ClaimSide::kRight
                                    : ClaimSide::kBoth;
-    read_statistic(entry.require("statistic", "mean, std, max or {quantile: p}"), claim, warnings);
+    read_statistic(entry.require("statistic", "mean, std, max, U or {quantile: p}"), claim,
+                   warnings);
     const auto at_most = entry.find("at_most_um");
     const auto at_least = entry.find("at_least_um");
     if (at_most && at_least) {

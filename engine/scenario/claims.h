@@ -21,7 +21,10 @@ enum class ClaimQuantity {
   kParameterError,      // a gear parameter's measured − true (dense trace), µm, per item
 };
 enum class ClaimSide { kLeft, kRight, kBoth };
-enum class ClaimStatistic { kQuantile, kMean, kStd, kMax };
+// kExpandedUncertainty: U = 2·√(E[v²]), the expanded uncertainty (k = 2) of a reading not
+// corrected for the bias, 2·√(u² + b²) as the run's parameter tables print it (E[v²] = u² + b²,
+// the gears weighted equally); only for a parameter error (`statistic: U`).
+enum class ClaimStatistic { kQuantile, kMean, kStd, kMax, kExpandedUncertainty };
 
 struct ClaimSpec {
   std::string name;           // unique in the file

@@ -426,8 +426,9 @@ std::vector<ScenarioKey> make_table() {
                        "effects)"));
   t.push_back(choice_key("claims.side", {"left", "right", "both"}, "both",
                          "the flank sides whose values count"));
-  t.push_back(choice_key("claims.statistic", {"mean", "std", "max"}, "required",
-                         "the statistic: mean, std, max, or a map {quantile: p}"));
+  t.push_back(choice_key("claims.statistic", {"mean", "std", "max", "U"}, "required",
+                         "the statistic: mean, std, max, U (2·√(u² + bias²) of a parameter "
+                         "error), or a map {quantile: p}"));
   t.push_back(number_key("claims.statistic.quantile", kNum, std::nullopt, "required in the map",
                          "the quantile's probability p"));
   t.push_back(number_key("claims.at_most_um", kNum, std::nullopt, "one of the two limits",

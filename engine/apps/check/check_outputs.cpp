@@ -251,7 +251,12 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
     }
     report.figure(histogram_svg(pooled->rebin(4), plot),
                   "Histogram of " + quantity_words(c) + " (log count), with the limit, the " +
-                      "estimate and the confidence bounds of the claim's statistic.");
+                      "estimate and the confidence bounds of the claim's statistic." +
+                      (c.statistic == ClaimStatistic::kExpandedUncertainty
+                           ? " U is a statistic of the whole law, not a value: it is the "
+                             "half-width of the interval ±U about zero, which holds about 95 % "
+                             "of the errors when their law is near normal."
+                           : ""));
   }
   report.heading("Scenario");
   report.preformatted(scenario.source_text, scenario.source_path);

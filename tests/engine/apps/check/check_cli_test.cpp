@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -103,7 +104,10 @@ TEST(CheckCli, BadClaimsExit2WithPlaceAndWriteNothing) {
       {"median",
        "claims:\n  - {name: m, quantity: delta_rcomp.point, statistic: median, "
        "at_most_um: 1}\n",
-       ":8:55:", "mean, std, max or {quantile: p}"},
+       ":8:55:", "mean, std, max, U or {quantile: p}"},
+      {"u_of_delta_rcomp",
+       "claims:\n  - {name: u, quantity: delta_rcomp.point, statistic: U, at_most_um: 1}\n",
+       ":8:55:", "U, the expanded uncertainty"},
   };
   for (const BadClaim& c : cases) {
     const std::string path = write_scenario(c.tag, c.claims);
@@ -136,15 +140,15 @@ TEST(CheckCli, AScenarioWithoutClaimsIsExit2WithAMessage) {
 // collides at every contact: check stops after the first gear, whose 48 contacts (4 teeth × 2
 // flanks × 3 × 2 points, the plan of kScenario) all gave no value, and refuses the scenario.
 TEST(CheckCli, AStylusThatFitsNowhereIsRefusedAfterTheFirstGear) {
-  const std::string path = write_scenario(
-      "no_values", "stylus: {radius_mm: 20}\nclaims:\n  - {name: a, quantity: delta_rcomp.point, "
-                   "statistic: mean, at_most_um: 2}\n");
+  const std::string path =
+      write_scenario("no_values",
+                     "stylus: {radius_mm: 20}\nclaims:\n  - {name: a, quantity: delta_rcomp.point, "
+                     "statistic: mean, at_most_um: 2}\n");
   const std::string out = temp_path("no_values_out");
   fs::remove_all(out);
   const auto r = run_gearmc("check " + path + " --out " + out + " --quiet");
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find("none of the 48 contacts of the first gear gave a value"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("none of the 48 contacts of the first gear gave a value"), std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(out));
 }
@@ -379,6 +383,30 @@ TEST(CheckCli, ClaimsOnGearParameterErrors) {
   const std::string html = read(out + "/report.html");
   EXPECT_NE(html.find("F_alpha error (measured − true) per item (both sides)"), std::string::npos);
   EXPECT_EQ(html.find("total error"), std::string::npos);
+
+  // A claim on U (k = 2) of the F_α error: its estimate is 2·√(mean of e²) over the same 256
+  // gears' items, computed here independently from `run --gears 256`'s summary.json (each side's
+  // n, mean and sample std of the error: Σ e² = (n − 1) s² + n m²).
+  const std::string upath = temp_path("param_claims_u") + ".yaml";
+  std::ofstream(upath) << base
+                       << "claims:\n  - {name: fa_u, quantity: parameters.F_alpha.error, "
+                          "statistic: U, at_most_um: 3}\n";
+  const auto u = run_gearmc("check " + upath + " --max-gears 256 --out " + out + "_u");
+  EXPECT_EQ(u.exit_code, 0) << u.err;
+  const nlohmann::json ju = nlohmann::json::parse(std::ifstream(out + "_u/check.json"));
+  EXPECT_EQ(ju["claims"][0]["verdict"], "holds") << ju.dump(1);
+  EXPECT_EQ(ju["claims"][0]["statistic"], "U (k = 2)") << ju.dump(1);
+  ASSERT_EQ(run_gearmc("run " + upath + " --gears 256 --out " + out + "_run").exit_code, 0);
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out + "_run/summary.json"));
+  double sum_squares = 0.0, items = 0.0;
+  for (const char* side : {"left", "right"}) {
+    const nlohmann::json& e = summary["parameters"]["F_alpha"][side]["error"];
+    const double n = e["n"].get<double>(), m = e["mean"].get<double>(), s = e["std"].get<double>();
+    sum_squares += (n - 1.0) * s * s + n * m * m;
+    items += n;
+  }
+  EXPECT_NEAR(ju["claims"][0]["estimate_um"].get<double>(), 2.0 * std::sqrt(sum_squares / items),
+              1e-9);
 
   const std::string bad = temp_path("param_claims_bad") + ".yaml";
   std::string limited = base;

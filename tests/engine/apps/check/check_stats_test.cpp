@@ -300,6 +300,39 @@ TEST(SequentialCheck, MeanAndStdClaimsOnTheBoundaryRarelyFail) {
   EXPECT_EQ(sequential(off, law, 1, 4096).verdict, Verdict::kFails);
 }
 
+// U (k = 2) = 2·√E[v²] with the gears weighted equally. By hand: gears {1, −1}, {2}, {0, 3} have
+// means of v² 1, 4 and 4.5, so U = 2·√(9.5/3) = 3.5590260840104371. On the correlated law
+// (mean 0, variance 1.04: U = 2·√1.04 = 2.0396) "U ≤ 2·√1.04" is true on the boundary and over
+// seeds 1 … 100 (budget 4096, confidence 0.95) fails in at most the 0.999 quantile of
+// Binomial(100, 0.05) seeds (significance 0.001); "U ≤ 1.8" (E[v²] 0.81) fails and "U ≤ 2.4"
+// (1.44) holds at seed 1.
+TEST(SequentialCheck, ExpandedUncertaintyClaimsUseTheGearsMeansOfSquares) {
+  ClaimSpec c = quantile_claim(0.5, 10.0);
+  c.statistic = ClaimStatistic::kExpandedUncertainty;
+  ClaimTracker t(c);
+  const std::vector<std::vector<double>> gears = {{1.0, -1.0}, {2.0}, {0.0, 3.0}};
+  for (const auto& g : gears) t.add_gear(g);
+  const ClaimResult r = t.look(false);
+  EXPECT_NEAR(r.estimate_um, 2.0 * std::sqrt(9.5 / 3.0), 1e-12);
+  EXPECT_LE(r.lower_um, r.estimate_um);
+  EXPECT_GE(r.upper_um, r.estimate_um);
+
+  CorrelatedGears law;
+  law.values = 8;
+  ClaimSpec boundary = quantile_claim(0.5, 2.0 * std::sqrt(1.04));
+  boundary.statistic = ClaimStatistic::kExpandedUncertainty;
+  int fails = 0;
+  for (int seed = 1; seed <= 100; ++seed) {
+    fails += sequential(boundary, law, 900 + seed, 4096).verdict == Verdict::kFails;
+  }
+  EXPECT_LE(fails, binomial_upper_quantile(100, 0.05));
+  ClaimSpec low = boundary, high = boundary;
+  low.limit_um = 1.8;
+  high.limit_um = 2.4;
+  EXPECT_EQ(sequential(low, law, 1, 4096).verdict, Verdict::kFails);
+  EXPECT_EQ(sequential(high, law, 1, 4096).verdict, Verdict::kHolds);
+}
+
 TEST(SequentialCheck, MaxClaimFailsOnTheFirstValueBeyondAndHoldsOnlyAtTheBudget) {
   ClaimSpec c = quantile_claim(0.5, 10.0);
   c.statistic = ClaimStatistic::kMax;
