@@ -29,12 +29,22 @@ std::uint64_t coverage_count(std::uint64_t M, double p) {
   return static_cast<std::uint64_t>(std::floor(pM + 0.5));
 }
 
-std::optional<CoverageInterval> shortest_coverage_interval(std::span<const double> sorted,
-                                                           double p) {
-  const std::uint64_t M = sorted.size();
+namespace {
+// q of coverage_count when the M values can hold an interval of it (q < M), else nullopt.
+std::optional<std::uint64_t> interval_count(std::uint64_t M, double p) {
   if (M == 0) return std::nullopt;
   const std::uint64_t q = coverage_count(M, p);
   if (q >= M) return std::nullopt;
+  return q;
+}
+}  // namespace
+
+std::optional<CoverageInterval> shortest_coverage_interval(std::span<const double> sorted,
+                                                           double p) {
+  const std::uint64_t M = sorted.size();
+  const std::optional<std::uint64_t> counted = interval_count(M, p);
+  if (!counted) return std::nullopt;
+  const std::uint64_t q = *counted;
   std::uint64_t best = 0;
   double width = sorted[q] - sorted[0];
   for (std::uint64_t r = 1; r + q < M; ++r) {
@@ -50,12 +60,12 @@ std::optional<CoverageInterval> shortest_coverage_interval(std::span<const doubl
 std::optional<CoverageInterval> symmetric_coverage_interval(std::span<const double> sorted,
                                                             double p) {
   const std::uint64_t M = sorted.size();
-  if (M == 0) return std::nullopt;
-  const std::uint64_t q = coverage_count(M, p);
-  if (q >= M) return std::nullopt;
-  std::uint64_t r = (M - q) % 2 == 0 ? (M - q) / 2 : (M - q + 1) / 2;  // 1-based
+  const std::optional<std::uint64_t> counted = interval_count(M, p);
+  if (!counted) return std::nullopt;
+  const std::uint64_t q = *counted;
+  // 1-based; r + q ≤ (M + q + 1)/2 ≤ M as q < M.
+  std::uint64_t r = (M - q) % 2 == 0 ? (M - q) / 2 : (M - q + 1) / 2;
   if (r < 1) r = 1;
-  if (r + q > M) return std::nullopt;
   return CoverageInterval{sorted[r - 1], sorted[r + q - 1]};
 }
 

@@ -228,31 +228,40 @@ SelectionOptions gate_options() {
   return o;
 }
 
+// Residuals of 3 master gears (7 200 points: two 4 096-row chunks) simulated with `effects_yaml`
+// + noise 0.3 µm at `seed`, against the baseline, and their residual vector.
+struct ThreeGears {
+  ThreeGears(const std::string& effects_yaml, std::uint64_t seed) {
+    SimulateOptions o;
+    o.master = true;
+    o.gears = 3;
+    Scenario truth = testing_support::with_effects(effects_yaml + "noise: {sigma_um: 0.3}\n");
+    truth.seed = seed;
+    residuals = compute_residuals(baseline(), simulate_readings(truth, o).readings);
+    y.resize(static_cast<int>(residuals.points.size()));
+    for (std::size_t k = 0; k < residuals.points.size(); ++k)
+      y[static_cast<int>(k)] = residuals.points[k].residual_um;
+  }
+  Residuals residuals;
+  Eigen::VectorXd y;
+};
+
 // Compressed columns (compressed_candidate_designs: R of [X, y] by chunked Householder QR) must
 // keep every inner product of the N rows. Reference: XᵀX, Xᵀy, yᵀy summed directly over the rows
 // of candidate_designs' own matrices (no QR). 3 gears × 2 400 points of lobing readings (seed 3),
 // so that the 4 096-row chunks stack two triangles; within 1e-9 of the largest product.
 TEST(DiagnoseSelection, CompressedColumnsKeepEveryInnerProductOfTheRows) {
-  SimulateOptions o;
-  o.master = true;
-  o.gears = 3;
-  Scenario truth = testing_support::with_effects(
-      "probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.4, phase_deg: 20}]}\n"
-      "noise: {sigma_um: 0.3}\n");
-  truth.seed = 3;
-  const Residuals r = compute_residuals(baseline(), simulate_readings(truth, o).readings);
+  const ThreeGears g("probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.4, phase_deg: 20}]}\n",
+                     3);
+  const Residuals& r = g.residuals;
+  const Eigen::VectorXd& y = g.y;
   ASSERT_GT(r.points.size(), 4096u);
   const PointContexts contexts(r.points, &ResidualPoint::context);
-  Eigen::VectorXd y(static_cast<int>(r.points.size()));
-  for (std::size_t k = 0; k < r.points.size(); ++k)
-    y[static_cast<int>(k)] = r.points[k].residual_um;
   const std::vector<CandidateDesign> full = candidate_designs(contexts);
   const CompressedDesigns small = compressed_candidate_designs(contexts, y);
   EXPECT_EQ(small.rows, static_cast<int>(r.points.size()));
   ASSERT_EQ(small.candidates.size(), full.size());
-  std::vector<int> all(full.size());
   for (std::size_t c = 0; c < full.size(); ++c) {
-    all[c] = static_cast<int>(c);
     EXPECT_EQ(small.candidates[c].name, full[c].name);
     EXPECT_EQ(small.candidates[c].observable, full[c].observable) << full[c].name;
   }
@@ -287,18 +296,12 @@ TEST(DiagnoseSelection, CompressedColumnsKeepEveryInnerProductOfTheRows) {
 // moves only by rounding between the two) and the same 95 % null quantile. Readings: 3 gears
 // with probe lobing and a drift (seed 5), K = 199, σ the truth's 0.3 µm.
 TEST(DiagnoseSelection, SelectionOnCompressedColumnsIsTheSelectionOnTheRows) {
-  SimulateOptions o;
-  o.master = true;
-  o.gears = 3;
-  Scenario truth = testing_support::with_effects(
+  const ThreeGears g(
       "probe_lobing: {harmonics: [{order: 6, amplitude_um: 0.3, phase_deg: 20}]}\n"
-      "drift: {x_um: 0.8, y_um: -0.5}\nnoise: {sigma_um: 0.3}\n");
-  truth.seed = 5;
-  const Residuals r = compute_residuals(baseline(), simulate_readings(truth, o).readings);
-  const PointContexts contexts(r.points, &ResidualPoint::context);
-  Eigen::VectorXd y(static_cast<int>(r.points.size()));
-  for (std::size_t k = 0; k < r.points.size(); ++k)
-    y[static_cast<int>(k)] = r.points[k].residual_um;
+      "drift: {x_um: 0.8, y_um: -0.5}\n",
+      5);
+  const Eigen::VectorXd& y = g.y;
+  const PointContexts contexts(g.residuals.points, &ResidualPoint::context);
   SelectionOptions so;
   so.null_replicates = 199;
   so.seed = 9;
