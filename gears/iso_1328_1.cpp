@@ -132,6 +132,21 @@ Iso1328Tolerances iso1328_tolerances(int tolerance_class, double d_mm, double m_
   return t;
 }
 
+std::optional<int> iso1328_class_met(ToleranceKind kind, double value_um, double d_mm,
+                                     double m_n_mm, double b_mm, int z) {
+  const IsoField* field = nullptr;
+  for (const IsoField& f : kIsoFields) {
+    if (f.kind == kind) field = &f;
+  }
+  if (field == nullptr || !std::isfinite(value_um)) return std::nullopt;
+  for (int a = kIsoLowestClass; a <= kIsoHighestClass; ++a) {
+    if (std::abs(value_um) <= iso1328_tolerances(a, d_mm, m_n_mm, b_mm, z).*(field->value)) {
+      return a;
+    }
+  }
+  return std::nullopt;
+}
+
 namespace tolerance_detail {
 
 void resolve_iso(const ToleranceSpec& spec, const InvoluteGear& gear, ToleranceSet& set) {

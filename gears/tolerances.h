@@ -92,6 +92,12 @@ struct Iso1328Tolerances {
 Iso1328Tolerances iso1328_tolerances(int tolerance_class, double d_mm, double m_n_mm, double b_mm,
                                      int z);
 double iso1328_round(double value_um);
+// The ISO 1328-1:2013 flank tolerance class a measured value meets, as gear-measuring software
+// prints it beside each value: the finest class A in 1 … 11 whose (rounded) tolerance of `kind`
+// is at least |value_um|; nullopt when even class 11's is smaller, or `kind` has no ISO formula
+// (f_pb, size). Throws ToleranceError outside the standard's scope, as iso1328_tolerances.
+std::optional<int> iso1328_class_met(ToleranceKind kind, double value_um, double d_mm,
+                                     double m_n_mm, double b_mm, int z);
 
 // Resolves a spec for a gear: looks up the standard, then applies the overrides.
 // Throws ToleranceError when the standard has no value where one was asked for.

@@ -443,6 +443,10 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
         // sigma L (its intercept is at the range's start either way).
         if (profile) chart.measured_line.slope_um_per_mm *= ps;
       }
+      if (dense) {
+        chart.true_line = *dense;
+        if (profile) chart.true_line.slope_um_per_mm *= ps;
+      }
       if (keep_traces)
         (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
       if (profile && x.size() >= 2) {

@@ -44,6 +44,7 @@ struct FlankTrace {
   std::vector<double> dense_x_mm, dense_um;        // the real surface's dense trace
   double range_start_mm = 0.0, range_end_mm = 0.0;
   TraceResult measured_line;  // mean line of the measured trace (samples 0: none)
+  TraceResult true_line;      // the same of the real surface's dense trace
 };
 struct GearTraces {
   std::vector<FlankTrace> profile, helix;  // in plan order

@@ -31,7 +31,18 @@ figure svg { max-width: 100%; height: auto; }
 table { break-inside: avoid; }
 .table-scroll { overflow-x: auto; }
 h2, h3, h4, .table-caption, .pre-caption { break-after: avoid; }
-@media print { body { max-width: none; margin: 0; font-size: 10pt; }
+figure.sheet { margin: 1.5em 0; }
+.verdict { border: 2px solid #0072B2; background: #eef5fb; padding: 0.5em 1em; margin: 1em 0; }
+.verdict.good { border-color: #009E73; background: #eaf7f2; }
+.verdict.bad { border-color: #C00000; background: #fcecec; }
+.verdict .headline { font-weight: bold; font-size: 1.1em; }
+.verdict ul { margin: 0.3em 0 0.2em; padding-left: 1.3em; }
+@media print { @page { size: A4 portrait; margin: 12mm; }
+  body { max-width: none; margin: 0; font-size: 9.5pt; }
+  nav.contents { display: none; }
+  figure.sheet { break-before: page; break-inside: avoid; }
+  .table-scroll { overflow: visible; }
+  .figure-row figure { flex-basis: 45%; }
   pre { white-space: pre-wrap; } }
 figcaption { font-size: 0.9em; color: #444; margin-top: 0.3em; }
 pre { background: #f6f6f6; border: 1px solid #ddd; padding: 0.8em; overflow-x: auto;
@@ -131,6 +142,28 @@ HtmlReport& HtmlReport::figure_row(
     const std::vector<std::pair<std::string, std::string>>& figures) {
   body_ += "<div class=\"figure-row\">\n";
   for (const auto& [svg, caption] : figures) figure(svg, caption);
+  body_ += "</div>\n";
+  return *this;
+}
+
+HtmlReport& HtmlReport::sheet(std::string_view svg, std::string_view caption) {
+  body_ += "<figure class=\"sheet\">\n";
+  body_ += svg;
+  if (!caption.empty()) body_ += "<figcaption>" + escape_xml(caption) + "</figcaption>\n";
+  body_ += "</figure>\n";
+  return *this;
+}
+
+HtmlReport& HtmlReport::verdict(std::string_view headline, const std::vector<std::string>& lines,
+                                Tone tone) {
+  const char* tone_class = tone == Tone::kGood ? " good" : tone == Tone::kBad ? " bad" : "";
+  body_ += std::string("<div class=\"verdict") + tone_class + "\">\n<div class=\"headline\">" +
+           escape_xml(headline) + "</div>\n";
+  if (!lines.empty()) {
+    body_ += "<ul>\n";
+    for (const std::string& line : lines) body_ += "<li>" + escape_xml(line) + "</li>\n";
+    body_ += "</ul>\n";
+  }
   body_ += "</div>\n";
   return *this;
 }

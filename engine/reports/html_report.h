@@ -45,6 +45,13 @@ class HtmlReport {
   // Figures side by side (e.g. left and right flanks), wrapping onto new lines on a narrow
   // window; each (svg, caption).
   HtmlReport& figure_row(const std::vector<std::pair<std::string, std::string>>& figures);
+  // A figure across the page's full width that prints on a page of its own (an inspection sheet).
+  HtmlReport& sheet(std::string_view svg, std::string_view caption);
+  // The verdict box that opens a report: a bold headline and the lines under it (each escaped),
+  // framed in the tone's colour (neutral blue, good green, bad red).
+  enum class Tone { kNeutral, kGood, kBad };
+  HtmlReport& verdict(std::string_view headline, const std::vector<std::string>& lines,
+                      Tone tone = Tone::kNeutral);
   // A <pre> block, e.g. the scenario file; `caption` (optional) above it.
   HtmlReport& preformatted(std::string_view text, std::string_view caption = "");
 

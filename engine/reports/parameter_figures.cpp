@@ -3,19 +3,20 @@
 // length or face position, the measured points, the mean line, the real surface and a tolerance
 // band), pitch and runout bars, and each parameter's error histogram with its 95 % interval.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "engine/reports/html_report.h"
+#include "engine/reports/inspection_charts.h"
 #include "engine/reports/parameter_report.h"
 #include "engine/reports/svg_plot.h"
 #include "engine/statistics/histogram_bins.h"
+#include "gears/tolerances.h"
 
 namespace gearmc {
 namespace {
-
-const char* flank_letter(FlankSide s) { return s == FlankSide::kRight ? "R" : "L"; }
 
 // Up to four teeth spread over the gear among those with traces: 1, 1 + z/4, 1 + z/2, 1 + 3z/4.
 std::vector<int> chart_teeth(const std::vector<FlankTrace>& traces, int z) {
@@ -34,42 +35,105 @@ std::vector<int> chart_teeth(const std::vector<FlankTrace>& traces, int z) {
   return chosen;
 }
 
-std::string trace_chart(const FlankTrace& t, bool profile, std::optional<double> tolerance,
-                        const std::string& total_symbol) {
-  std::vector<Series> series;
-  Series measured{"measured", t.x_mm, t.measured_um, SeriesStyle::kLineAndPoints, ""};
-  Series real{"real surface", t.dense_x_mm, t.dense_um, SeriesStyle::kLine, "#999999"};
-  series.push_back(real);
-  series.push_back(measured);
-  XYPlotOptions o;
-  if (t.measured_line.samples > 0) {
-    Series line{"mean line",
-                {t.range_start_mm, t.range_end_mm},
-                {t.measured_line.intercept_um,
-                 t.measured_line.intercept_um +
-                     t.measured_line.slope_um_per_mm * (t.range_end_mm - t.range_start_mm)},
-                SeriesStyle::kLine,
-                ""};
-    series.push_back(line);
-    if (tolerance) {
-      // The total tolerance as a corridor centred on the measured trace's extremes.
-      double lo = INFINITY, hi = -INFINITY;
-      for (double v : t.measured_um) {
-        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-      }
-      const double mid = 0.5 * (lo + hi);
-      o.bands.push_back({mid - *tolerance / 2, mid + *tolerance / 2,
-                         total_symbol + "T = " + parameter_text(*tolerance, 1) + " µm", "#56B4E9"});
+const ParameterSummary* summary_of(const ParameterPresentation& p, GearParameter q) {
+  for (const ParameterSummary& s : p.parameters) {
+    if (s.parameter == q) return &s;
+  }
+  return nullptr;
+}
+
+// The run's U of a parameter on a side ("left", "right"); none when not evaluated.
+std::optional<double> expanded_uncertainty(const ParameterPresentation& p, GearParameter q,
+                                           const std::string& side) {
+  const ParameterSummary* s = summary_of(p, q);
+  if (s == nullptr) return std::nullopt;
+  for (const ParameterSideSummary& x : s->sides) {
+    if (x.side == side && x.error_moments.count() > 0) return x.U95_um;
+  }
+  return std::nullopt;
+}
+
+// The ISO 1328-1 class a value meets, when the scenario's tolerances are ISO 1328-1's and the gear
+// is in the standard's scope (none otherwise: the row then prints no class).
+struct ClassOf {
+  const MonteCarloRun& mc;
+  bool applies() const {
+    if (mc.tolerances().standard != ToleranceStandard::kIso1328_1_2013) return false;
+    try {
+      const InvoluteGear& g = mc.gear();
+      iso1328_tolerances(5, g.reference_diameter_mm(), g.module_mm(), g.face_width_mm(), g.teeth());
+      return true;
+    } catch (const ToleranceError&) {
+      return false;
     }
   }
-  o.title =
-      std::string(profile ? "profile " : "helix ") + std::to_string(t.tooth) + flank_letter(t.side);
-  o.x_label = profile ? "roll length L, mm" : "z, mm";
-  o.y_label = "deviation, µm";
-  o.markers = {{t.range_start_mm, "", "#bbbbbb", true}, {t.range_end_mm, "", "#bbbbbb", true}};
-  o.width_px = 235;
-  o.height_px = 250;
-  return xy_plot_svg(series, o);
+  std::optional<int> operator()(GearParameter q, double value_um) const {
+    const InvoluteGear& g = mc.gear();
+    return iso1328_class_met(parameter_tolerance_kind(q), value_um, g.reference_diameter_mm(),
+                             g.module_mm(), g.face_width_mm(), g.teeth());
+  }
+};
+
+// The profile or helix sheet of the chart gear: the chosen teeth of each side, their values
+// with the run's U and tolerances.
+InspectionSheet trace_sheet(const MonteCarloRun& mc, const ParameterPresentation& p,
+                            const std::vector<FlankTrace>& traces, bool profile, int gear_no) {
+  const ToleranceSet& tol = mc.tolerances();
+  const std::array<GearParameter, 3> params =
+      profile ? std::array{GearParameter::kFalpha, GearParameter::kfHalpha, GearParameter::kffalpha}
+              : std::array{GearParameter::kFbeta, GearParameter::kfHbeta, GearParameter::kffbeta};
+  const std::array<const char*, 3> symbols =
+      profile ? std::array{"Fα", "fHα", "ffα"} : std::array{"Fβ", "fHβ", "ffβ"};
+  const ClassOf class_of{mc};
+  const bool classes = class_of.applies();
+  InspectionSheet sheet;
+  sheet.title = std::string(profile ? "Profile" : "Helix") + " — gear " + std::to_string(gear_no);
+  sheet.position_label = profile ? "roll length L, mm" : "face position z, mm";
+  sheet.top_word = profile ? "tip" : "z = b";
+  sheet.total_tolerance_um = tol.get_um(parameter_tolerance_kind(params[0]));
+  sheet.slope_tolerance_um = tol.get_um(parameter_tolerance_kind(params[1]));
+  const std::vector<int> teeth = chart_teeth(traces, mc.gear().teeth());
+  for (int s = 0; s < 2; ++s) {
+    const FlankSide side = s == 0 ? FlankSide::kLeft : FlankSide::kRight;
+    const std::string side_name = s == 0 ? "left" : "right";
+    InspectionSide& out = sheet.sides[s];
+    out.name = s == 0 ? "left flanks" : "right flanks";
+    for (std::size_t i = 0; i < params.size(); ++i) {
+      InspectionValueRow row;
+      row.symbol = symbols[i];
+      row.tolerance_um = tol.get_um(parameter_tolerance_kind(params[i]));
+      row.two_sided = parameter_signed(params[i]);
+      row.expanded_uncertainty_um = expanded_uncertainty(p, params[i], side_name);
+      out.rows.push_back(row);
+    }
+    for (int tooth : teeth) {
+      for (const FlankTrace& t : traces) {
+        if (t.tooth != tooth || t.side != side) continue;
+        InspectionTrace chart;
+        chart.tooth = tooth;
+        chart.x_mm = t.x_mm;
+        chart.measured_um = t.measured_um;
+        chart.dense_x_mm = t.dense_x_mm;
+        chart.dense_um = t.dense_um;
+        chart.range_start_mm = t.range_start_mm;
+        chart.range_end_mm = t.range_end_mm;
+        const bool line = t.measured_line.samples > 0;
+        if (line) {
+          chart.mean_intercept_um = t.measured_line.intercept_um;
+          chart.mean_slope_um_per_mm = t.measured_line.slope_um_per_mm;
+        }
+        const double values[3] = {t.measured_line.total_um, t.measured_line.slope_um,
+                                  t.measured_line.form_um};
+        for (std::size_t i = 0; i < params.size(); ++i) {
+          const double v = line ? values[i] : std::nan("");
+          out.rows[i].values_um.push_back(v);
+          if (classes) out.rows[i].classes.push_back(class_of(params[i], v));
+        }
+        out.traces.push_back(std::move(chart));
+      }
+    }
+  }
+  return sheet;
 }
 
 }  // namespace
@@ -81,51 +145,104 @@ std::vector<RunFigure> parameter_figures(const MonteCarloRun& mc, const RunResul
   const GearTraces& g = r.parameters->chart;
   const int gear_no = *r.parameters->chart_gear;
   const ToleranceSet& tol = mc.tolerances();
-  const int z = mc.gear().teeth();
   int row = 1000;  // after the run's own figures
-  const auto add_traces = [&](const std::vector<FlankTrace>& traces, bool profile) {
-    const std::vector<int> teeth = chart_teeth(traces, z);
-    const auto T = tol.get_um(profile ? ToleranceKind::kProfileTotal : ToleranceKind::kHelixTotal);
-    for (const FlankSide side : {FlankSide::kLeft, FlankSide::kRight}) {
-      ++row;
-      for (int tooth : teeth) {
-        for (const FlankTrace& t : traces) {
-          if (t.tooth != tooth || t.side != side) continue;
-          const std::string name = std::string(profile ? "profile_" : "helix_") +
-                                   std::to_string(tooth) + flank_letter(side) + ".svg";
-          figures.push_back({name, trace_chart(t, profile, T, profile ? "F_α" : "F_β"),
-                             std::string(profile ? "Profile" : "Helix") + " of tooth " +
-                                 std::to_string(tooth) + flank_letter(side) + ", gear " +
-                                 std::to_string(gear_no),
-                             row});
-        }
+  for (const bool profile : {true, false}) {
+    const std::vector<FlankTrace>& traces = profile ? g.profile : g.helix;
+    if (traces.empty()) continue;
+    ++row;
+    figures.push_back(
+        {profile ? "profile.svg" : "helix.svg",
+         inspection_sheet_svg(trace_sheet(mc, p, traces, profile, gear_no)),
+         std::string(profile ? "Profile" : "Helix") + " traces of gear " + std::to_string(gear_no) +
+             ", as gear-measuring software draws them (values of the measured traces; U from "
+             "the run, T from the scenario's tolerances" +
+             (ClassOf{mc}.applies() ? ", Q the ISO 1328-1 class the value meets)" : ")"),
+         row, true});
+  }
+  // Pitch: f_pt,k per tooth and the cumulative F_pk, measured and true, each side with its values.
+  const ClassOf class_of{mc};
+  const bool classes = class_of.applies();
+  const auto values_text = [&](GearParameter q, double measured, double truth,
+                               const std::string& side) {
+    std::string text = parameter_symbol(q) + " " + parameter_text(measured, 1) + " µm";
+    if (const auto t = tol.get_um(parameter_tolerance_kind(q))) {
+      text += std::string(" (T ") + (q == GearParameter::kfpt ? "±" : "") + parameter_text(*t, 1);
+      if (const auto U = expanded_uncertainty(p, q, side)) text += ", U " + parameter_text(*U, 1);
+      if (classes) {
+        const auto c = class_of(q, measured);
+        text += c ? ", Q" + std::to_string(*c) : std::string(", Q>11");
       }
+      text += ")";
     }
+    return text + ", true " + parameter_text(truth, 1) + " µm";
   };
-  add_traces(g.profile, true);
-  add_traces(g.helix, false);
-  // Pitch: f_pt,k per tooth, measured and true.
-  ++row;
-  for (int s = 0; s < 2; ++s) {
-    if (g.pitch_measured[s].empty()) continue;
-    std::vector<double> k;
-    for (int i = 1; i <= static_cast<int>(g.pitch_measured[s].size()); ++i) k.push_back(i);
-    XYPlotOptions o;
-    o.title = std::string("single pitch f_pt, ") + (s ? "R" : "L") + " flanks, gear " +
-              std::to_string(gear_no);
-    o.x_label = "tooth k (pitch k → k+1)";
-    o.y_label = "f_pt, µm";
-    o.horizontal_lines = {0.0};
-    if (const auto t = tol.get_um(ToleranceKind::kSinglePitch)) {
-      o.bands.push_back({-*t, *t, "±f_pT", "#56B4E9"});
+  for (const bool cumulative : {false, true}) {
+    ++row;
+    for (int s = 0; s < 2; ++s) {
+      if (g.pitch_measured[s].empty()) continue;
+      const std::string side = s ? "right" : "left", letter = s ? "R" : "L";
+      std::vector<double> k;
+      for (int i = 1; i <= static_cast<int>(g.pitch_measured[s].size()); ++i) k.push_back(i);
+      XYPlotOptions o;
+      o.horizontal_lines = {0.0};
+      o.width_px = 500;
+      o.height_px = 300;
+      if (!cumulative) {
+        o.title = "single pitch f_pt, " + letter + " flanks, gear " + std::to_string(gear_no);
+        o.x_label = "tooth k (pitch k → k+1)";
+        o.y_label = "f_pt,k, µm";
+        if (const auto t = tol.get_um(ToleranceKind::kSinglePitch)) {
+          o.bands.push_back({-*t, *t, "±f_pT", "#56B4E9"});
+        }
+        const auto largest = [](const std::vector<double>& v) {
+          double m = 0.0;
+          for (double x : v) m = std::max(m, std::abs(x));
+          return m;
+        };
+        figures.push_back(
+            {"pitch_" + letter + ".svg",
+             xy_plot_svg({{"measured", k, g.pitch_measured[s], SeriesStyle::kStems, ""},
+                          {"true", k, g.pitch_true[s], SeriesStyle::kPoints, "#000000"}},
+                         o),
+             "Single pitch deviations of the " + letter +
+                 " flanks, measured (stems) and true "
+                 "(dots): " +
+                 values_text(GearParameter::kfpt, largest(g.pitch_measured[s]),
+                             largest(g.pitch_true[s]), side) +
+                 " (largest |f_pt,k|)",
+             row});
+        continue;
+      }
+      const std::vector<double> m = cumulative_pitch_um(g.pitch_measured[s]);
+      const std::vector<double> t = cumulative_pitch_um(g.pitch_true[s]);
+      const auto finite = [](const std::vector<double>& v) {
+        return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+      };
+      if (!finite(m) || !finite(t)) continue;  // a tooth without a value: no F_p either
+      const auto spread = [](const std::vector<double>& v) {
+        const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+        return std::pair{*lo, *hi - *lo};
+      };
+      const auto [m_lo, m_Fp] = spread(m);
+      o.title = "cumulative pitch F_pk, " + letter + " flanks, gear " + std::to_string(gear_no);
+      o.x_label = "tooth k";
+      o.y_label = "F_pk = u_k − u_1, µm";
+      if (const auto T = tol.get_um(ToleranceKind::kCumulativePitch)) {
+        // The tolerance as a band of height F_pT from the lowest measured F_pk: the curve stays
+        // inside it exactly when F_p ≤ F_pT.
+        o.bands.push_back({m_lo, m_lo + *T, "F_pT from the lowest F_pk", "#56B4E9"});
+      }
+      figures.push_back({"cumulative_pitch_" + letter + ".svg",
+                         xy_plot_svg({{"measured", k, m, SeriesStyle::kLineAndPoints, ""},
+                                      {"true", k, t, SeriesStyle::kPoints, "#000000"}},
+                                     o),
+                         "Cumulative pitch deviations of the " + letter +
+                             " flanks, measured (line) and true "
+                             "(dots): " +
+                             values_text(GearParameter::kFp, m_Fp, spread(t).second, side) +
+                             " (F_p = max − min of F_pk)",
+                         row});
     }
-    o.width_px = 500;
-    o.height_px = 300;
-    figures.push_back({std::string("pitch_") + (s ? "R" : "L") + ".svg",
-                       xy_plot_svg({{"measured", k, g.pitch_measured[s], SeriesStyle::kStems, ""},
-                                    {"true", k, g.pitch_true[s], SeriesStyle::kPoints, "#000000"}},
-                                   o),
-                       "Single pitch deviations, measured (stems) and true (dots)", row});
   }
   if (!g.ball_measured.empty()) {
     std::vector<double> k, m, t;

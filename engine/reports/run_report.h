@@ -70,7 +70,8 @@ std::string run_histograms_csv(const RunResults& r, const RunPresentation& view)
 struct RunFigure {
   std::string file;  // e.g. "flank_max_left.svg"
   std::string svg, caption;
-  int row = 0;  // figures with the same row are shown side by side
+  int row = 0;         // figures with the same row are shown side by side
+  bool sheet = false;  // an inspection sheet: the page's width, printed on a page of its own
 };
 std::vector<RunFigure> run_figures(const Scenario& scenario, const RunResults& r,
                                    const RunPresentation& view);

@@ -16,9 +16,14 @@ using namespace run_output;
 
 void add_figure_rows(HtmlReport& report, const std::vector<RunFigure>& figures) {
   for (std::size_t i = 0; i < figures.size();) {
+    if (figures[i].sheet) {
+      report.sheet(figures[i].svg, figures[i].caption);
+      ++i;
+      continue;
+    }
     std::vector<std::pair<std::string, std::string>> row;
     const int id = figures[i].row;
-    for (; i < figures.size() && figures[i].row == id; ++i) {
+    for (; i < figures.size() && figures[i].row == id && !figures[i].sheet; ++i) {
       row.emplace_back(figures[i].svg, figures[i].caption);
     }
     report.figure_row(row);

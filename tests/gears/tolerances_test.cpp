@@ -78,6 +78,34 @@ TEST(Iso1328Tolerances, P1GearClass5MatchesReferences) {
   EXPECT_DOUBLE_EQ(t.helix_total, 12.0);
 }
 
+TEST(Iso1328Tolerances, ClassMetIsTheFinestClassWhoseToleranceHoldsTheValue) {
+  // P1's gear. By hand from the class-5 formulas: F_αT unrounded hypot(6.3744, 8.08) = 10.2917;
+  // class 1 = /4 = 2.573 → 2.6, class 4 = /√2 = 7.277 → 7.5, class 5 → 10, class 6 = 14.555 → 15,
+  // class 11 = ×8 = 82.33 → 82. f_HαT: class 5 6.3744 → 6.5, class 6 9.015 → 9.0.
+  const auto cls = [](ToleranceKind k, double v) {
+    return iso1328_class_met(k, v, 134.4, 5.6, 78.89, 24);
+  };
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 0.0), 1);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 2.6), 1);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 2.61), 2);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 7.5), 4);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 7.51), 5);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 10.0), 5);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 10.01), 6);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 82.0), 11);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, 82.01), std::nullopt);
+  // Signed deviations by their magnitude.
+  EXPECT_EQ(cls(ToleranceKind::kProfileSlope, -6.5), 5);
+  EXPECT_EQ(cls(ToleranceKind::kProfileSlope, -6.51), 6);
+  EXPECT_EQ(cls(ToleranceKind::kProfileSlope, 9.0), 6);
+  // No ISO formula, no value: no class.
+  EXPECT_EQ(cls(ToleranceKind::kBasePitch, 1.0), std::nullopt);
+  EXPECT_EQ(cls(ToleranceKind::kProfileTotal, std::nan("")), std::nullopt);
+  // Outside the standard's scope (z = 4): refused, as the tolerances themselves.
+  EXPECT_THROW(iso1328_class_met(ToleranceKind::kProfileTotal, 1.0, 134.4, 5.6, 78.89, 4),
+               ToleranceError);
+}
+
 TEST(Iso1328Tolerances, Class7IsClass5TimesTwoBeforeRounding) {
   // docs/reference-values.md: class A = class-5 value * sqrt(2)^(A-5); A = 7 -> factor 2.
   const IsoClass5 c5 = iso_class5(134.4, 5.6, 78.89);
