@@ -106,7 +106,8 @@ std::string inspection_sheet_svg(const InspectionSheet& sheet) {
   y_lo -= pad;
   y_hi += pad;
   const auto to_y = [&](double mm) {
-    return kPlotBottom - (mm - y_lo) / (y_hi - y_lo) * (kPlotBottom - kPlotTop);
+    const double up = (mm - y_lo) / (y_hi - y_lo) * (kPlotBottom - kPlotTop);
+    return sheet.positions_downwards ? kPlotTop + up : kPlotBottom - up;
   };
   const double px_per_um = (kPanelWidth / 2.0 - 5.0) / (2.0 * division);
   const int height = static_cast<int>(kRowsTop + kRowHeight * static_cast<double>(rows) + 58.0);

@@ -47,6 +47,9 @@ struct InspectionSheet {
   std::string title;
   std::string position_label;  // e.g. "roll length L, mm"
   std::string top_word;        // e.g. "tip" (written above the position axis)
+  // Positions grow downwards: an internal gear's profile, whose tip has the smaller roll length,
+  // keeps its tip at the top (and A, at the root, at the bottom) like an external one's.
+  bool positions_downwards = false;
   // The tolerance template (K-chart): the total tolerance as a corridor of its width parallel
   // to the design line, placed where it encloses the trace best (centred on the trace's extremes
   // in the evaluation range, so the trace fits it exactly when F ≤ T); the slope tolerance as a

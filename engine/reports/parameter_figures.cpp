@@ -90,6 +90,7 @@ InspectionSheet trace_sheet(const MonteCarloRun& mc, const ParameterPresentation
   sheet.title = std::string(profile ? "Profile" : "Helix") + " — gear " + std::to_string(gear_no);
   sheet.position_label = profile ? "roll length L, mm" : "face position z, mm";
   sheet.top_word = profile ? "tip" : "z = b";
+  sheet.positions_downwards = profile && mc.gear().internal();
   sheet.total_tolerance_um = tol.get_um(parameter_tolerance_kind(params[0]));
   sheet.slope_tolerance_um = tol.get_um(parameter_tolerance_kind(params[1]));
   const std::vector<int> teeth = chart_teeth(traces, mc.gear().teeth());

@@ -211,6 +211,30 @@ TEST(InspectionCharts, PointsLandOnTheTraceAxesAndTheTemplateBoundsTheTolerance)
   EXPECT_NEAR(attribute(*mean[0], "y2"), yE, 0.01);
 }
 
+TEST(InspectionCharts, AnInternalGearsProfileKeepsItsTipAtTheTop) {
+  // An internal gear's evaluation range runs from the root (larger L) to the tip (smaller L):
+  // drawn with positions downwards, A (root) is below E (tip), the smaller L higher up.
+  InspectionSheet sheet;
+  InspectionTrace t = trace(1, [](double) { return 0.0; });
+  std::swap(t.range_start_mm, t.range_end_mm);  // A at L = 38, E at L = 22
+  sheet.sides[0].traces.push_back(t);
+  for (const bool downwards : {false, true}) {
+    sheet.positions_downwards = downwards;
+    const Drawn d = draw(sheet);
+    std::vector<double> marks;
+    for (const Element& l : d.lines) {
+      if (!vertical(l) && l.attributes.count("stroke-dasharray") &&
+          l.attributes.at("stroke") == "#888888") {
+        marks.push_back(attribute(l, "y1"));  // A first, then E
+      }
+    }
+    ASSERT_EQ(marks.size(), 2u);
+    EXPECT_EQ(marks[0] > marks[1], downwards);  // (svg y grows downwards)
+    // The first point (L = 20, the tip side) is the highest point exactly when downwards.
+    EXPECT_EQ(attribute(d.circles.front(), "cy") < attribute(d.circles.back(), "cy"), downwards);
+  }
+}
+
 TEST(InspectionCharts, ValuesBeyondTheirToleranceAreMarkedAndClassesPrinted) {
   InspectionSheet sheet;
   sheet.sides[1].traces.push_back(trace(3, [](double) { return 0.0; }));
