@@ -196,13 +196,21 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
   std::vector<RunFigure> parameter_charts;
   if (parameters) parameter_charts = parameter_figures(mc, r, *parameters);
   for (const RunFigure& f : parameter_charts) files->write(f.file, f.svg);
-  std::function<void(HtmlReport&)> parameter_section;
+  std::function<void(HtmlReport&)> parameter_section, opening;
   if (parameters) {
     parameter_section = [&](HtmlReport& report) {
       add_parameter_section(report, mc, *parameters, parameter_charts);
     };
+    opening = [&](HtmlReport& report) {
+      const ParameterVerdict v = parameter_verdict(*parameters);
+      report.verdict(v.headline, v.lines,
+                     v.assessed == 0           ? HtmlReport::Tone::kNeutral
+                     : v.capable == v.assessed ? HtmlReport::Tone::kGood
+                                               : HtmlReport::Tone::kBad);
+    };
   }
-  files->write("report.html", run_report_html(scenario, r, view, figures, parameter_section));
+  files->write("report.html",
+               run_report_html(scenario, r, view, figures, parameter_section, opening));
   files->commit();
   folder.created = false;  // keep it: it holds the results now
 

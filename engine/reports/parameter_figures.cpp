@@ -363,7 +363,8 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       "Conformity, rule " + e.spec().decision_rule +
       " (ISO 14253-1): false accept = accepted although the true value is out of "
       "tolerance; false reject = rejected although it conforms; fractions of all items. "
-      "U/T: the largest U over the tolerance interval's width (2T for ±T). The guard-banded "
+      "U/T: the largest U over the tolerance interval's width (2T for ±T); Q_MP = 2U/(T_U − T_L) = "
+      "2·U/T, the capability ratio of ISO 22514-7 and VDA 5 (≤ 30 %: capable). The guard-banded "
       "acceptance narrows each limit by how far the error's probabilistically symmetric 95 % "
       "interval reaches past zero on that side (a skewed error law gets unequal bands). "
       "p_c: the run's worst measured value (its flank side) and the probability, from that "
@@ -372,6 +373,7 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
               "tolerance",
               "T",
               "U/T",
+              "Q_MP",
               "acceptance",
               "false accept",
               "false reject",
@@ -381,17 +383,19 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
     const ParameterConformity& k = s.conformity;
     if (!k.tolerance_um) {
       c.rows.push_back({{parameter_symbol(s.parameter), "–", "no tolerance in the set", "", "", "",
-                         "", "", ""}});
+                         "", "", "", ""}});
       continue;
     }
-    c.rows.push_back({{parameter_symbol(s.parameter), k.tolerance_symbol,
-                       (k.two_sided ? "±" : "") + parameter_text(*k.tolerance_um, 1),
-                       parameter_text(k.u_over_t, 2), acceptance_text(k),
-                       parameter_text(100 * k.chosen().false_accept_rate(), 2) + " %",
-                       parameter_text(100 * k.chosen().false_reject_rate(), 2) + " %",
-                       parameter_text(100 * k.guard_banded.false_reject_rate(), 2) + " %",
-                       parameter_text(k.worst_measured_um, 2) + " (" + k.worst_side +
-                           "): " + parameter_text(k.conformance_probability_of_worst, 3)}});
+    c.rows.push_back(
+        {{parameter_symbol(s.parameter), k.tolerance_symbol,
+          (k.two_sided ? "±" : "") + parameter_text(*k.tolerance_um, 1),
+          parameter_text(k.u_over_t, 2),
+          parameter_text(100 * k.capability_ratio, 0) + " %" + (k.capable() ? "" : " > 30 %"),
+          acceptance_text(k), parameter_text(100 * k.chosen().false_accept_rate(), 2) + " %",
+          parameter_text(100 * k.chosen().false_reject_rate(), 2) + " %",
+          parameter_text(100 * k.guard_banded.false_reject_rate(), 2) + " %",
+          parameter_text(k.worst_measured_um, 2) + " (" + k.worst_side +
+              "): " + parameter_text(k.conformance_probability_of_worst, 3)}});
   }
   report.table(c);
   for (const std::string& note : p.notes) report.paragraph("Note: " + note);

@@ -163,6 +163,7 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
       const ToleranceLimits guarded = acceptance_limits(
           c.tolerance, DecisionRule::kGuardBanded, c.guard_band_lower_um, c.guard_band_upper_um);
       c.u_over_t = largest_U95 / (c.two_sided ? 2.0 * T : T);
+      c.capability_ratio = 2.0 * c.u_over_t;
       c.acceptance = c.rule == DecisionRule::kSimple ? simple : guarded;
       c.simple = decision_rates(all_true, all_measured, c.tolerance, simple);
       c.guard_banded = decision_rates(all_true, all_measured, c.tolerance, guarded);
@@ -197,6 +198,9 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
       "acceptance limit has a 2.5 % chance of a true value beyond the tolerance";
   how["U_over_T_definition"] =
       "the largest U95 of the sides over the tolerance interval's width (2T for +-T, T for <= T)";
+  how["Q_MP_definition"] =
+      "capability ratio of the measurement process 2 U / (T_U - T_L) (ISO 22514-7, VDA 5; the "
+      "natural lower limit 0 for <= T), capable when <= 0.30";
   how["profile_range_mm"] = {e.profile_start_mm(), e.profile_end_mm()};
   how["helix_range_mm"] = {e.helix_start_mm(), e.helix_end_mm()};
   how["profile_trace"] =
@@ -273,6 +277,8 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
       k["guard_band_upper_um"] = c.guard_band_upper_um;
       if (c.tolerance.lower) k["guard_band_lower_um"] = c.guard_band_lower_um;
       k["U_over_T"] = c.u_over_t;
+      k["Q_MP"] = c.capability_ratio;
+      k["capable"] = c.capable();
       k["false_accept"] = c.chosen().false_accept_rate();
       k["false_reject"] = c.chosen().false_reject_rate();
       k["rates"] = {{"simple", rates_json(c.simple)}, {"guard_banded", rates_json(c.guard_banded)}};
@@ -284,6 +290,46 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
   }
   summary["parameters"] = parameters;
   summary["conformity"] = conformity;
+}
+
+ParameterVerdict parameter_verdict(const ParameterPresentation& p) {
+  ParameterVerdict v;
+  std::string not_capable;
+  for (const ParameterSummary& s : p.parameters) {
+    const ParameterConformity& c = s.conformity;
+    const bool any = std::any_of(s.sides.begin(), s.sides.end(),
+                                 [](const auto& side) { return side.error_moments.count() > 0; });
+    if (!c.tolerance_um || !any) continue;
+    ++v.assessed;
+    const std::string q = parameter_text(100.0 * c.capability_ratio, 0) + " %";
+    if (c.capable()) {
+      ++v.capable;
+    } else {
+      not_capable +=
+          (not_capable.empty() ? "" : ", ") + parameter_symbol(s.parameter) + " (" + q + ")";
+    }
+    double U = 0.0;
+    for (const ParameterSideSummary& side : s.sides) U = std::max(U, side.U95_um);
+    v.lines.push_back(
+        parameter_symbol(s.parameter) + ": Q_MP " + q + (c.capable() ? " ≤ " : " > ") +
+        parameter_text(100.0 * kCapabilityRatioLimit, 0) + " % (U " + parameter_text(U, 2) +
+        " µm, tolerance " + (c.two_sided ? "±" : "≤ ") + parameter_text(*c.tolerance_um, 1) +
+        " µm, U/T " + parameter_text(c.u_over_t, 2) + ") — " +
+        (c.capable() ? "capable" : "NOT capable") + "; rule " + rule_name(c.rule) + ": " +
+        parameter_text(100.0 * c.chosen().false_accept_rate(), 2) + " % false accept, " +
+        parameter_text(100.0 * c.chosen().false_reject_rate(), 2) + " % false reject");
+  }
+  if (v.assessed == 0) {
+    v.headline = "No parameter has a tolerance: the measurement's capability is not assessed.";
+  } else if (v.capable == v.assessed) {
+    v.headline = "Capable for every toleranced parameter (" + std::to_string(v.assessed) +
+                 "): Q_MP = 2U/(T_U − T_L) ≤ 30 % (ISO 22514-7, VDA 5).";
+  } else {
+    v.headline = "NOT capable for " + std::to_string(v.assessed - v.capable) + " of " +
+                 std::to_string(v.assessed) + " toleranced parameters: " + not_capable +
+                 " (capable: Q_MP = 2U/(T_U − T_L) ≤ 30 %, ISO 22514-7, VDA 5).";
+  }
+  return v;
 }
 
 namespace {
@@ -299,6 +345,7 @@ std::string right_aligned(const std::string& text, std::size_t width) {
 void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
                             const ParameterPresentation& p) {
   const ParameterEvaluator& e = *mc.parameter_evaluator();
+  out << "\n" << parameter_verdict(p).headline << "\n";
   out << "\nGear parameters (ISO 1328-1:2013), µm; error = measured − true (dense trace); "
          "U = 2·√(u² + bias²)\n";
   char line[512];

@@ -39,6 +39,9 @@ struct ParameterSideSummary {
   std::vector<RunningStats> budget;
 };
 
+// The largest Q_MP of a capable measurement process that ISO 22514-7 and VDA 5 recommend (30 %).
+inline constexpr double kCapabilityRatioLimit = 0.30;
+
 struct ParameterConformity {
   std::optional<double> tolerance_um;  // absent: the tolerance set has none for this parameter
   std::string tolerance_symbol;        // the set's symbol, e.g. "F_alpha" or "f_f"
@@ -53,6 +56,11 @@ struct ParameterConformity {
   double guard_band_lower_um = 0.0, guard_band_upper_um = 0.0;
   // U/T: the largest U95 of the sides over the tolerance interval's width (2T for ±T, T for ≤ T).
   double u_over_t = 0.0;
+  // The measurement-process capability ratio Q_MP = 2U/(T_U − T_L) (ISO 22514-7:2021 §9, VDA 5
+  // §5): 2 · u_over_t, the one-sided F ≤ T taking its natural lower limit 0. Capable when
+  // Q_MP ≤ kCapabilityRatioLimit.
+  double capability_ratio = 0.0;
+  bool capable() const { return tolerance_um && capability_ratio <= kCapabilityRatioLimit; }
   ToleranceLimits tolerance, acceptance;
   DecisionRates simple, guard_banded;  // over every item of both sides (true = dense value)
   const DecisionRates& chosen() const {
@@ -86,6 +94,15 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
 // summary.json "parameters", "conformity" and "parameter_evaluation" (how they were evaluated).
 void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc,
                         const ParameterPresentation& p);
+
+// What a run decided about its parameters, for the report's opening box: capable for which
+// toleranced parameters (Q_MP against its limit), with U, T, U/T and the decision risks of each.
+struct ParameterVerdict {
+  std::string headline;
+  std::vector<std::string> lines;
+  int capable = 0, assessed = 0;  // toleranced parameters with a value, and those capable
+};
+ParameterVerdict parameter_verdict(const ParameterPresentation& p);
 
 // The terminal tables: parameters with U, then conformity with the decision risks, then the
 // error budget (with effects).

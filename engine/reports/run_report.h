@@ -79,9 +79,13 @@ class HtmlReport;
 // Adds `figures` to `report` in rows, consecutive figures with the same `row` side by side.
 void add_figure_rows(HtmlReport& report, const std::vector<RunFigure>& figures);
 // `first_section` (when set) adds its blocks right after the run's introduction (the gear
-// parameters' table and charts, parameter_report.h).
+// parameters' table and charts, parameter_report.h). `opening` (when set) writes the box that
+// opens the page, under the title (the parameters' capability verdict); without it the box
+// states the δRcomp headline: each side's per-flank p99.73 and the largest value (and P1's
+// 4 µm claim on P1's set-up).
 std::string run_report_html(const Scenario& scenario, const RunResults& r,
                             const RunPresentation& view, const std::vector<RunFigure>& figures,
-                            const std::function<void(HtmlReport&)>& first_section = {});
+                            const std::function<void(HtmlReport&)>& first_section = {},
+                            const std::function<void(HtmlReport&)>& opening = {});
 
 }  // namespace gearmc

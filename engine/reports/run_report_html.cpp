@@ -32,8 +32,30 @@ void add_figure_rows(HtmlReport& report, const std::vector<RunFigure>& figures) 
 
 std::string run_report_html(const Scenario& scenario, const RunResults& r,
                             const RunPresentation& view, const std::vector<RunFigure>& figures,
-                            const std::function<void(HtmlReport&)>& first_section) {
+                            const std::function<void(HtmlReport&)>& first_section,
+                            const std::function<void(HtmlReport&)>& opening) {
   HtmlReport report("gearmc run: " + scenario.name);
+  if (opening) {
+    opening(report);
+  } else {
+    const double worst = std::max(r.flank_max[0].moments.max(), r.flank_max[1].moments.max());
+    std::vector<std::string> lines;
+    if (is_p1_setup(scenario)) {
+      std::uint64_t above = 0;
+      for (int s = 0; s < 2; ++s) {
+        above += r.flank_max[s].histogram.count_at_least(kP1ClaimUm).at_least;
+      }
+      lines.push_back("P1's claim \"δRcomp does not exceed 4 µm\": " +
+                      std::string(above == 0 ? "holds on every flank of the run"
+                                             : "exceeded on " + std::to_string(above) + " flanks"));
+    }
+    lines.push_back("A claim with a confidence bound: gearmc check (docs/check.md).");
+    report.verdict("δRcomp per flank (µm): p99.73 " +
+                       quantile_cell(r.flank_max[0].histogram, 0.9973) + " left, " +
+                       quantile_cell(r.flank_max[1].histogram, 0.9973) + " right; largest " +
+                       format_stat(worst) + " over " + std::to_string(r.gears) + " gears.",
+                   lines);
+  }
   for (const std::string& w : view.warnings) report.paragraph("Warning: " + w);
   std::ostringstream intro;
   intro << r.gears << " gears, " << r.contacts << " contacts (failed " << r.failed_contacts

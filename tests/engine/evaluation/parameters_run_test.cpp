@@ -213,9 +213,9 @@ TEST(ParameterRun, ConformanceOfTheWorstItemAndTheGuardBandsUseEachSidesErrorLaw
         band_lower = std::max(band_lower, 2.0 * std::hypot(sd[side], mean[side]));
         continue;
       }
-      const std::size_t r = std::max<std::size_t>(1, (m - q + 1) / 2);
-      band_upper = std::max(band_upper, std::max(0.0, -sorted[r - 1]));
-      band_lower = std::max(band_lower, std::max(0.0, sorted[r + q - 1]));
+      const std::size_t low = std::max<std::size_t>(1, (m - q + 1) / 2);
+      band_upper = std::max(band_upper, std::max(0.0, -sorted[low - 1]));
+      band_lower = std::max(band_lower, std::max(0.0, sorted[low + q - 1]));
     }
     ASSERT_GE(worst_side, 0);
     const double T = *c.tolerance_um;
@@ -233,11 +233,35 @@ TEST(ParameterRun, ConformanceOfTheWorstItemAndTheGuardBandsUseEachSidesErrorLaw
     EXPECT_EQ(c.worst_side, worst_side == 0 ? "left" : "right");
     EXPECT_NEAR(c.conformance_probability_of_worst, expected, 1e-12)
         << parameter_symbol(summary.parameter);
+    // U/T and the capability ratio Q_MP = 2U/(T_U − T_L) (ISO 22514-7): U = 2 √(u² + b²) of the
+    // side with the larger one, over 2T for ±T and T (natural lower limit 0) for ≤ T.
+    const double U = std::max(2.0 * std::hypot(sd[0], mean[0]), 2.0 * std::hypot(sd[1], mean[1]));
+    const double width = c.two_sided ? 2.0 * T : T;
+    EXPECT_NEAR(c.u_over_t, U / width, 1e-9) << parameter_symbol(summary.parameter);
+    EXPECT_NEAR(c.capability_ratio, 2.0 * U / width, 1e-9) << parameter_symbol(summary.parameter);
+    EXPECT_EQ(c.capable(), 2.0 * U / width <= 0.30) << parameter_symbol(summary.parameter);
     ++checked;
     sides_differ += std::abs(mean[0] - mean[1]) > 0.1 * (sd[0] + sd[1]);
   }
   EXPECT_GE(checked, 6);
   EXPECT_GE(sides_differ, 1);  // the case where pooling was wrong is present
+  // The report's verdict counts the toleranced parameters and names each one that is not capable.
+  const ParameterVerdict verdict = parameter_verdict(*view);
+  int assessed = 0, capable = 0;
+  for (const ParameterSummary& summary : view->parameters) {
+    if (!summary.conformity.tolerance_um) continue;
+    ++assessed;
+    capable += summary.conformity.capability_ratio <= 0.30;
+    if (summary.conformity.capability_ratio > 0.30) {
+      EXPECT_NE(verdict.headline.find(parameter_symbol(summary.parameter) + " ("),
+                std::string::npos)
+          << verdict.headline;
+    }
+  }
+  EXPECT_EQ(verdict.assessed, assessed);
+  EXPECT_EQ(verdict.capable, capable);
+  EXPECT_EQ(verdict.lines.size(), static_cast<std::size_t>(assessed));
+  EXPECT_EQ(verdict.headline.rfind(capable == assessed ? "Capable" : "NOT capable", 0), 0u);
 }
 
 // The helix evaluation range L_β leaves out min(5 % b, m_n) at each end (ISO 1328-1:2013 §3.3;

@@ -206,6 +206,15 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   }
   std::ifstream report_file(dir / "report.html");
   const std::string report((std::istreambuf_iterator<char>(report_file)), {});
+  // The page opens with its verdict box (before the introduction): per-flank p99.73 (too few
+  // values at 48 flanks per side) and P1's claim.
+  const std::size_t box = report.find("<div class=\"verdict\">");
+  ASSERT_NE(box, std::string::npos);
+  EXPECT_LT(box, report.find("contacts (failed"));
+  EXPECT_NE(
+      report.find("δRcomp per flank (µm): p99.73 n&lt;371 left, n&lt;371 right; largest", box),
+      std::string::npos);
+  EXPECT_NE(report.find("P1&#39;s claim", box), std::string::npos);
   EXPECT_NE(report.find("P1 Table 2, left"), std::string::npos);  // P1's set-up: comparison
   EXPECT_NE(report.find("does not exceed 4"), std::string::npos);
   EXPECT_NE(report.find("name: p1_reference"), std::string::npos);  // the scenario itself
