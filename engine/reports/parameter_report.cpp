@@ -346,7 +346,7 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
                             const ParameterPresentation& p) {
   const ParameterEvaluator& e = *mc.parameter_evaluator();
   out << "\n" << parameter_verdict(p).headline << "\n";
-  out << "\nGear parameters (ISO 1328-1:2013), µm; error = measured − true (dense trace); "
+  out << "Gear parameters (ISO 1328-1:2013), µm; error = measured − true (dense trace); "
          "U = 2·√(u² + bias²)\n";
   char line[512];
   std::snprintf(line, sizeof line, "%-9s %-5s %6s %9s %9s %8s %7s %7s %19s %8s %8s\n", "parameter",
