@@ -192,10 +192,30 @@ std::string check_junit_xml(const CheckContext& context, const CheckRun& run) {
 std::string check_report_html(const CheckContext& context, const CheckRun& run) {
   const Scenario& scenario = *context.scenario;
   HtmlReport report("gearmc check: " + scenario.name);
-  report.paragraph(
-      std::string(all_claims_hold(run) ? "Every claim holds" : "Not every claim holds") + " (" +
-      std::to_string(run.gears) + " gears of at most " + std::to_string(context.max_gears) +
-      ", seed " + std::to_string(scenario.seed) + ", " + fixed(run.wall_s, 1) + " s).");
+  {  // The verdict box: every claim's verdict in a line, the count in the headline.
+    int fails = 0, undecided = 0;
+    std::vector<std::string> lines;
+    for (std::size_t i = 0; i < run.results.size(); ++i) {
+      const ClaimSpec& c = run.trackers[i].claim();
+      const ClaimResult& r = run.results[i];
+      fails += r.verdict == Verdict::kFails;
+      undecided += r.verdict == Verdict::kUndecided;
+      lines.push_back(c.name + " (" + claim_statement(c) + "): " + verdict_text(r.verdict) +
+                      ", estimate " + fixed(r.estimate_um) + " µm, bounds " + bound_text(c, r));
+    }
+    const std::string counts = std::to_string(run.results.size()) + " claims, " +
+                               std::to_string(run.gears) + " gears of at most " +
+                               std::to_string(context.max_gears) + ", seed " +
+                               std::to_string(scenario.seed) + ", " + fixed(run.wall_s, 1) + " s";
+    std::string headline = all_claims_hold(run)
+                               ? "Every claim holds (" + counts + ")."
+                               : "Not every claim holds: " + std::to_string(fails) + " fail, " +
+                                     std::to_string(undecided) + " undecided (" + counts + ").";
+    report.verdict(headline, lines,
+                   all_claims_hold(run) ? HtmlReport::Tone::kGood
+                   : fails > 0          ? HtmlReport::Tone::kBad
+                                        : HtmlReport::Tone::kNeutral);
+  }
   report.contents();
   HtmlTable summary;
   summary.header = {"claim", "statement", "verdict", "estimate, µm", "bounds, µm", "gears"};

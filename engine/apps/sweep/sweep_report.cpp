@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "core/number_text.h"
@@ -186,6 +187,41 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
     grid += (grid.empty() ? "" : " × ") + a.key + " ∈ {";
     for (std::size_t k = 0; k < a.values.size(); ++k) grid += (k ? ", " : "") + a.values[k];
     grid += "}";
+  }
+  {  // The opening box: where on the grid the statistic (both flanks) is lowest and highest.
+    const auto values = sweep_values(s);
+    std::optional<std::size_t> lo, hi;
+    std::size_t without = 0;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const std::optional<double>& v = values[i].back().value;  // both flanks
+      if (!v) {
+        ++without;
+        continue;
+      }
+      if (!lo || *v < *values[*lo].back().value) lo = i;
+      if (!hi || *v > *values[*hi].back().value) hi = i;
+    }
+    const std::string unit = *s.statistic.unit() ? " µm" : "";
+    const auto where = [&](std::size_t i) {
+      std::ostringstream text;
+      text.precision(4);
+      text << *values[i].back().value << unit << " at ";
+      for (std::size_t a = 0; a < s.axes.size(); ++a) {
+        text << (a ? ", " : "") << s.axes[a].key << " = " << s.points[i].values[a];
+      }
+      return text.str();
+    };
+    std::vector<std::string> lines;
+    if (lo) {
+      lines.push_back("lowest: " + where(*lo));
+      lines.push_back("highest: " + where(*hi));
+    }
+    if (without > 0) {
+      lines.push_back(std::to_string(without) + " grid point(s) without a value (see the table)");
+    }
+    report.verdict(s.statistic.text + " of both flanks over " + std::to_string(s.points.size()) +
+                       " grid points" + (lo ? "" : ": no grid point has a value"),
+                   lines);
   }
   report.paragraph("Scenario " + s.source_path + ", grid " + grid + ": " +
                    std::to_string(s.points.size()) + " runs of " + sweep_runs_text(s.points) +

@@ -440,8 +440,8 @@ double quantile_standard_error(const std::vector<double>& sorted, double value) 
   const std::size_t i = static_cast<std::size_t>(
       std::lower_bound(sorted.begin(), sorted.end(), value) - sorted.begin());
   const double a = std::clamp(static_cast<double>(i) / static_cast<double>(m), 0.0, 1.0);
-  const std::size_t k = static_cast<std::size_t>(
-      std::ceil(std::sqrt(static_cast<double>(m) * std::max(a * (1.0 - a), 1.0 / m))));
+  const std::size_t k = static_cast<std::size_t>(std::ceil(
+      std::sqrt(static_cast<double>(m) * std::max(a * (1.0 - a), 1.0 / static_cast<double>(m)))));
   const std::size_t lo = i > k ? i - k : 0, hi = std::min(m - 1, i + k);
   // The ranks lo … hi span (hi − lo)/M of probability: scale to the ±k/M of the formula.
   const double span = static_cast<double>(hi - lo);
@@ -465,7 +465,7 @@ Validation validate_gum(double y, double U, double u_gum, const Interval& mcm, i
     // z s/√(M'/M) = |d − δ| at each end still within reach; the larger M' of the two.
     const double m = static_cast<double>(sorted.size());
     double needed = m;
-    for (const auto [d, s] : {std::pair{v.d_low, v.s_low}, std::pair{v.d_high, v.s_high}}) {
+    for (const auto& [d, s] : {std::pair{v.d_low, v.s_low}, std::pair{v.d_high, v.s_high}}) {
       const double gap = std::fabs(d - v.delta);
       if (std::fabs(d - v.delta) <= kValidationZ * s) {
         needed = gap > 0.0

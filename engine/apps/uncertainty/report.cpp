@@ -89,6 +89,38 @@ std::string adaptive_svg(const McmResult& r, std::size_t k, int ndig) {
 std::string evaluation_report_html(const UncertaintyModel& model, const McmOptions& o,
                                    const Evaluation& e, const Provenance& provenance) {
   HtmlReport page("gearmc uncertainty: " + model.name);
+  {  // The verdict box: per output the Monte Carlo result and whether it validates the GUM's.
+    int not_validated = 0, undecided = 0;
+    std::vector<std::string> lines;
+    for (std::size_t k = 0; k < model.outputs.size(); ++k) {
+      const GumOutput& g = e.gum.outputs[k];
+      const McmOutput& m = e.mcm.outputs[k];
+      const Validation& v = e.validation[k];
+      const int d = display_decimals(std::min(g.u, m.u), o.significant_digits);
+      not_validated += !v.validated && !v.undecided;
+      undecided += v.undecided;
+      lines.push_back(g.name + " = " + fmt(m.estimate, d) + ", u " + fmt(m.u, d) + ", " +
+                      fmt(100.0 * o.coverage_probability, 0) + " % interval [" +
+                      fmt(m.symmetric.lo, d) + ", " + fmt(m.symmetric.hi, d) +
+                      "] (Monte Carlo, probabilistically symmetric); the GUM's interval [" +
+                      fmt(g.lo, d) + ", " + fmt(g.hi, d) + "]: " + v.verdict() + " (JCGM 101 §8)");
+    }
+    const std::size_t n = model.outputs.size();
+    const std::string headline =
+        not_validated == 0 && undecided == 0
+            ? "The GUM's results are validated by the Monte Carlo method for " +
+                  std::string(n == 1 ? "the output" : "every output (" + std::to_string(n) + ")") +
+                  "."
+        : not_validated > 0
+            ? "The GUM's results are NOT validated for " + std::to_string(not_validated) + " of " +
+                  std::to_string(n) + " output(s): use the Monte Carlo intervals (JCGM 101 §8)."
+            : "Validation undecided for " + std::to_string(undecided) + " of " + std::to_string(n) +
+                  " output(s): more trials would decide (JCGM 101 §8).";
+    page.verdict(headline, lines,
+                 not_validated > 0 ? HtmlReport::Tone::kBad
+                 : undecided > 0   ? HtmlReport::Tone::kNeutral
+                                   : HtmlReport::Tone::kGood);
+  }
   std::ostringstream intro;
   intro << "GUM (JCGM 100) and Monte Carlo (JCGM 101) side by side for " << model.inputs.size()
         << " input(s) and " << model.outputs.size() << " output(s); coverage probability "

@@ -220,7 +220,22 @@ TEST(CheckCli, SameVerdictsAndGearsForOneAndTwoThreadsAndExitCodesAndJunit) {
         EXPECT_TRUE(c.contains(key)) << key;
       }
     }
-    EXPECT_TRUE(fs::exists(out + "/report.html"));
+    {  // The report opens with the verdict box: red (a claim fails), the count, a line per claim.
+      const std::string html = read(out + "/report.html");
+      const std::size_t box = html.find("<div class=\"verdict bad\">");
+      ASSERT_NE(box, std::string::npos);
+      EXPECT_LT(box, html.find("<nav"));
+      std::size_t holding = 0, failing = 0;
+      for (const auto& c : j["claims"]) {
+        holding += c["verdict"] == "holds";
+        failing += c["verdict"] == "fails";
+      }
+      EXPECT_NE(html.find("Not every claim holds: " + std::to_string(failing) + " fail, " +
+                          std::to_string(4 - holding - failing) + " undecided (4 claims"),
+                std::string::npos);
+      EXPECT_NE(html.find("<li>fails_p95 ("), std::string::npos);
+      EXPECT_NE(html.find("): fails, estimate "), std::string::npos);
+    }
     const std::string xml = read(junit);
     EXPECT_EQ(std::count(xml.begin(), xml.end(), '\n') > 0, true);
     std::size_t testcases = 0, failures = 0;

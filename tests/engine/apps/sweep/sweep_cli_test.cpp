@@ -44,6 +44,27 @@ TEST(SweepCli, PointEqualsTheRunOfTheVariantWrittenByHand) {
   EXPECT_EQ(sweep["ranks"], 1);
   EXPECT_TRUE(fs::exists(out / "sweep.csv"));
   EXPECT_TRUE(fs::exists(out / "report.html"));
+  {  // The opening box: the grid points with the lowest and highest statistic (both flanks).
+    const std::string html = read(out / "report.html");
+    const auto& points = sweep["points"];
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double v = points[i]["both_um"].get<double>();
+      if (v < points[lo]["both_um"].get<double>()) lo = i;
+      if (v > points[hi]["both_um"].get<double>()) hi = i;
+    }
+    const std::size_t box = html.find("<div class=\"verdict\">");
+    ASSERT_NE(box, std::string::npos);
+    EXPECT_NE(html.find("lowest: ", box), std::string::npos);
+    EXPECT_NE(html.find(" at stylus.radius_mm = " +
+                        points[lo]["values"]["stylus.radius_mm"].get<std::string>() +
+                        "</li>\n<li>highest: "),
+              std::string::npos);
+    EXPECT_NE(
+        html.find(" at stylus.radius_mm = " +
+                  points[hi]["values"]["stylus.radius_mm"].get<std::string>() + "</li>\n</ul>"),
+        std::string::npos);
+  }
 
   // The variant radius 1 mm by hand: the scenario text with its one `radius_mm:` line changed.
   std::string text = read(kScenario);

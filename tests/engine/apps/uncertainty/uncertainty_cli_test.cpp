@@ -356,6 +356,18 @@ TEST(UncertaintyCli, JsonKeysAndThreadIndependence) {
     const bool adaptive = args.find("rectangular") != std::string::npos;
     EXPECT_EQ(svgs, adaptive ? 4u : 3u) << args;
     EXPECT_NE(report.find("JCGM 101 §8 validation"), std::string::npos);
+    // The verdict box opens the page and follows the §8 verdict of summary.json.
+    const std::size_t box = report.find("<div class=\"verdict");
+    ASSERT_NE(box, std::string::npos);
+    EXPECT_LT(box, report.find("Results (units of each output)"));
+    bool validated = true;  // every output's
+    for (const auto& out : j1["outputs"]) {
+      validated = validated && out["validation"]["gum_validated"].get<bool>();
+    }
+    EXPECT_EQ(report.find("<div class=\"headline\">The GUM&#39;s results are validated by", box) !=
+                  std::string::npos,
+              validated)
+        << report.substr(box, 200);
     EXPECT_NE(report.find("Model file"), std::string::npos);
     EXPECT_NE(report.find(j1["model"].get<std::string>()), std::string::npos);
     fs::remove_all(a);
