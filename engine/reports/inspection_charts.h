@@ -1,11 +1,13 @@
 // Inspection charts in the conventions of gear-measuring instruments (the profile and helix
-// sheets of gear-measuring software, VDI/VDE 2612 / ISO/TR 10064-1 style): each flank's trace
+// sheets of gear-measuring software's protocols, e.g. Stein Software's GEARPAK: up to four teeth
+// per page, the design line straight and vertical, left flank's chart beside the right's, the
+// values and the class under each chart, red beyond tolerance): each flank's trace
 // drawn vertically — roll length (profile, tip at the top) or face position (helix) upwards, the
 // deviation magnified sideways at one scale for the whole sheet — left flanks on the left half,
 // right flanks on the right, several teeth side by side; in every trace the evaluation range
 // between its A (start) and E (end) marks, the measured trace and points, the real surface, the
-// least-squares mean line and the tolerance template (K-chart) built from the scenario's
-// tolerances; under every trace its values (F, f_H, f_f) with the tolerance, the run's U and
+// least-squares mean line and the tolerance template built from the scenario's tolerances
+// (not a K-chart of AGMA 2000 / DIN 3961, which narrows the band inside the range); under every trace its values (F, f_H, f_f) with the tolerance, the run's U and
 // the ISO 1328-1 class the value meets. Self-contained SVG text, like svg_plot.h. Deviations in
 // µm along the design flank's normal (deviations from the design: the design line is straight
 // and vertical), positions in mm.
@@ -50,7 +52,7 @@ struct InspectionSheet {
   // Positions grow downwards: an internal gear's profile, whose tip has the smaller roll length,
   // keeps its tip at the top (and A, at the root, at the bottom) like an external one's.
   bool positions_downwards = false;
-  // The tolerance template (K-chart): the total tolerance as a corridor of its width parallel
+  // The tolerance template: the total tolerance as a corridor of its width parallel
   // to the design line, placed where it encloses the trace best (centred on the trace's extremes
   // in the evaluation range, so the trace fits it exactly when F ≤ T); the slope tolerance as a
   // fan through the mean line's middle (the mean line lies inside it exactly when |f_H| ≤ f_HT).

@@ -77,6 +77,20 @@ std::string side_text(ClaimSide side) {
   return side == ClaimSide::kLeft ? "left" : side == ClaimSide::kRight ? "right" : "both";
 }
 
+std::string limit_text(const ClaimSpec& claim) {
+  char text[96];
+  if (claim.two_sided) {
+    std::snprintf(text, sizeof text, "in [%.10g, %.10g] µm", claim.lower_limit_um, claim.limit_um);
+  } else {
+    std::snprintf(text, sizeof text, "%s %.10g µm", claim.at_most ? "≤" : "≥", claim.limit_um);
+  }
+  return text;
+}
+
+double bound_alpha(const ClaimSpec& claim) {
+  return claim.two_sided ? 0.5 * (1.0 - claim.confidence) : 1.0 - claim.confidence;
+}
+
 std::string statistic_text(const ClaimSpec& claim) {
   switch (claim.statistic) {
     case ClaimStatistic::kQuantile: {
@@ -97,8 +111,9 @@ std::string statistic_text(const ClaimSpec& claim) {
 }
 
 // claims: a list of {name (required, unique), quantity (required), side (left | right | both,
-// default both), statistic (required: mean | std | max | U | {quantile: p}), exactly one of
-// at_most_um / at_least_um, confidence (1e-9 <= c <= 1 - 1e-9, default 0.95)}.
+// default both), statistic (required: mean | std | max | U | {quantile: p}), at_most_um and/or
+// at_least_um (both: a two-sided claim, for mean, std and U), confidence (1e-9 <= c <= 1 - 1e-9,
+// default 0.95)}.
 std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
                                    std::vector<std::string>* warnings) {
   const std::string expected =
@@ -138,8 +153,14 @@ std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
                    warnings);
     const auto at_most = entry.find("at_most_um");
     const auto at_least = entry.find("at_least_um");
-    if (at_most && at_least) {
-      throw at_least->error("either at_most_um or at_least_um, not both (the claim has one limit)");
+    const bool moment = claim.statistic == ClaimStatistic::kMean ||
+                        claim.statistic == ClaimStatistic::kStd ||
+                        claim.statistic == ClaimStatistic::kExpandedUncertainty;
+    if (at_most && at_least && !moment) {
+      throw at_least->error(
+          "either at_most_um or at_least_um: both (a two-sided claim) are for mean, std and U; "
+          "a quantile's two tails are two claims (e.g. quantile 0.025 at_least_um and quantile "
+          "0.975 at_most_um), and a max has one limit");
     }
     if (!at_most && !at_least) {
       throw entry.missing("at_most_um", "the claim's limit: at_most_um or at_least_um (µm)");
@@ -148,6 +169,15 @@ std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
     claim.limit_um = read_ranged(
         at_most ? *at_most : *at_least,
         claim_ranges().at(at_most ? "claims.at_most_um" : "claims.at_least_um"), warnings);
+    if (at_most && at_least) {
+      claim.two_sided = true;
+      claim.lower_limit_um =
+          read_ranged(*at_least, claim_ranges().at("claims.at_least_um"), warnings);
+      if (!(claim.lower_limit_um < claim.limit_um)) {
+        throw at_least->error("a lower limit below at_most_um (" + at_most->as_string() +
+                              "): the claim is at_least_um ≤ statistic ≤ at_most_um");
+      }
+    }
     claim.confidence = number_default("claims.confidence");
     if (const auto c = entry.find("confidence")) {
       claim.confidence = read_ranged(*c, claim_ranges().at("claims.confidence"), warnings);

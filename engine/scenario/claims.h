@@ -35,6 +35,11 @@ struct ClaimSpec {
   double quantile = 0.5;  // p, for kQuantile (0 < p < 1)
   bool at_most = true;    // at_most_um (statistic ≤ limit) or at_least_um (statistic ≥ limit)
   double limit_um = 0.0;
+  // Both at_least_um and at_most_um (mean, std, U only): lower_limit_um ≤ statistic ≤ limit_um,
+  // with at_most = true; each confidence bound then one-sided at (1 + c)/2, so that the claim's
+  // own error probability stays 1 − c.
+  bool two_sided = false;
+  double lower_limit_um = 0.0;
   double confidence = 0.95;  // 0 < c < 1
   InputLocation where;       // the claim's `name`
   // kParameterError: the ISO 1328-1 symbol (F_alpha, …, F_r) of `parameters.<symbol>.error`,
@@ -48,6 +53,10 @@ struct ClaimSpec {
 // side ("left", "right", "both").
 std::string statistic_text(const ClaimSpec& claim);
 std::string side_text(ClaimSide side);
+// The limit as stated: "≤ 4 µm", "≥ 1 µm" or "in [-0.5, 0.5] µm".
+std::string limit_text(const ClaimSpec& claim);
+// The one-sided error probability of each confidence bound: 1 − c, or (1 − c)/2 two-sided.
+double bound_alpha(const ClaimSpec& claim);
 
 // Reads the `claims:` list. `has_effects`: the scenario has at least one measurement effect
 // (total_error.point needs them). Numbers outside their usual range append a located warning

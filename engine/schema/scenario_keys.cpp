@@ -431,9 +431,10 @@ std::vector<ScenarioKey> make_table() {
                          "error), or a map {quantile: p}"));
   t.push_back(number_key("claims.statistic.quantile", kNum, std::nullopt, "required in the map",
                          "the quantile's probability p"));
-  t.push_back(number_key("claims.at_most_um", kNum, std::nullopt, "one of the two limits",
-                         "the statistic is at most this"));
-  t.push_back(number_key("claims.at_least_um", kNum, std::nullopt, "one of the two limits",
+  t.push_back(number_key("claims.at_most_um", kNum, std::nullopt, "one or both limits",
+                         "the statistic is at most this (with at_least_um: a two-sided claim, "
+                         "for mean, std and U)"));
+  t.push_back(number_key("claims.at_least_um", kNum, std::nullopt, "one or both limits",
                          "the statistic is at least this"));
   t.push_back(
       number_key("claims.confidence", kNum, 0.95, "", "the probability that a verdict is right"));

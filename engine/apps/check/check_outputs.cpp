@@ -61,7 +61,7 @@ std::string bound_number(double v, bool upper, double limit) {
 }
 
 std::string bound_text(const ClaimSpec& c, const ClaimResult& r) {
-  return "[" + bound_number(r.lower_um, false, c.limit_um) + ", " +
+  return "[" + bound_number(r.lower_um, false, c.two_sided ? c.lower_limit_um : c.limit_um) + ", " +
          bound_number(r.upper_um, true, c.limit_um) + "] µm";
 }
 
@@ -70,9 +70,9 @@ std::string verdict_sentence(const ClaimSpec& c, const ClaimResult& r) {
   std::string s = std::string(verdict_text(r.verdict)) + " after " + std::to_string(r.gears) +
                   " gears: estimate " + fixed(r.estimate_um) + " µm, " +
                   "lower and upper confidence bounds " + bound_text(c, r) + " (each one-sided at " +
-                  general(100.0 * c.confidence) + " %; together at least " +
-                  general(100.0 * (2.0 * c.confidence - 1.0)) + " %)" + ", limit " +
-                  (c.at_most ? "≤ " : "≥ ") + general(c.limit_um) + " µm";
+                  general(100.0 * (1.0 - bound_alpha(c))) + " %; together at least " +
+                  general(100.0 * (2.0 * (1.0 - bound_alpha(c)) - 1.0)) + " %)" + ", limit " +
+                  limit_text(c);
   if (r.exceedance && r.exceedance_allowed && c.statistic == ClaimStatistic::kQuantile) {
     s += "; probability of a value beyond the limit " + general(*r.exceedance, 3) + " (bounds " +
          general(r.exceedance_lower.value_or(NAN), 3) + " … " +
@@ -102,8 +102,8 @@ int check_exit_code(const CheckRun& run) {
 }
 
 std::string claim_statement(const ClaimSpec& c) {
-  return quantity_words(c) + " " + statistic_text(c) + (c.at_most ? " ≤ " : " ≥ ") +
-         general(c.limit_um) + " µm at " + general(100.0 * c.confidence) + " % confidence";
+  return quantity_words(c) + " " + statistic_text(c) + " " + limit_text(c) + " at " +
+         general(100.0 * c.confidence) + " % confidence";
 }
 
 nlohmann::ordered_json check_json(const CheckContext& context, const CheckRun& run) {
@@ -138,6 +138,7 @@ nlohmann::ordered_json check_json(const CheckContext& context, const CheckRun& r
     k["quantity"] = c.quantity_text;
     k["side"] = side_text(c.side);
     k["statistic"] = statistic_text(c);
+    if (c.two_sided) k["at_least_um"] = c.lower_limit_um;
     k[c.at_most ? "at_most_um" : "at_least_um"] = c.limit_um;
     k["method"] = r.method;
     if (r.resolution_um > 0.0) k["resolution_um"] = r.resolution_um;
@@ -253,13 +254,20 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
     plot.bars_label = "values of " + std::to_string(r.gears) + " gears";
     plot.log_count = true;
     // From the smallest value (the grid extends a quarter of the data's span below it).
-    plot.x_min = std::min(pooled->min(), c.limit_um);
+    plot.x_min = std::min(pooled->min(), c.two_sided ? c.lower_limit_um : c.limit_um);
     plot.markers.push_back(
         {c.limit_um, std::string("limit ") + general(c.limit_um) + " µm", "#D55E00", false});
+    if (c.two_sided) {
+      plot.markers.push_back({c.lower_limit_um,
+                              std::string("limit ") + general(c.lower_limit_um) + " µm", "#D55E00",
+                              false});
+    }
     if (std::isfinite(r.lower_um)) {
-      plot.markers.push_back({r.lower_um,
-                              "lower bound " + bound_number(r.lower_um, false, c.limit_um),
-                              "#0072B2", true});
+      plot.markers.push_back(
+          {r.lower_um,
+           "lower bound " +
+               bound_number(r.lower_um, false, c.two_sided ? c.lower_limit_um : c.limit_um),
+           "#0072B2", true});
     }
     if (std::isfinite(r.upper_um)) {
       plot.markers.push_back({r.upper_um,
@@ -290,9 +298,8 @@ std::string claim_terminal_line(const ClaimSpec& c, const ClaimResult& r, std::s
   char verdict[16];
   std::snprintf(verdict, sizeof verdict, "%-9s", verdict_text(r.verdict));
   return name + "  " + verdict + "  " + statistic_text(c) + " estimate " + fixed(r.estimate_um) +
-         " µm  bounds " + bound_text(c, r) + "  (limit " + (c.at_most ? "≤ " : "≥ ") +
-         general(c.limit_um) + " µm)  " + std::to_string(r.gears) + " gears  " +
-         fixed(r.time_s, 1) + " s";
+         " µm  bounds " + bound_text(c, r) + "  (limit " + limit_text(c) + ")  " +
+         std::to_string(r.gears) + " gears  " + fixed(r.time_s, 1) + " s";
 }
 
 }  // namespace gearmc

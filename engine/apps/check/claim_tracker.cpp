@@ -215,7 +215,7 @@ ClaimResult ClaimTracker::moment_look() const {
   r.method = kMomentMethod;
   const std::size_t t = count_.size();
   if (t < 2) return r;
-  const double alpha = 1.0 - claim_.confidence;
+  const double alpha = bound_alpha(claim_);
   std::vector<double> means(t);
   for (std::size_t g = 0; g < t; ++g) means[g] = sum_[g] / count_[g];
   if (claim_.statistic == ClaimStatistic::kMean) {
@@ -261,7 +261,14 @@ ClaimResult ClaimTracker::moment_look() const {
   }
   const double L = claim_.limit_um;
   const bool above = r.lower_um > L, below = r.upper_um < L;
-  if (claim_.at_most) {
+  if (claim_.two_sided) {
+    // a ≤ statistic ≤ b: holds when both bounds are inside, fails when one is past a limit
+    // on the far side (the whole confidence interval outside).
+    const double a = claim_.lower_limit_um;
+    const bool inside = r.lower_um > a && below;
+    const bool outside = r.upper_um < a || above;
+    r.verdict = inside ? Verdict::kHolds : outside ? Verdict::kFails : Verdict::kUndecided;
+  } else if (claim_.at_most) {
     r.verdict = below ? Verdict::kHolds : above ? Verdict::kFails : Verdict::kUndecided;
   } else {
     r.verdict = above ? Verdict::kHolds : below ? Verdict::kFails : Verdict::kUndecided;

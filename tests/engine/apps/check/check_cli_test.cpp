@@ -85,7 +85,12 @@ TEST(CheckCli, BadClaimsExit2WithPlaceAndWriteNothing) {
       {"typo_quantity",
        "claims:\n  - {name: t, quantity: delta_rcomp.flank_mx, statistic: max, at_most_um: 1}\n",
        ":8:25:", "did you mean 'delta_rcomp.flank_max'"},
-      {"two_limits", good + "    at_least_um: 1\n", ":12:18:", "not both"},
+      {"two_limits", good + "    at_least_um: 1\n",
+       ":12:18:", "both (a two-sided claim) are for mean, std and U"},
+      {"two_limits_reversed",
+       "claims:\n  - {name: m, quantity: delta_rcomp.point, statistic: mean, at_most_um: 1, "
+       "at_least_um: 2}\n",
+       ":8:89:", "a lower limit below at_most_um (1)"},
       {"no_limit", "claims:\n  - {name: n, quantity: delta_rcomp.point, statistic: mean}\n", "",
        "claims[0].at_most_um"},
       {"p_one",

@@ -12,6 +12,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "engine/apps/check/check_outputs.h"
@@ -331,6 +332,60 @@ TEST(SequentialCheck, ExpandedUncertaintyClaimsUseTheGearsMeansOfSquares) {
   high.limit_um = 2.4;
   EXPECT_EQ(sequential(low, law, 1, 4096).verdict, Verdict::kFails);
   EXPECT_EQ(sequential(high, law, 1, 4096).verdict, Verdict::kHolds);
+}
+
+// A two-sided claim a ≤ mean ≤ b: each bound one-sided at (1 + c)/2, so its bounds are those of
+// a one-sided claim at that confidence on the same gears; it holds when both bounds are inside,
+// fails when the whole interval is past a limit. The mean of CorrelatedGears is 0 (τ = 1, so
+// the gears' means have sd ≈ 1). Error rate: with the mean exactly at b the claim is true; it
+// fails in ≤ the 0.999 quantile of Binomial(100, 0.025) of seeds 1 … 100 (significance 0.001).
+TEST(SequentialCheck, TwoSidedMeanClaimsHalveTheErrorOnEachSide) {
+  ClaimSpec two = quantile_claim(0.5, 0.5);
+  two.statistic = ClaimStatistic::kMean;
+  two.two_sided = true;
+  two.lower_limit_um = -0.5;
+  ClaimSpec one = two;
+  one.two_sided = false;
+  one.confidence = 0.975;
+  ClaimTracker a(two), b(one);
+  std::mt19937_64 rng(5);
+  const CorrelatedGears law;
+  for (int g = 0; g < 300; ++g) {
+    const std::vector<double> v = law.draw(rng);
+    a.add_gear(v);
+    b.add_gear(v);
+  }
+  const ClaimResult ra = a.look(false), rb = b.look(false);
+  EXPECT_EQ(ra.lower_um, rb.lower_um);
+  EXPECT_EQ(ra.upper_um, rb.upper_um);
+  ClaimSpec c95 = one;
+  c95.confidence = 0.95;
+  ClaimTracker narrower(c95);
+  std::mt19937_64 again(5);
+  for (int g = 0; g < 300; ++g) narrower.add_gear(law.draw(again));
+  EXPECT_GT(narrower.look(false).lower_um, ra.lower_um);  // one-sided at 95 %: narrower
+  // Verdicts: the interval [-0.5, 0.5] holds the mean 0 (± about 0.2 at 300 gears), [1, 2] and
+  // [-2, -1] are beyond it, [-0.05, 2] cuts through it.
+  EXPECT_EQ(ra.verdict, Verdict::kHolds) << ra.lower_um << " " << ra.upper_um;
+  for (const auto& [lo, hi, expected] :
+       {std::tuple{1.0, 2.0, Verdict::kFails}, std::tuple{-2.0, -1.0, Verdict::kFails},
+        std::tuple{-0.05, 2.0, Verdict::kUndecided}}) {
+    ClaimSpec k = two;
+    k.lower_limit_um = lo;
+    k.limit_um = hi;
+    ClaimTracker t(k);
+    std::mt19937_64 same(5);
+    for (int g = 0; g < 300; ++g) t.add_gear(law.draw(same));
+    EXPECT_EQ(t.look(false).verdict, expected) << lo << " " << hi;
+  }
+  int fails = 0;
+  ClaimSpec boundary = two;
+  boundary.lower_limit_um = -3.0;
+  boundary.limit_um = 0.0;  // the true mean
+  for (int seed = 1; seed <= 100; ++seed) {
+    fails += sequential(boundary, law, 400 + seed, 4096).verdict == Verdict::kFails;
+  }
+  EXPECT_LE(fails, binomial_upper_quantile(100, 0.025));
 }
 
 TEST(SequentialCheck, MaxClaimFailsOnTheFirstValueBeyondAndHoldsOnlyAtTheBudget) {
