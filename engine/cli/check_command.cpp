@@ -18,6 +18,7 @@
 #include "engine/apps/check/check_outputs.h"
 #include "engine/apps/check/sequential_check.h"
 #include "engine/cli/interrupt_guard.h"
+#include "engine/evaluation/gear_parameters.h"
 #include "engine/run/monte_carlo.h"
 
 namespace gearmc {
@@ -41,6 +42,19 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
                          "(docs/check.md)");
   }
   const MonteCarloRun mc(scenario);
+  // U/T claims: the tolerance interval's width of their parameter (2T for ±T, T for ≤ T).
+  for (ClaimSpec& c : scenario.claims) {
+    if (c.statistic != ClaimStatistic::kUOverT) continue;
+    const std::optional<GearParameter> p = parameter_from_symbol(c.parameter);
+    const std::optional<double> T =
+        p ? mc.tolerances().get_um(parameter_tolerance_kind(*p)) : std::nullopt;
+    if (!T || !(*T > 0.0)) {
+      throw InputError(c.statistic_where, "claims.statistic", "U_over_T",
+                       "a statistic this claim can have: the scenario's tolerances have no T for " +
+                           c.parameter + " (U/T needs it; statistic U needs none)");
+    }
+    c.tolerance_width_um = parameter_signed(*p) ? 2.0 * *T : *T;
+  }
 
   // Fail before the work: the output folder and the JUnit file must be writable now.
   // Only rank 0 of an MPI job writes; the other ranks measure their share of each batch.

@@ -44,7 +44,9 @@ ClaimQuantity read_quantity(const YamlValue& value, bool has_effects) {
 }
 
 void read_statistic(const YamlValue& value, ClaimSpec& claim, InputWarnings* warnings) {
-  const std::string expected = "mean, std, max, U or {quantile: p} with 1e-9 <= p <= 1 - 1e-9";
+  claim.statistic_where = value.location();
+  const std::string expected =
+      "mean, std, max, U, U_over_T or {quantile: p} with 1e-9 <= p <= 1 - 1e-9";
   if (value.is_map()) {
     const YamlMap map = value.as_map(child_keys("claims.statistic"));
     const YamlValue p =
@@ -60,15 +62,17 @@ void read_statistic(const YamlValue& value, ClaimSpec& claim, InputWarnings* war
   bool known = false;
   for (const std::string& a : allowed) known = known || a == word;
   if (!known) throw value.error(expected, did_you_mean(word, allowed));
-  if (word == "U" && claim.quantity != ClaimQuantity::kParameterError) {
+  if ((word == "U" || word == "U_over_T") && claim.quantity != ClaimQuantity::kParameterError) {
     throw value.error(
-        "a statistic of this quantity: U, the expanded uncertainty 2·√(u² + bias²), is a "
-        "statistic of a parameter error (quantity parameters.<symbol>.error)");
+        "a statistic of this quantity: " + word +
+        " (U, the expanded uncertainty 2·√(u² + bias²), and U/T) is a statistic of a parameter "
+        "error (quantity parameters.<symbol>.error)");
   }
-  claim.statistic = word == "mean"  ? ClaimStatistic::kMean
-                    : word == "std" ? ClaimStatistic::kStd
-                    : word == "U"   ? ClaimStatistic::kExpandedUncertainty
-                                    : ClaimStatistic::kMax;
+  claim.statistic = word == "mean"       ? ClaimStatistic::kMean
+                    : word == "std"      ? ClaimStatistic::kStd
+                    : word == "U"        ? ClaimStatistic::kExpandedUncertainty
+                    : word == "U_over_T" ? ClaimStatistic::kUOverT
+                                         : ClaimStatistic::kMax;
 }
 
 }  // namespace
@@ -77,14 +81,18 @@ std::string side_text(ClaimSide side) {
   return side == ClaimSide::kLeft ? "left" : side == ClaimSide::kRight ? "right" : "both";
 }
 
+std::string claim_unit(const ClaimSpec& claim) {
+  return claim.statistic == ClaimStatistic::kUOverT ? "" : " µm";
+}
+
 std::string limit_text(const ClaimSpec& claim) {
   char text[96];
   if (claim.two_sided) {
-    std::snprintf(text, sizeof text, "in [%.10g, %.10g] µm", claim.lower_limit_um, claim.limit_um);
+    std::snprintf(text, sizeof text, "in [%.10g, %.10g]", claim.lower_limit_um, claim.limit_um);
   } else {
-    std::snprintf(text, sizeof text, "%s %.10g µm", claim.at_most ? "≤" : "≥", claim.limit_um);
+    std::snprintf(text, sizeof text, "%s %.10g", claim.at_most ? "≤" : "≥", claim.limit_um);
   }
-  return text;
+  return text + claim_unit(claim);
 }
 
 double bound_alpha(const ClaimSpec& claim) {
@@ -106,6 +114,8 @@ std::string statistic_text(const ClaimSpec& claim) {
       return "max";
     case ClaimStatistic::kExpandedUncertainty:
       return "U (k = 2)";
+    case ClaimStatistic::kUOverT:
+      return "U/T";
   }
   return "";
 }
@@ -149,13 +159,26 @@ std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
     claim.side = side == "left"    ? ClaimSide::kLeft
                  : side == "right" ? ClaimSide::kRight
                                    : ClaimSide::kBoth;
-    read_statistic(entry.require("statistic", "mean, std, max, U or {quantile: p}"), claim,
-                   warnings);
-    const auto at_most = entry.find("at_most_um");
-    const auto at_least = entry.find("at_least_um");
+    read_statistic(entry.require("statistic", "mean, std, max, U, U_over_T or {quantile: p}"),
+                   claim, warnings);
+    // A ratio (U/T) has limits without unit; every other statistic's are in µm.
+    const bool ratio = claim.statistic == ClaimStatistic::kUOverT;
+    const std::string most = ratio ? "at_most" : "at_most_um";
+    const std::string least = ratio ? "at_least" : "at_least_um";
+    for (const char* other : {"at_most", "at_least", "at_most_um", "at_least_um"}) {
+      if (other == most || other == least) continue;
+      if (const auto wrong = entry.find(other)) {
+        throw wrong->error(ratio ? "at_most / at_least for U_over_T (a ratio without unit, e.g. "
+                                   "at_most: 0.15)"
+                                 : "at_most_um / at_least_um (at_most and at_least, without unit, "
+                                   "are the limits of statistic U_over_T)");
+      }
+    }
+    const auto at_most = entry.find(most);
+    const auto at_least = entry.find(least);
     const bool moment = claim.statistic == ClaimStatistic::kMean ||
                         claim.statistic == ClaimStatistic::kStd ||
-                        claim.statistic == ClaimStatistic::kExpandedUncertainty;
+                        claim.statistic == ClaimStatistic::kExpandedUncertainty || ratio;
     if (at_most && at_least && !moment) {
       throw at_least->error(
           "either at_most_um or at_least_um: both (a two-sided claim) are for mean, std and U; "
@@ -163,19 +186,18 @@ std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
           "0.975 at_most_um), and a max has one limit");
     }
     if (!at_most && !at_least) {
-      throw entry.missing("at_most_um", "the claim's limit: at_most_um or at_least_um (µm)");
+      throw entry.missing(most, ratio ? "the claim's limit: at_most or at_least (a ratio)"
+                                      : "the claim's limit: at_most_um or at_least_um (µm)");
     }
     claim.at_most = at_most.has_value();
-    claim.limit_um = read_ranged(
-        at_most ? *at_most : *at_least,
-        claim_ranges().at(at_most ? "claims.at_most_um" : "claims.at_least_um"), warnings);
+    claim.limit_um = read_ranged(at_most ? *at_most : *at_least,
+                                 claim_ranges().at("claims." + (at_most ? most : least)), warnings);
     if (at_most && at_least) {
       claim.two_sided = true;
-      claim.lower_limit_um =
-          read_ranged(*at_least, claim_ranges().at("claims.at_least_um"), warnings);
+      claim.lower_limit_um = read_ranged(*at_least, claim_ranges().at("claims." + least), warnings);
       if (!(claim.lower_limit_um < claim.limit_um)) {
-        throw at_least->error("a lower limit below at_most_um (" + at_most->as_string() +
-                              "): the claim is at_least_um ≤ statistic ≤ at_most_um");
+        throw at_least->error("a lower limit below " + most + " (" + at_most->as_string() +
+                              "): the claim is " + least + " ≤ statistic ≤ " + most);
       }
     }
     claim.confidence = number_default("claims.confidence");

@@ -24,7 +24,9 @@ enum class ClaimSide { kLeft, kRight, kBoth };
 // kExpandedUncertainty: U = 2·√(E[v²]), the expanded uncertainty (k = 2) of a reading not
 // corrected for the bias, 2·√(u² + b²) as the run's parameter tables print it (E[v²] = u² + b²,
 // the gears weighted equally); only for a parameter error (`statistic: U`).
-enum class ClaimStatistic { kQuantile, kMean, kStd, kMax, kExpandedUncertainty };
+// kUOverT: U of a parameter error over its tolerance interval's width (2T for ±T, T for ≤ T), a
+// ratio without unit; its limits are at_most / at_least.
+enum class ClaimStatistic { kQuantile, kMean, kStd, kMax, kExpandedUncertainty, kUOverT };
 
 struct ClaimSpec {
   std::string name;           // unique in the file
@@ -47,7 +49,13 @@ struct ClaimSpec {
   // the quantity was written.
   std::string parameter;
   InputLocation quantity_where;
+  InputLocation statistic_where;
+  // kUOverT: the tolerance interval's width, µm (set by `check` from the scenario's tolerances).
+  double tolerance_width_um = 0.0;
 };
+
+// " µm", or "" for a ratio (U/T): the unit of the statistic, its estimate, bounds and limits.
+std::string claim_unit(const ClaimSpec& claim);
 
 // The text of the statistic as written ("quantile 0.9973", "mean", "std", "max") and of the
 // side ("left", "right", "both").

@@ -163,6 +163,12 @@ const RangeTable& claim_ranges() {
        {"claims.at_least_um", "µm", closed(-10000, 10000), -100, 100,
         "a limit on a measurement error; CMM errors on gears are a few µm", "mm?", false,
         SlipSide::kBelow},
+       {"claims.at_most", "", closed(0, 1000), 0.01, 1,
+        "a limit on U/T, the expanded uncertainty over the tolerance interval's width; 0.1 … 0.2 "
+        "is usual (the capability limit Q_MP = 2U/T ≤ 30 % is U/T ≤ 0.15)",
+        "a percentage? (15 % is 0.15)", false, SlipSide::kAbove},
+       {"claims.at_least", "", closed(0, 1000), 0.01, 1, "a limit on U/T", "a percentage?", false,
+        SlipSide::kAbove},
        {"claims.confidence", "", NumberRange::probability(), 0.8, 0.9999,
         "the probability that a verdict is right; 0.95 is usual, above 0.9999 needs many gears",
         "a percentage? (95 % is 0.95)", false, SlipSide::kAbove}}};

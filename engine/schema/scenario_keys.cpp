@@ -426,7 +426,7 @@ std::vector<ScenarioKey> make_table() {
                        "effects)"));
   t.push_back(choice_key("claims.side", {"left", "right", "both"}, "both",
                          "the flank sides whose values count"));
-  t.push_back(choice_key("claims.statistic", {"mean", "std", "max", "U"}, "required",
+  t.push_back(choice_key("claims.statistic", {"mean", "std", "max", "U", "U_over_T"}, "required",
                          "the statistic: mean, std, max, U (2·√(u² + bias²) of a parameter "
                          "error), or a map {quantile: p}"));
   t.push_back(number_key("claims.statistic.quantile", kNum, std::nullopt, "required in the map",
@@ -436,6 +436,10 @@ std::vector<ScenarioKey> make_table() {
                          "for mean, std and U)"));
   t.push_back(number_key("claims.at_least_um", kNum, std::nullopt, "one or both limits",
                          "the statistic is at least this"));
+  t.push_back(number_key("claims.at_most", kNum, std::nullopt, "U_over_T: one or both limits",
+                         "U/T is at most this (a ratio without unit)"));
+  t.push_back(number_key("claims.at_least", kNum, std::nullopt, "U_over_T: one or both limits",
+                         "U/T is at least this"));
   t.push_back(
       number_key("claims.confidence", kNum, 0.95, "", "the probability that a verdict is right"));
   return t;

@@ -62,13 +62,13 @@ std::string bound_number(double v, bool upper, double limit) {
 
 std::string bound_text(const ClaimSpec& c, const ClaimResult& r) {
   return "[" + bound_number(r.lower_um, false, c.two_sided ? c.lower_limit_um : c.limit_um) + ", " +
-         bound_number(r.upper_um, true, c.limit_um) + "] µm";
+         bound_number(r.upper_um, true, c.limit_um) + "]" + claim_unit(c);
 }
 
 // What the verdict says in one sentence, for the report and the JUnit failure message.
 std::string verdict_sentence(const ClaimSpec& c, const ClaimResult& r) {
   std::string s = std::string(verdict_text(r.verdict)) + " after " + std::to_string(r.gears) +
-                  " gears: estimate " + fixed(r.estimate_um) + " µm, " +
+                  " gears: estimate " + fixed(r.estimate_um) + claim_unit(c) + ", " +
                   "lower and upper confidence bounds " + bound_text(c, r) + " (each one-sided at " +
                   general(100.0 * (1.0 - bound_alpha(c))) + " %; together at least " +
                   general(100.0 * (2.0 * (1.0 - bound_alpha(c)) - 1.0)) + " %)" + ", limit " +
@@ -130,16 +130,19 @@ nlohmann::ordered_json check_json(const CheckContext& context, const CheckRun& r
     nlohmann::ordered_json k;
     k["name"] = c.name;
     k["verdict"] = verdict_text(r.verdict);
-    k["estimate_um"] = number_or_null(r.estimate_um);
-    k["bound_um"] = {number_or_null(r.lower_um), number_or_null(r.upper_um)};
+    const bool ratio = c.statistic == ClaimStatistic::kUOverT;  // no unit: keys without _um
+    k[ratio ? "estimate" : "estimate_um"] = number_or_null(r.estimate_um);
+    k[ratio ? "bound" : "bound_um"] = {number_or_null(r.lower_um), number_or_null(r.upper_um)};
     k["confidence"] = c.confidence;
     k["gears"] = r.gears;
     k["time_s"] = r.time_s;
     k["quantity"] = c.quantity_text;
     k["side"] = side_text(c.side);
     k["statistic"] = statistic_text(c);
-    if (c.two_sided) k["at_least_um"] = c.lower_limit_um;
-    k[c.at_most ? "at_most_um" : "at_least_um"] = c.limit_um;
+    const std::string unit = ratio ? "" : "_um";
+    if (c.two_sided) k["at_least" + unit] = c.lower_limit_um;
+    k[(c.at_most ? "at_most" : "at_least") + unit] = c.limit_um;
+    if (ratio) k["tolerance_width_um"] = c.tolerance_width_um;
     k["method"] = r.method;
     if (r.resolution_um > 0.0) k["resolution_um"] = r.resolution_um;
     if (r.exceedance) {
@@ -202,7 +205,8 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
       fails += r.verdict == Verdict::kFails;
       undecided += r.verdict == Verdict::kUndecided;
       lines.push_back(c.name + " (" + claim_statement(c) + "): " + verdict_text(r.verdict) +
-                      ", estimate " + fixed(r.estimate_um) + " µm, bounds " + bound_text(c, r));
+                      ", estimate " + fixed(r.estimate_um) + claim_unit(c) + ", bounds " +
+                      bound_text(c, r));
     }
     const std::string counts = std::to_string(run.results.size()) + " claims, " +
                                std::to_string(run.gears) + " gears of at most " +
@@ -219,13 +223,14 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
   }
   report.contents();
   HtmlTable summary;
-  summary.header = {"claim", "statement", "verdict", "estimate, µm", "bounds, µm", "gears"};
+  summary.header = {"claim", "statement", "verdict", "estimate", "bounds", "gears"};
   for (std::size_t i = 0; i < run.results.size(); ++i) {
     const ClaimSpec& c = run.trackers[i].claim();
     const ClaimResult& r = run.results[i];
-    summary.rows.push_back({{c.name, claim_statement(c), verdict_text(r.verdict),
-                             fixed(r.estimate_um), bound_text(c, r), std::to_string(r.gears)},
-                            r.verdict != Verdict::kHolds});
+    summary.rows.push_back(
+        {{c.name, claim_statement(c), verdict_text(r.verdict), fixed(r.estimate_um) + claim_unit(c),
+          bound_text(c, r), std::to_string(r.gears)},
+         r.verdict != Verdict::kHolds});
   }
   report.heading("Verdicts");
   report.table(summary);
@@ -248,6 +253,7 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
                      ".");
     const std::optional<Histogram>& pooled = run.trackers[i].pooled();
     if (!pooled || pooled->total() == 0) continue;
+    if (c.statistic == ClaimStatistic::kUOverT) continue;  // a ratio: not on the errors' axis
     HistogramPlotOptions plot;
     plot.title = c.name + ": " + quantity_words(c);
     plot.x_label = quantity_words(c) + ", µm";
@@ -298,7 +304,7 @@ std::string claim_terminal_line(const ClaimSpec& c, const ClaimResult& r, std::s
   char verdict[16];
   std::snprintf(verdict, sizeof verdict, "%-9s", verdict_text(r.verdict));
   return name + "  " + verdict + "  " + statistic_text(c) + " estimate " + fixed(r.estimate_um) +
-         " µm  bounds " + bound_text(c, r) + "  (limit " + limit_text(c) + ")  " +
+         claim_unit(c) + "  bounds " + bound_text(c, r) + "  (limit " + limit_text(c) + ")  " +
          std::to_string(r.gears) + " gears  " + fixed(r.time_s, 1) + " s";
 }
 

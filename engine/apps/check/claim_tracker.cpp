@@ -108,6 +108,7 @@ ClaimResult ClaimTracker::look(bool final_look, bool with_um_bounds) {
     case ClaimStatistic::kMean:
     case ClaimStatistic::kStd:
     case ClaimStatistic::kExpandedUncertainty:
+    case ClaimStatistic::kUOverT:
       r = moment_look();
       break;
     case ClaimStatistic::kMax:
@@ -223,7 +224,8 @@ ClaimResult ClaimTracker::moment_look() const {
     r.estimate_um = b.estimate;
     r.lower_um = b.lower;
     r.upper_um = b.upper;
-  } else if (claim_.statistic == ClaimStatistic::kExpandedUncertainty) {
+  } else if (claim_.statistic == ClaimStatistic::kExpandedUncertainty ||
+             claim_.statistic == ClaimStatistic::kUOverT) {
     // U = 2 √m2, m2 = E[v²] the mean over gears of each gear's mean of v²: the same sequence on
     // those per-gear means, and U's bounds its monotone image (a lower bound of m2 below 0 is 0).
     std::vector<double> second(t);
@@ -232,6 +234,13 @@ ClaimResult ClaimTracker::moment_look() const {
     r.estimate_um = 2.0 * std::sqrt(std::max(0.0, b.estimate));
     r.lower_um = 2.0 * std::sqrt(std::max(0.0, b.lower));
     r.upper_um = 2.0 * std::sqrt(std::max(0.0, b.upper));
+    if (claim_.statistic == ClaimStatistic::kUOverT) {
+      // U/T: the same bounds over the (fixed) tolerance width, a monotone image again.
+      const double w = claim_.tolerance_width_um;
+      r.estimate_um /= w;
+      r.lower_um /= w;
+      r.upper_um /= w;
+    }
   } else {
     // σ² = E[s2] − μ², s1, s2 the gear's means of v and v² (gears weighted equally). The
     // delta method linearises the estimator to the per-gear values z = s2 − 2 μ s1, whose

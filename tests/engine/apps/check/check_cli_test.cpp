@@ -109,11 +109,35 @@ TEST(CheckCli, BadClaimsExit2WithPlaceAndWriteNothing) {
       {"median",
        "claims:\n  - {name: m, quantity: delta_rcomp.point, statistic: median, "
        "at_most_um: 1}\n",
-       ":8:55:", "mean, std, max, U or {quantile: p}"},
+       ":8:55:", "mean, std, max, U, U_over_T or {quantile: p}"},
+      {"ratio_in_um",
+       "evaluation: {parameters: [F_alpha]}\nclaims:\n  - {name: r, quantity: "
+       "parameters.F_alpha.error, statistic: U_over_T, at_most_um: 0.15}\n",
+       ":9:84:", "at_most / at_least for U_over_T"},
+      {"ratio_limit_on_mean",
+       "claims:\n  - {name: m, quantity: delta_rcomp.point, statistic: mean, at_most: 1}\n",
+       ":8:70:", "are the limits of statistic U_over_T"},
+      {"u_over_t_of_delta_rcomp",
+       "claims:\n  - {name: u, quantity: delta_rcomp.point, statistic: U_over_T, at_most: 1}\n",
+       ":8:55:", "is a statistic of a parameter error"},
       {"u_of_delta_rcomp",
        "claims:\n  - {name: u, quantity: delta_rcomp.point, statistic: U, at_most_um: 1}\n",
        ":8:55:", "U, the expanded uncertainty"},
   };
+  {  // U/T of a parameter whose tolerance the scenario's set lacks (GOST has no f_Hα): refused
+     // by `check` at the statistic (`run` ignores claims beyond reading them).
+    const std::string path =
+        write_scenario("u_over_t_no_T",
+                       "evaluation: {parameters: [f_Halpha]}\nclaims:\n  - {name: r, quantity: "
+                       "parameters.f_Halpha.error, statistic: U_over_T, at_most: 0.15}\n");
+    const std::string out = temp_path("u_over_t_no_T_out");
+    fs::remove_all(out);
+    const auto r = run_gearmc("check " + path + " --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(path + ":9:63:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("have no T for f_Halpha"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
   for (const BadClaim& c : cases) {
     const std::string path = write_scenario(c.tag, c.claims);
     const std::string out = temp_path(std::string(c.tag) + "_out");
@@ -410,7 +434,11 @@ TEST(CheckCli, ClaimsOnGearParameterErrors) {
   const std::string upath = temp_path("param_claims_u") + ".yaml";
   std::ofstream(upath) << base
                        << "claims:\n  - {name: fa_u, quantity: parameters.F_alpha.error, "
-                          "statistic: U, at_most_um: 3}\n";
+                          "statistic: U, at_most_um: 3}\n"
+                          "  - {name: fa_ut, quantity: parameters.F_alpha.error, "
+                          "statistic: U_over_T, at_most: 0.5}\n"
+                          "  - {name: fha_ut, quantity: parameters.f_Halpha.error, "
+                          "statistic: U_over_T, at_most: 0.5}\n";
   const auto u = run_gearmc("check " + upath + " --max-gears 256 --out " + out + "_u");
   EXPECT_EQ(u.exit_code, 0) << u.err;
   const nlohmann::json ju = nlohmann::json::parse(std::ifstream(out + "_u/check.json"));
@@ -427,6 +455,26 @@ TEST(CheckCli, ClaimsOnGearParameterErrors) {
   }
   EXPECT_NEAR(ju["claims"][0]["estimate_um"].get<double>(), 2.0 * std::sqrt(sum_squares / items),
               1e-9);
+  // U/T: the same U over the tolerance interval's width, T for F_α ≤ T and 2T for f_Hα = ±T (T
+  // from summary.json's conformity block; U of f_Hα from its own errors as above).
+  const double T_Fa = summary["conformity"]["F_alpha"]["tolerance_um"].get<double>();
+  EXPECT_EQ(ju["claims"][1]["tolerance_width_um"].get<double>(), T_Fa);
+  EXPECT_NEAR(ju["claims"][1]["estimate"].get<double>(),
+              2.0 * std::sqrt(sum_squares / items) / T_Fa, 1e-9);
+  EXPECT_EQ(ju["claims"][1]["at_most"].get<double>(), 0.5);
+  EXPECT_FALSE(ju["claims"][1].contains("estimate_um"));
+  double fh_squares = 0.0, fh_items = 0.0;
+  for (const char* side : {"left", "right"}) {
+    const nlohmann::json& e = summary["parameters"]["f_Halpha"][side]["error"];
+    const double n = e["n"].get<double>(), m = e["mean"].get<double>(), s = e["std"].get<double>();
+    fh_squares += (n - 1.0) * s * s + n * m * m;
+    fh_items += n;
+  }
+  const double T_fH = summary["conformity"]["f_Halpha"]["tolerance_um"].get<double>();
+  EXPECT_EQ(ju["claims"][2]["tolerance_width_um"].get<double>(), 2.0 * T_fH);
+  EXPECT_NEAR(ju["claims"][2]["estimate"].get<double>(),
+              2.0 * std::sqrt(fh_squares / fh_items) / (2.0 * T_fH), 1e-9);
+  EXPECT_NE(u.out.find("U/T estimate "), std::string::npos) << u.out;
 
   const std::string bad = temp_path("param_claims_bad") + ".yaml";
   std::string limited = base;
