@@ -2,6 +2,7 @@
 // HTML page builder: the instrument seen from above, the calibration residuals, P3's GUM of the
 // base points with its budget, the budget of the ball centre per input class, and the routes'
 // expanded uncertainties against the verification errors (P3's Fig. 5 comparison).
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <numbers>
@@ -165,6 +166,37 @@ std::string r_test_report_html(const uncertainty::UncertaintyModel& model, const
         << (m.settings.form_per_sensor ? "fixed per sensor (the same contact patch)"
                                        : "drawn per reading")
         << ". Method and assumptions: docs/r-test.md.";
+  {  // The verdict box: does each route's U at P_m cover the verification's actual 95 % error?
+    const Verification& v = r.verification;
+    std::vector<std::string> lines;
+    int covering = 0;
+    for (const Prediction& p : r.predictions) {
+      std::string short_axes;
+      double lo = INFINITY, hi = 0.0;  // U ÷ actual over the axes
+      for (int k = 0; k < 3; ++k) {
+        lo = std::min(lo, p.axis[k].U / v.pooled95[k]);
+        hi = std::max(hi, p.axis[k].U / v.pooled95[k]);
+        if (p.axis[k].U < v.pooled95[k]) {
+          short_axes += std::string(short_axes.empty() ? "" : ", ") + "xyz"[k] + " (" +
+                        fx(100.0 * (p.axis[k].U / v.pooled95[k] - 1.0), 1) + " %)";
+        }
+      }
+      covering += short_axes.empty();
+      lines.push_back(p.label + ": U = " + fx(p.axis[0].U * kUmPerMm, 3) + ", " +
+                      fx(p.axis[1].U * kUmPerMm, 3) + ", " + fx(p.axis[2].U * kUmPerMm, 3) +
+                      " µm (x, y, z) — " +
+                      (short_axes.empty() ? "covers the actual 95 % error on every axis (U ÷ "
+                                            "actual " +
+                                                fx(lo, 2) + " … " + fx(hi, 2) + ")"
+                                          : "below the actual 95 % error on " + short_axes));
+    }
+    page.verdict(
+        std::to_string(covering) + " of " + std::to_string(r.predictions.size()) +
+            " routes give a U at P_m that covers the verification's actual 95 % |error| (" +
+            fx(v.pooled95[0] * kUmPerMm, 3) + ", " + fx(v.pooled95[1] * kUmPerMm, 3) + ", " +
+            fx(v.pooled95[2] * kUmPerMm, 3) + " µm on x, y, z).",
+        lines);
+  }
   page.paragraph(intro.str());
   for (const std::string& w : r.warnings) page.paragraph("Warning: " + w);
   page.contents();

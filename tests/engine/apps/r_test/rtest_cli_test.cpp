@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -124,6 +125,29 @@ TEST(RTestCli, SmallRunWritesTheRTestSection) {
   EXPECT_EQ(rt.at("verification").at("measurements").get<int>(), 550);  // 50 x (10 + P_m)
   EXPECT_EQ(rt.at("verification").at("failed").get<int>(), 0);
   EXPECT_TRUE(fs::exists(out + "/report.html"));
+  {  // The report opens with the verdict box: how many routes' U cover the actual 95 % error.
+    std::ifstream in(out + "/report.html");
+    const std::string html((std::istreambuf_iterator<char>(in)), {});
+    const auto& actual = rt.at("verification").at("actual_U_um");
+    int covering = 0, routes = 0;
+    for (const auto& [id, p] : rt.at("predictions").items()) {
+      bool all = true;
+      for (int k = 0; k < 3; ++k) {
+        all = all &&
+              p.at(std::string(1, "xyz"[k])).at("U_um").get<double>() >= actual[k].get<double>();
+      }
+      covering += all;
+      ++routes;
+    }
+    const std::size_t box = html.find("<div class=\"verdict\">");
+    ASSERT_NE(box, std::string::npos);
+    EXPECT_LT(box, html.find("P3&#39;s contact R-Test"));
+    EXPECT_NE(html.find(std::to_string(covering) + " of " + std::to_string(routes) +
+                            " routes give a U at P_m that covers",
+                        box),
+              std::string::npos)
+        << html.substr(box, 300);
+  }
   EXPECT_EQ(j.at("seed").get<int>(), 3);
   // --seed overrides settings.seed (another calibration draw: other fitted base points).
   const std::string out2 = temp_path("good_out_seed");
