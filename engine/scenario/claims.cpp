@@ -121,9 +121,9 @@ std::string statistic_text(const ClaimSpec& claim) {
 }
 
 // claims: a list of {name (required, unique), quantity (required), side (left | right | both,
-// default both), statistic (required: mean | std | max | U | {quantile: p}), at_most_um and/or
-// at_least_um (both: a two-sided claim, for mean, std and U), confidence (1e-9 <= c <= 1 - 1e-9,
-// default 0.95)}.
+// default both), statistic (required: mean | std | max | U | U_over_T | {quantile: p}),
+// at_most_um and/or at_least_um (both: a two-sided claim, for mean, std and U; U_over_T takes
+// at_most / at_least, without unit), confidence (1e-9 <= c <= 1 - 1e-9, default 0.95)}.
 std::vector<ClaimSpec> read_claims(const YamlValue& value, bool has_effects,
                                    std::vector<std::string>* warnings) {
   const std::string expected =

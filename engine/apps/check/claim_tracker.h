@@ -11,7 +11,9 @@
 // - mean: the gears' means (the population mean of V with gears weighted equally), asymptotic
 //   confidence sequence. std: the standard deviation of V from the gears' means of v and v²,
 //   the same sequence on the delta-method linearisation. Both need finite variances and are
-//   large-sample (asymptotic) bounds.
+//   large-sample (asymptotic) bounds. U = 2√E[v²] from the gears' means of v², U/T that over
+//   the claim's tolerance width. Two-sided claims (a ≤ statistic ≤ b) take each bound at
+//   (1 − c)/2.
 // - max, at_most L: a claim no finite sample can prove. It fails as soon as one value beyond L
 //   is seen (certain); it holds only at the budget with no value beyond L in any gear, and then
 //   the probability that a gear shows one is below 1 − (1 − c)^(1/N) at confidence c (reported).
