@@ -131,7 +131,13 @@ HtmlReport& HtmlReport::table(const HtmlTable& table) {
 }
 
 HtmlReport& HtmlReport::figure(std::string_view svg, std::string_view caption) {
-  body_ += "<figure>\n";
+  return figure_with_class(svg, caption, "");
+}
+
+HtmlReport& HtmlReport::figure_with_class(std::string_view svg, std::string_view caption,
+                                          std::string_view css_class) {
+  body_ += css_class.empty() ? std::string("<figure>\n")
+                             : "<figure class=\"" + std::string(css_class) + "\">\n";
   body_ += svg;
   if (!caption.empty()) body_ += "<figcaption>" + escape_xml(caption) + "</figcaption>\n";
   body_ += "</figure>\n";
@@ -147,11 +153,7 @@ HtmlReport& HtmlReport::figure_row(
 }
 
 HtmlReport& HtmlReport::sheet(std::string_view svg, std::string_view caption) {
-  body_ += "<figure class=\"sheet\">\n";
-  body_ += svg;
-  if (!caption.empty()) body_ += "<figcaption>" + escape_xml(caption) + "</figcaption>\n";
-  body_ += "</figure>\n";
-  return *this;
+  return figure_with_class(svg, caption, "sheet");
 }
 
 HtmlReport& HtmlReport::verdict(std::string_view headline, const std::vector<std::string>& lines,

@@ -61,6 +61,9 @@ class HtmlReport {
   void write(const std::filesystem::path& file) const;
 
  private:
+  // A <figure> (with `css_class` when not empty) holding `svg` and the escaped caption.
+  HtmlReport& figure_with_class(std::string_view svg, std::string_view caption,
+                                std::string_view css_class);
   struct Anchor {
     int level;
     std::string id, text;

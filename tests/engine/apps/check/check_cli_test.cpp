@@ -446,34 +446,29 @@ TEST(CheckCli, ClaimsOnGearParameterErrors) {
   EXPECT_EQ(ju["claims"][0]["statistic"], "U (k = 2)") << ju.dump(1);
   ASSERT_EQ(run_gearmc("run " + upath + " --gears 256 --out " + out + "_run").exit_code, 0);
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out + "_run/summary.json"));
-  double sum_squares = 0.0, items = 0.0;
-  for (const char* side : {"left", "right"}) {
-    const nlohmann::json& e = summary["parameters"]["F_alpha"][side]["error"];
-    const double n = e["n"].get<double>(), m = e["mean"].get<double>(), s = e["std"].get<double>();
-    sum_squares += (n - 1.0) * s * s + n * m * m;
-    items += n;
-  }
-  EXPECT_NEAR(ju["claims"][0]["estimate_um"].get<double>(), 2.0 * std::sqrt(sum_squares / items),
-              1e-9);
+  // 2·√(Σ e² / n) over both sides of a parameter, from each side's n, mean and sample std.
+  const auto expanded = [&](const char* parameter) {
+    double squares = 0.0, items = 0.0;
+    for (const char* side : {"left", "right"}) {
+      const nlohmann::json& e = summary["parameters"][parameter][side]["error"];
+      const double n = e["n"].get<double>(), m = e["mean"].get<double>();
+      const double s = e["std"].get<double>();
+      squares += (n - 1.0) * s * s + n * m * m;
+      items += n;
+    }
+    return 2.0 * std::sqrt(squares / items);
+  };
+  EXPECT_NEAR(ju["claims"][0]["estimate_um"].get<double>(), expanded("F_alpha"), 1e-9);
   // U/T: the same U over the tolerance interval's width, T for F_α ≤ T and 2T for f_Hα = ±T (T
   // from summary.json's conformity block; U of f_Hα from its own errors as above).
   const double T_Fa = summary["conformity"]["F_alpha"]["tolerance_um"].get<double>();
   EXPECT_EQ(ju["claims"][1]["tolerance_width_um"].get<double>(), T_Fa);
-  EXPECT_NEAR(ju["claims"][1]["estimate"].get<double>(),
-              2.0 * std::sqrt(sum_squares / items) / T_Fa, 1e-9);
+  EXPECT_NEAR(ju["claims"][1]["estimate"].get<double>(), expanded("F_alpha") / T_Fa, 1e-9);
   EXPECT_EQ(ju["claims"][1]["at_most"].get<double>(), 0.5);
   EXPECT_FALSE(ju["claims"][1].contains("estimate_um"));
-  double fh_squares = 0.0, fh_items = 0.0;
-  for (const char* side : {"left", "right"}) {
-    const nlohmann::json& e = summary["parameters"]["f_Halpha"][side]["error"];
-    const double n = e["n"].get<double>(), m = e["mean"].get<double>(), s = e["std"].get<double>();
-    fh_squares += (n - 1.0) * s * s + n * m * m;
-    fh_items += n;
-  }
   const double T_fH = summary["conformity"]["f_Halpha"]["tolerance_um"].get<double>();
   EXPECT_EQ(ju["claims"][2]["tolerance_width_um"].get<double>(), 2.0 * T_fH);
-  EXPECT_NEAR(ju["claims"][2]["estimate"].get<double>(),
-              2.0 * std::sqrt(fh_squares / fh_items) / (2.0 * T_fH), 1e-9);
+  EXPECT_NEAR(ju["claims"][2]["estimate"].get<double>(), expanded("f_Halpha") / (2.0 * T_fH), 1e-9);
   EXPECT_NE(u.out.find("U/T estimate "), std::string::npos) << u.out;
 
   const std::string bad = temp_path("param_claims_bad") + ".yaml";
