@@ -10,6 +10,9 @@
 #include <vector>
 
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -19,7 +22,7 @@ using testing_support::run_gearmc;
 
 TEST(ReadmeExamples, DiagnoseFindsTheLobingOfTheShippedTruth) {
   const std::string scenarios = std::string(GEARMC_SOURCE_DIR) + "/scenarios/diagnose/";
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_readme_diagnose";
+  const fs::path dir = fresh_temp_path("readme_diagnose");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string readings = (dir / "lobing.csv").string();
@@ -60,7 +63,7 @@ TEST(ReadmeExamples, TheUncertaintyExamplePrintsWhatTheReadmeShows) {
     }
   }
   ASSERT_GE(expected.size(), 8u) << "the README's uncertainty block was not found";
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_readme_uncertainty";
+  const fs::path dir = fresh_temp_path("readme_uncertainty");
   fs::remove_all(dir);
   const auto r = run_gearmc("uncertainty " + std::string(GEARMC_SOURCE_DIR) +
                             "/scenarios/uncertainty/mass_calibration.yaml --out " + dir.string());

@@ -34,7 +34,10 @@
 
 #include "tests/regression/reference_compare.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 #include "tests/support/text_files.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -221,7 +224,7 @@ class SimulateRegression : public ::testing::TestWithParam<SimulateCase> {};
 TEST_P(SimulateRegression, MatchesStoredReference) {
   const SimulateCase& c = GetParam();
   const fs::path source(GEARMC_SOURCE_DIR);
-  const fs::path csv = fs::path(::testing::TempDir()) / ("gearmc_regression_" + c.name + ".csv");
+  const fs::path csv = fresh_temp_path("regression_" + c.name + ".csv");
   fs::remove(csv);
   const auto result = run_gearmc("simulate " + (source / c.scenario).string() + " --out " +
                                  csv.string() + " " + c.options);
@@ -246,7 +249,7 @@ INSTANTIATE_TEST_SUITE_P(Commands, SimulateRegression, ::testing::ValuesIn(simul
 // diagnosed against lobing_model.yaml (noise only) with the default seed and null replicates.
 TEST(DiagnoseRegression, LobingExampleMatchesStoredReference) {
   const fs::path source(GEARMC_SOURCE_DIR);
-  const fs::path work = fs::path(::testing::TempDir()) / "gearmc_regression_diagnose_lobing";
+  const fs::path work = fresh_temp_path("regression_diagnose_lobing");
   fs::remove_all(work);
   fs::create_directories(work);
   const fs::path csv = work / "lobing.csv";

@@ -24,6 +24,9 @@
 
 #include "tests/regression/reference_compare.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -60,7 +63,7 @@ TEST_P(ScenarioRegression, MatchesStoredReference) {
   const std::string stem = GetParam();
   const fs::path scenarios = fs::path(GEARMC_SOURCE_DIR) / "scenarios";
   const fs::path reference_path = scenarios / (stem + ".ref.json");
-  const fs::path out = fs::path(::testing::TempDir()) / ("gearmc_regression_" + stem);
+  const fs::path out = fresh_temp_path("regression_" + stem);
   fs::remove_all(out);
   const auto result = run_gearmc("run " + (scenarios / (stem + ".yaml")).string() + " --gears " +
                                  std::to_string(kGears) + " --quiet --out " + out.string());

@@ -28,6 +28,9 @@
 #include <vector>
 
 #include "surfaces/mesh_contact.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -46,9 +49,17 @@ Eigen::Vector3d face_normal(const TriangleMesh& mesh, TriangleMesh::FaceHandle f
   return (v[1] - v[0]).cross(v[2] - v[0]).normalized();
 }
 
-std::string temp_path(const std::string& name) {
-  return testing::TempDir() + "gearmc_mesh_" + std::to_string(::getpid()) + "_" + name;
+// This process's folder for mesh files, made once (other tests write beside it in parallel).
+const std::filesystem::path& mesh_folder() {
+  static const std::filesystem::path folder = [] {
+    const std::filesystem::path p = fresh_temp_path("mesh");
+    std::filesystem::create_directories(p);
+    return p;
+  }();
+  return folder;
 }
+
+std::string temp_path(const std::string& name) { return (mesh_folder() / name).string(); }
 
 PerturbedGear nominal_perturbed(const InvoluteGear& gear) {
   PerturbedGear g;
@@ -341,7 +352,7 @@ TEST(MeshFiles, RoundTripKeepsCountsConnectivityAndCoordinatesToFloatPrecision) 
     std::filesystem::remove(path);
   }
   // Nothing but the files themselves was ever left in the directory.
-  for (const auto& entry : std::filesystem::directory_iterator(testing::TempDir())) {
+  for (const auto& entry : std::filesystem::directory_iterator(mesh_folder())) {
     EXPECT_EQ(entry.path().string().find(".partial-"), std::string::npos) << entry.path();
   }
 }
@@ -380,7 +391,7 @@ TEST(MeshFiles, ErrorsAreMeshIoErrors) {
   const std::string garbage = temp_path("garbage.off");
   std::ofstream(garbage) << "this is not an OFF file\n";
   EXPECT_THROW(read_mesh_file(garbage), MeshIoError);
-  EXPECT_THROW(read_mesh_file(testing::TempDir() + "."), MeshIoError);  // a directory
+  EXPECT_THROW(read_mesh_file(mesh_folder().string()), MeshIoError);  // a directory
   std::filesystem::remove(text);
   std::filesystem::remove(garbage);
 

@@ -4,6 +4,7 @@
 
 #include "core/provenance.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +19,7 @@
 namespace {
 
 using Result = gearmc::testing_support::CommandResult;
+using gearmc::testing_support::fresh_temp_path;
 
 Result run(const std::string& args) { return gearmc::testing_support::run_gearmc(args); }
 
@@ -60,7 +62,7 @@ TEST(Cli, BadInputExitsWithTwoAndOneMessage) {
   EXPECT_NE(missing.err.find("/nonexistent/scenario.yaml"), std::string::npos) << missing.err;
   EXPECT_TRUE(missing.out.empty());
 
-  const std::string path = testing::TempDir() + "gearmc_bad_key.yaml";
+  const std::string path = fresh_temp_path("bad_key.yaml").string();
   std::ofstream(path) << "gear:\n  teeth: 24\n  modul_mm: 5.6\n  face_width_mm: 10\n";
   const Result typo = run("geometry " + path);
   EXPECT_EQ(typo.exit_code, 2);
@@ -114,7 +116,7 @@ namespace {
 TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   namespace fs = std::filesystem;
   for (const char* ext : {"stl", "ply", "obj", "off"}) {
-    const fs::path file = fs::path(testing::TempDir()) / (std::string("gear2.") + ext);
+    const fs::path file = fresh_temp_path(std::string("cli_gear2.") + ext);
     fs::remove(file);
     const Result r =
         run("export-mesh --gear 2 --profile-samples 8 --face-samples 6 --out " + file.string());
@@ -127,7 +129,7 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
     // this coarse mesh's chords cut the flanks and tips, so within 1 %.
     EXPECT_NEAR(check.volume_mm3, 1.26388e6, 1.3e4) << ext;
   }
-  const Result bad = run("export-mesh --gear 2 --out " + testing::TempDir() + "gear.xyz");
+  const Result bad = run("export-mesh --gear 2 --out " + fresh_temp_path("gear.xyz").string());
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--out: got"), std::string::npos) << bad.err;
   EXPECT_EQ(run("export-mesh --gear 2").exit_code, 2);  // --out is required
@@ -135,7 +137,7 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   // ran out of memory under 4 GB): P1's 24 teeth × (2 × 2000 + 6 + 12) = 96 432 vertices per
   // section, beyond 20 000; 200 × 1000 gives 24 × 418 = 10 032 per section and (1000 + 2) × 10 032
   // = 10 052 064 in all (sections and the end faces' inner rings), beyond 2 000 000.
-  const std::string mesh = testing::TempDir() + "big.stl";
+  const std::string mesh = fresh_temp_path("big.stl").string();
   const Result wide =
       run("export-mesh --gear 0 --profile-samples 2000 --face-samples 20000 --out " + mesh);
   EXPECT_EQ(wide.exit_code, 2);
@@ -149,7 +151,7 @@ TEST(Cli, ExportMeshWritesAClosedGearThatReadsBack) {
   EXPECT_FALSE(std::filesystem::exists(mesh));
   // A nearly pointed tooth (α 30°, x 0.9: nominal tip thickness 0.08 mm) whose drawn flanks
   // cross before the tip: no closed section exists. Once an abort (SIGABRT); now a message.
-  const std::string pointed = testing::TempDir() + "pointed.yaml";
+  const std::string pointed = fresh_temp_path("pointed.yaml").string();
   {
     std::ifstream in(std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference.yaml");
     std::stringstream text;
@@ -180,7 +182,9 @@ TEST(Cli, OutputFilesThatCannotBeWrittenAreBadInputNamedBeforeTheWork) {
   // Before: `simulate` to a folder or an unwritable path said "internal error" (exit 1) after
   // the work, and export-mesh reported a refused path as "No such file or directory". /proc
   // refuses new files even for root (tests may run as root, so file modes prove nothing).
-  const std::string folder = testing::TempDir();
+  const std::filesystem::path folder_path = fresh_temp_path("cli_out_folder");
+  std::filesystem::create_directories(folder_path);
+  const std::string folder = folder_path.string();
   for (const std::string& command :
        {std::string("simulate --out "), std::string("export-mesh --gear 0 --out ")}) {
     const std::string file_ext = command.rfind("simulate", 0) == 0 ? ".csv" : ".stl";

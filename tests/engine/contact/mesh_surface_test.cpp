@@ -28,6 +28,9 @@
 #include "surfaces/flank_mesh.h"
 #include "tests/support/run_compare.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -40,8 +43,7 @@ constexpr double kR = 0.5;  // P1's stylus, mm
 // A fresh folder under the test temp dir, one per process (ctest runs each test in its own
 // process, in parallel).
 fs::path temp_folder(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) /
-                       ("gearmc_mesh_surface_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir = fresh_temp_path("mesh_surface_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

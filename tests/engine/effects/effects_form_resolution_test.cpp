@@ -28,6 +28,9 @@
 #include "tests/support/text_files.h"
 
 #include "tests/support/effect_chain.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -308,8 +311,7 @@ TEST(DiagnoseFormAndResolution, CliToldAsTheArtefactsFormKeptApartInFittedYamlAn
   using testing_support::read_text;
   using testing_support::run_gearmc;
   using testing_support::write_text;
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("gearmc_form_cli_" + std::to_string(::getpid()));
+  const fs::path dir = fresh_temp_path("form_cli");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string reference =

@@ -25,6 +25,9 @@
 #include "tests/support/text_files.h"
 
 #include "tests/support/effect_chain.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -133,8 +136,7 @@ TEST(RotaryTable, KeysAreRangeCheckedWithTheirPlace) {
 TEST(RotaryTable, ABadValueInAScenarioIsExitTwoWithItsPlaceAndNoOutput) {
   // The command as a user runs it: P1's scenario with a radial runout given in nm by mistake.
   namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("gearmc_rotary_bad_" + std::to_string(::getpid()));
+  const fs::path dir = fresh_temp_path("rotary_bad");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string reference =
@@ -156,8 +158,7 @@ TEST(RotaryTable, SimulateDiagnoseAndTheFittedModelClosesTheGap) {
   // diagnosed against the noise-only model: rotary_table is named, fitted.yaml carries it under
   // the effect's own keys, and the same readings against fitted.yaml show no gap.
   namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("gearmc_rotary_cli_" + std::to_string(::getpid()));
+  const fs::path dir = fresh_temp_path("rotary_cli");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string reference =

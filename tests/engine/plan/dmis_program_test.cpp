@@ -28,7 +28,10 @@
 #include "engine/scenario/scenario.h"
 #include "tests/support/dmis_grammar.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 #include "tests/support/text_files.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -83,7 +86,7 @@ struct Exported {
 
 // The program `gearmc export-plan` writes for `c`.
 Exported export_program(const Case& c) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("gearmc_dmis_program_" + c.name);
+  const fs::path dir = fresh_temp_path("dmis_program_" + c.name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::string args = "export-plan --format dmis --out " + (dir / "plan.dmi").string();

@@ -20,7 +20,10 @@
 #include "engine/readings/dmis_results.h"
 #include "engine/run/simulate.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 #include "tests/support/text_files.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -52,7 +55,7 @@ std::string dmis_results_of(const Readings& readings) {
 }
 
 TEST(DmisPlan, ExportPlanWritesEveryPlannedPointInProbingOrder) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_plan";
+  const fs::path dir = fresh_temp_path("dmis_plan");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string file = (dir / "plan.dmi").string();
@@ -132,7 +135,7 @@ TEST(DmisResults, ResultsOfThePlanReadBackAsTheSameReadingsAndDiagnoseAlike) {
     EXPECT_LT((a.c - b.c).norm(), 1e-9);
   }
   // Diagnosing the DMIS file names the hidden lobing, as the CSV does (README example).
-  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_results";
+  const fs::path dir = fresh_temp_path("dmis_results");
   fs::remove_all(dir);
   fs::create_directories(dir);
   {
@@ -153,7 +156,7 @@ TEST(DmisResults, TheProgramsOutputStatementsCarryWhatDiagnoseReadsBack) {
   // E = p + e n, e = (k mod 7 − 3) µm for the k-th output, plus the set-up step's actuals (a CMM
   // that writes every actual): the results read back as one reading per planned point, in the
   // plan's order, each with its e, and the set-up features skipped.
-  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_outputs";
+  const fs::path dir = fresh_temp_path("dmis_outputs");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const auto r = run_gearmc("export-plan --format dmis --out " + (dir / "plan.dmi").string());
@@ -302,7 +305,7 @@ TEST(DmisResults, BadResultsAreRefusedWithTheirPlace) {
   // (they were once placed by reading the file as a CSV: wrong line, no column).
   const std::string model =
       std::string(GEARMC_SOURCE_DIR) + "/scenarios/diagnose/lobing_model.yaml";
-  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_dmis_places";
+  const fs::path dir = fresh_temp_path("dmis_places");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const auto diagnose = [&](const std::string& text) {

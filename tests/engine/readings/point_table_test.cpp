@@ -17,6 +17,9 @@
 #include "engine/run/simulate.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -245,7 +248,7 @@ TEST(PointTable, TableOfSimulatedReadingsReadsBackAsTheCsvAndDiagnosesAlike) {
   }
 
   // `gearmc diagnose --columns` on the table names the hidden lobing (README example).
-  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_point_table";
+  const fs::path dir = fresh_temp_path("point_table");
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "table.csv", std::ios::binary) << text;

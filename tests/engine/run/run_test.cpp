@@ -24,6 +24,9 @@
 #include "engine/run/monte_carlo.h"
 #include "tests/support/run_compare.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -138,7 +141,7 @@ Result run_cli(const std::string& args) { return testing_support::run_gearmc(arg
 
 TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_run_points";
+  const fs::path dir = fresh_temp_path("run_points");
   fs::remove_all(dir);
   const Result r = run_cli("run --gears 2 --points --quiet --out " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -253,7 +256,7 @@ TEST(RunCommand, WritesSummaryHistogramsAndConsistentPoints) {
 
 // A scenario file in the test's temp folder.
 std::string write_scenario(const std::string& name, const std::string& text) {
-  const std::string path = testing::TempDir() + name;
+  const std::string path = fresh_temp_path(name).string();
   std::ofstream(path) << text;
   return path;
 }
@@ -281,7 +284,7 @@ TEST(RunCommand, AllContactsFailingIsAnErrorWithNothingWritten) {
   const std::string scenario =
       write_scenario("gearmc_nan_expression.yaml",
                      reference_with("", "deviations:\n", "deviations:\n  normal_um: \"0/0\"\n"));
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_nan_run";
+  const fs::path dir = fresh_temp_path("nan_run");
   fs::remove_all(dir);
   const Result r = run_cli("run " + scenario + " --gears 1 --quiet --out " + dir.string());
   EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -305,7 +308,7 @@ TEST(RunCommand, UnwritableOutputFolderFailsBeforeTheRun) {
 
 TEST(RunCommand, PointsAboveTheSizeLimitNeedForce) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_points_limit";
+  const fs::path dir = fresh_temp_path("points_limit");
   fs::remove_all(dir);
   // 100 000 gears x 2 400 points x 330 B = 79 GB > 4 GB: refused up front, nothing created.
   const Result r = run_cli("run --gears 100000 --points --quiet --out " + dir.string());
@@ -318,9 +321,9 @@ TEST(RunCommand, InterruptStopsCleanlyWithExit130) {
   // SIGINT one second into a run of 100 000 gears (about two minutes of work): exit 130, one
   // line on stderr, no partial file and no folder left behind.
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_interrupted";
+  const fs::path dir = fresh_temp_path("interrupted");
   fs::remove_all(dir);
-  const std::string err_file = testing::TempDir() + "gearmc_interrupted_err.txt";
+  const std::string err_file = fresh_temp_path("interrupted_err.txt").string();
   const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(GEARMC_BINARY) +
                           " run --gears 100000 --points --force --quiet --out " + dir.string() +
                           " >/dev/null 2>" + err_file;
@@ -338,7 +341,7 @@ TEST(RunCommand, ManyCollisionsGiveAWarning) {
   namespace fs = std::filesystem;
   const std::string scenario = write_scenario(
       "gearmc_big_stylus.yaml", reference_with("", "radius_mm: 0.5", "radius_mm: 3.0"));
-  const fs::path dir = fs::path(testing::TempDir()) / "gearmc_big_stylus";
+  const fs::path dir = fresh_temp_path("big_stylus");
   fs::remove_all(dir);
   const Result r = run_cli("run " + scenario + " --gears 1 --quiet --out " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -356,7 +359,7 @@ TEST(RunCommand, TwoScenarioFilesWithOneNameDoNotOverwriteEachOther) {
   // would silently replace the first one's results. It is refused with a hint instead; the
   // same file again (a re-run) is fine.
   namespace fs = std::filesystem;
-  const fs::path work = fs::path(testing::TempDir()) / "gearmc_same_name";
+  const fs::path work = fresh_temp_path("same_name");
   fs::remove_all(work);
   fs::create_directories(work);
   const std::string text = reference_with("");
@@ -381,7 +384,7 @@ TEST(RunCommand, OneGearReRunGoesBesideTheFullRunNotOverIt) {
   // `run --only-gear K` without --out writes results/<name>/gear_K/: the full run's report and
   // summary stay as they were (byte for byte), and the re-run's summary counts one gear.
   namespace fs = std::filesystem;
-  const fs::path work = fs::path(testing::TempDir()) / "gearmc_only_gear";
+  const fs::path work = fresh_temp_path("only_gear");
   fs::remove_all(work);
   fs::create_directories(work);
   std::ofstream(work / "a.yaml") << reference_with("");
@@ -408,7 +411,8 @@ TEST(RunCommand, OneGearReRunGoesBesideTheFullRunNotOverIt) {
 
 TEST(RunCommand, BadOptionsExitWithTwo) {
   EXPECT_EQ(run_cli("run --gears 0").exit_code, 2);
-  EXPECT_EQ(run_cli("run --only-gear 60 --gears 5 --out " + testing::TempDir() + "x").exit_code, 2);
+  EXPECT_EQ(
+      run_cli("run --only-gear 60 --gears 5 --out " + fresh_temp_path("x").string()).exit_code, 2);
   EXPECT_EQ(run_cli("run /nonexistent.yaml").exit_code, 2);
 }
 

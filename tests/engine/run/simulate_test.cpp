@@ -14,6 +14,9 @@
 #include "engine/run/monte_carlo.h"
 #include "engine/run/simulate.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -124,7 +127,7 @@ TEST(RunWithEffects, TotalErrorAndBudgetAddUpAndAreThreadIndependent) {
 
 TEST(SimulateCli, WritesReproducibleReadingsTheReaderAccepts) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(::testing::TempDir()) / "gearmc_simulate_cli";
+  const fs::path dir = fresh_temp_path("simulate_cli");
   fs::create_directories(dir);
   const fs::path scenario = dir / "lobing.yaml";
   {

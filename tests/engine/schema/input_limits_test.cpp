@@ -25,6 +25,9 @@
 #include "engine/scenario/scenario.h"
 #include "engine/schema/parameter_ranges.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 #ifndef GEARMC_SOURCE_DIR
 #error "GEARMC_SOURCE_DIR (the repository root) must be defined"
@@ -62,15 +65,15 @@ InputError scenario_error(const std::string& text) {
   return input_error([&] { parse_scenario(text, "t.yaml"); });
 }
 
-class TempDir {
+class CaseFolder {
  public:
-  TempDir() {
+  CaseFolder() {
     path_ = std::filesystem::temp_directory_path() /
             ("gearmc_limits_" + std::to_string(::getpid()) + "_" +
              ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(path_);
   }
-  ~TempDir() { std::filesystem::remove_all(path_); }
+  ~CaseFolder() { std::filesystem::remove_all(path_); }
   std::string file(const std::string& name) const { return (path_ / name).string(); }
 
  private:
@@ -80,7 +83,7 @@ class TempDir {
 // ---- files ----------------------------------------------------------------------------------
 
 TEST(InputFileTest, RefusesFifoDeviceAndDirectoryBeforeOpening) {
-  TempDir dir;
+  CaseFolder dir;
   const std::string fifo = dir.file("pipe.yaml");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   // A FIFO without a writer would block an open(): the stat check refuses it first.
@@ -98,7 +101,7 @@ TEST(InputFileTest, RefusesFifoDeviceAndDirectoryBeforeOpening) {
 // A mesh file under `surfaces:` is an input file like the scenario: a FIFO given as the mesh
 // once blocked `run` forever (OpenMesh opened it); /dev/zero as a mesh would never end.
 TEST(InputFileTest, AMeshFileMustBeARegularFileToo) {
-  TempDir dir;
+  CaseFolder dir;
   const std::string fifo = dir.file("flank.stl");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string text =
@@ -113,7 +116,7 @@ TEST(InputFileTest, AMeshFileMustBeARegularFileToo) {
 }
 
 TEST(InputFileTest, CapsTheFileSize) {
-  TempDir dir;
+  CaseFolder dir;
   // Sparse files: the size is checked from stat, nothing is read.
   const std::string big = dir.file("big.yaml");
   std::ofstream(big).close();
@@ -507,10 +510,10 @@ TEST(ToleranceCheckTest, ATightRunoutIsAWarningAtLoadAndNeverAnInternalError) {
   EXPECT_THAT(tight.warnings[0], HasSubstr("p1.yaml:23:10: tolerances.overrides_um.F_r: F_r "
                                            "leaves little room"));
   // A run that meets a gear no draw can fit (gear 112 of seed 1) is bad input, exit 2.
-  const std::string path = testing::TempDir() + "gearmc_fr5.yaml";
+  const std::string path = fresh_temp_path("fr5.yaml").string();
   std::ofstream(path) << text;
   const auto r = testing_support::run_gearmc("run " + path + " --gears 200 --quiet --out " +
-                                             testing::TempDir() + "gearmc_fr5_out");
+                                             fresh_temp_path("fr5_out").string());
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("raise F_r"));
   EXPECT_THAT(r.err, Not(HasSubstr("internal error")));

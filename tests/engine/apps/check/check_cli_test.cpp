@@ -20,6 +20,9 @@
 #include "core/input_error.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -37,10 +40,7 @@ tolerances:
 probing: {points_along_profile: 3, sections_across_face: 2, teeth: [1, 7, 13, 19]}
 )Y";
 
-std::string temp_path(const std::string& tag) {
-  return (fs::path(::testing::TempDir()) / ("check_" + tag + "_" + std::to_string(::getpid())))
-      .string();
-}
+std::string temp_path(const std::string& tag) { return fresh_temp_path("check_" + tag).string(); }
 
 std::string write_scenario(const std::string& tag, const std::string& claims) {
   const std::string path = temp_path(tag) + ".yaml";

@@ -25,7 +25,10 @@
 #include "engine/effects/measurement_effect.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
+#include "tests/support/temp_paths.h"
 #include "tests/support/text_files.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -51,8 +54,7 @@ std::string scenario_text(const std::string& name) {
 class DiagnoseCli : public ::testing::Test {
  public:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::path(::testing::TempDir()) /
-                        ("gearmc_diagnose_cli_" + std::to_string(::getpid())));
+    dir_ = new fs::path(fresh_temp_path("diagnose_cli"));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     const std::string reference = scenario_text("p1_reference");

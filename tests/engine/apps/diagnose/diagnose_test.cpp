@@ -26,6 +26,9 @@
 #include "engine/apps/diagnose/diagnosis_json.h"
 #include "engine/apps/diagnose/point_law_stage.h"
 #include "tests/support/diagnose_readings.h"
+#include "tests/support/temp_paths.h"
+
+using ::gearmc::testing_support::fresh_temp_path;
 
 namespace gearmc {
 namespace {
@@ -285,8 +288,7 @@ TEST(Diagnose, SameSeedSameResultAndTheJsonOfInterfaceMd) {
   const std::string second = diagnosis_json(diagnose(baseline(), readings));
   EXPECT_EQ(first, second);
 
-  const auto dir = std::filesystem::path(::testing::TempDir()) /
-                   ("gearmc_diagnose_test_" + std::to_string(::getpid()));
+  const auto dir = fresh_temp_path("diagnose_test");
   std::filesystem::create_directories(dir);
   write_diagnosis_json((dir / "diagnosis.json").string(), diagnose(baseline(), readings));
   std::ifstream in(dir / "diagnosis.json");
