@@ -46,8 +46,7 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   for (ClaimSpec& c : scenario.claims) {
     if (c.statistic != ClaimStatistic::kUOverT) continue;
     const std::optional<GearParameter> p = parameter_from_symbol(c.parameter);
-    const std::optional<double> T =
-        p ? mc.tolerances().get_um(parameter_tolerance_kind(*p)) : std::nullopt;
+    const std::optional<double> T = p ? parameter_tolerance_um(mc.tolerances(), *p) : std::nullopt;
     if (!T || !(*T > 0.0)) {
       throw InputError(c.statistic_where, "claims.statistic", "U_over_T",
                        "a statistic this claim can have: the scenario's tolerances have no T for " +

@@ -14,13 +14,15 @@ const std::array<GearParameter, kGearParameterCount>& all_gear_parameters() {
   static const std::array<GearParameter, kGearParameterCount> all = {
       GearParameter::kFalpha, GearParameter::kfHalpha, GearParameter::kffalpha,
       GearParameter::kFbeta,  GearParameter::kfHbeta,  GearParameter::kffbeta,
-      GearParameter::kfpt,    GearParameter::kFp,      GearParameter::kFr};
+      GearParameter::kfpt,    GearParameter::kFp,      GearParameter::kFr,
+      GearParameter::kEsn,    GearParameter::kEWk,     GearParameter::kEMdK};
   return all;
 }
 
 const std::string& parameter_symbol(GearParameter p) {
   static const std::array<std::string, kGearParameterCount> symbols = {
-      "F_alpha", "f_Halpha", "f_falpha", "F_beta", "f_Hbeta", "f_fbeta", "f_pt", "F_p", "F_r"};
+      "F_alpha", "f_Halpha", "f_falpha", "F_beta", "f_Hbeta", "f_fbeta",
+      "f_pt",    "F_p",      "F_r",      "E_sn",   "E_Wk",    "E_MdK"};
   return symbols[static_cast<int>(p)];
 }
 
@@ -32,10 +34,24 @@ std::optional<GearParameter> parameter_from_symbol(const std::string& symbol) {
 }
 
 bool parameter_signed(GearParameter p) {
-  return p == GearParameter::kfHalpha || p == GearParameter::kfHbeta || p == GearParameter::kfpt;
+  return p == GearParameter::kfHalpha || p == GearParameter::kfHbeta || p == GearParameter::kfpt ||
+         parameter_is_size(p);
 }
 
-ToleranceKind parameter_tolerance_kind(GearParameter p) {
+std::optional<double> parameter_tolerance_um(const ToleranceSet& tolerances, GearParameter p) {
+  const std::optional<ToleranceKind> kind = parameter_tolerance_kind(p);
+  return kind ? tolerances.get_um(*kind) : std::nullopt;
+}
+
+bool parameter_is_size(GearParameter p) {
+  return p == GearParameter::kEsn || p == GearParameter::kEWk || p == GearParameter::kEMdK;
+}
+
+bool parameter_of_both_flanks(GearParameter p) {
+  return p == GearParameter::kFr || parameter_is_size(p);
+}
+
+std::optional<ToleranceKind> parameter_tolerance_kind(GearParameter p) {
   switch (p) {
     case GearParameter::kFalpha:
       return ToleranceKind::kProfileTotal;
@@ -55,8 +71,12 @@ ToleranceKind parameter_tolerance_kind(GearParameter p) {
       return ToleranceKind::kCumulativePitch;
     case GearParameter::kFr:
       return ToleranceKind::kRunout;
+    case GearParameter::kEsn:
+    case GearParameter::kEWk:
+    case GearParameter::kEMdK:
+      return std::nullopt;
   }
-  return ToleranceKind::kRunout;
+  return std::nullopt;
 }
 
 std::optional<TraceResult> evaluate_trace_over(std::span<const double> x, std::span<const double> d,
@@ -127,12 +147,15 @@ PitchResult evaluate_pitch(std::span<const double> u) {
   return r;
 }
 
-double ball_radial_displacement_um(const BallContact& c, double d_right_um, double d_left_um) {
+Eigen::Vector2d ball_displacement_um(const BallContact& c, double d_right_um, double d_left_um) {
   Eigen::Matrix2d A;
   A.row(0) = c.normal_right.transpose();
   A.row(1) = c.normal_left.transpose();
-  const Eigen::Vector2d delta = A.inverse() * Eigen::Vector2d(d_right_um, d_left_um);
-  return delta.dot(c.radial);
+  return A.inverse() * Eigen::Vector2d(d_right_um, d_left_um);
+}
+
+double ball_radial_displacement_um(const BallContact& c, double d_right_um, double d_left_um) {
+  return ball_displacement_um(c, d_right_um, d_left_um).dot(c.radial);
 }
 
 std::vector<BallContact> ball_contacts(const InvoluteGear& gear, double L, double z) {
@@ -162,6 +185,22 @@ double runout_um(const std::vector<BallContact>& contacts, std::span<const doubl
     hi = std::max(hi, r);
   }
   return z ? hi - lo : 0.0;
+}
+
+double tooth_thickness_deviation_um(double d_left_um, double d_right_um, double alpha_t_rad,
+                                    double beta_rad) {
+  return (d_left_um + d_right_um) / std::cos(alpha_t_rad) * std::cos(beta_rad);
+}
+
+double span_deviation_um(double d_first_um, double d_last_um, double base_helix_angle_rad) {
+  return (d_first_um + d_last_um) * std::cos(base_helix_angle_rad);
+}
+
+double ball_dimension_deviation_um(const BallContact& a, const Eigen::Vector2d& delta_a_um,
+                                   const BallContact& b, const Eigen::Vector2d& delta_b_um) {
+  // The centres lie at r_K e_a and r_K e_b: their distance changes along (e_a − e_b).
+  const Eigen::Vector2d u = (a.radial - b.radial).normalized();
+  return u.dot(delta_a_um - delta_b_um);
 }
 
 }  // namespace gearmc

@@ -10,6 +10,8 @@
 #include "engine/contact/contact.h"
 #include "engine/contact/tooth_space.h"
 #include "engine/effects/measurement_effect.h"
+#include "engine/evaluation/trace_filter.h"
+#include "gears/size_dimensions.h"
 #include "surfaces/analytic_flank.h"
 
 namespace gearmc {
@@ -176,6 +178,28 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
     }
   }
   balls_ = ball_contacts(gear, ball_L_, profile_z_);
+  // The size gauges (the scenario check refused gauges touching outside L_α when listed).
+  if (evaluates(GearParameter::kEWk)) {
+    span_k_ = evaluation_span_teeth(gear, spec);
+    if (span_k_) span_L_ = span_contact_roll_length_mm(gear, *span_k_);
+  }
+  if (evaluates(GearParameter::kEMdK)) {
+    size_ball_D_ = evaluation_ball_diameter_mm(gear, spec);
+    if (size_ball_D_) {
+      const BallPosition ball = ball_position(gear, *size_ball_D_);
+      size_ball_L_ = ball.contact_roll_length_mm;  // the deviations are read here
+      // The normals where they point at the centre in its section (see BallPosition).
+      size_balls_ = ball_contacts(gear, ball.section_foot_roll_length_mm, profile_z_);
+    }
+  }
+  for (const auto& [p, known] : {std::pair{GearParameter::kEWk, span_k_.has_value()},
+                                 std::pair{GearParameter::kEMdK, size_ball_D_.has_value()}}) {
+    if (known) continue;
+    const auto at = std::find(parameters_.begin(), parameters_.end(), p);
+    if (at == parameters_.end()) continue;
+    parameters_.erase(at);
+    notes_.push_back(parameter_symbol(p) + ": not evaluated, no gauge touches within L_α");
+  }
 }
 
 void ParameterEvaluator::choose_program_traces(std::size_t f) {
@@ -300,11 +324,20 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
   const int teeth = gear.teeth();
   std::vector<std::vector<double>> pitch_u[2], ball_d[2];  // [side][variant][tooth-1]
   std::vector<double> pitch_dense[2], ball_dense[2];
+  // The size gauges' readings of every flank: at the reference circle, the span's jaws, the
+  // ball's contact ([gauge][side][variant][tooth-1]; dense: [gauge][side][tooth-1]).
+  const double gauge_L[3] = {e_.reference_L_, e_.span_L_, e_.size_ball_L_};
+  std::vector<std::vector<double>> gauge_d[3][2];
+  std::vector<double> gauge_dense[3][2];
   for (int s = 0; s < 2; ++s) {
     pitch_u[s].assign(variants, std::vector<double>(teeth, kNaN));
     ball_d[s].assign(variants, std::vector<double>(teeth, kNaN));
     pitch_dense[s].assign(teeth, kNaN);
     ball_dense[s].assign(teeth, kNaN);
+    for (int gauge = 0; gauge < 3; ++gauge) {
+      gauge_d[gauge][s].assign(variants, std::vector<double>(teeth, kNaN));
+      gauge_dense[gauge][s].assign(teeth, kNaN);
+    }
   }
   const std::vector<PlanFlank>& flanks = model.flanks();
   // The pitch is an arc on the reference circle of the transverse section, where the involute's
@@ -411,9 +444,17 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
         dd[i] = profile ? true_deviation(ps * xd[i], e_.flank_profile_z_[f])
                         : true_deviation(e_.flank_helix_L_[f], xd[i]);
       }
-      const auto dense = evaluate_trace_over(xd, dd, a, b);
+      // The trace parameters of filtered traces (ISO 16610-21 Gaussian, `*_cutoff_mm`), the
+      // real surface's dense trace filtered alike; pitch and sizes read the unfiltered traces.
+      const std::optional<double> cutoff =
+          profile ? e_.spec_.profile_cutoff_mm : e_.spec_.helix_cutoff_mm;
+      const auto filtered = [&](const std::vector<double>& xs, const std::vector<double>& ds) {
+        return cutoff ? gaussian_regression_filter(xs, ds, *cutoff) : ds;
+      };
+      const auto dense = evaluate_trace_over(xd, filtered(xd, dd), a, b);
       std::vector<std::optional<TraceResult>> results(variants);
-      for (int v = 0; v < variants; ++v) results[v] = evaluate_trace_over(x, d[v], a, b);
+      for (int v = 0; v < variants; ++v)
+        results[v] = evaluate_trace_over(x, filtered(x, d[v]), a, b);
       const auto column = [&](auto field) {
         std::vector<double> values(variants);
         for (int v = 0; v < variants; ++v) values[v] = results[v] ? field(*results[v]) : kNaN;
@@ -459,6 +500,12 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
         pitch_dense[s][k] = flank_arc_position_um(
             flank.side, true_deviation(e_.reference_L_, e_.profile_z_), alpha);
         ball_dense[s][k] = true_deviation(e_.ball_L_, e_.profile_z_);
+        for (int gauge = 0; gauge < 3; ++gauge) {
+          for (int v = 0; v < variants; ++v) {
+            gauge_d[gauge][s][v][k] = interpolate_trace(x, d[v], ps * gauge_L[gauge]);
+          }
+          gauge_dense[gauge][s][k] = true_deviation(gauge_L[gauge], e_.profile_z_);
+        }
       }
     }
   }
@@ -507,6 +554,55 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
               : kNaN);
       out.traces.ball_true.push_back(
           ball_radial_displacement_um(e_.balls_[k], ball_dense[1][k], ball_dense[0][next]));
+    }
+  }
+  // The size deviations: an item for every tooth (E_sn), span (E_Wk) or ball pair (E_MdK)
+  // whose flanks were all evaluated.
+  const auto size_item = [&](GearParameter p, const auto& value_of) {
+    std::vector<double> v(variants);
+    for (int i = 0; i < variants; ++i) v[i] = value_of(i);
+    const double dense = value_of(-1);
+    if (std::isnan(dense) || std::isnan(v[0])) return;  // a flank not probed
+    put(p, 0, v, dense);
+  };
+  // d of gauge g, side s, variant v (−1: dense truth), tooth k (0-based, taken modulo z).
+  const auto reading = [&](int gauge, int s, int v, int k) {
+    k = (k % teeth + teeth) % teeth;
+    return v < 0 ? gauge_dense[gauge][s][k] : gauge_d[gauge][s][v][k];
+  };
+  if (e_.evaluates(GearParameter::kEsn)) {
+    for (int k = 0; k < teeth; ++k) {
+      size_item(GearParameter::kEsn, [&](int v) {
+        return tooth_thickness_deviation_um(reading(0, 0, v, k), reading(0, 1, v, k), alpha,
+                                            gear.helix_angle_rad());
+      });
+    }
+  }
+  if (e_.evaluates(GearParameter::kEWk)) {
+    const int span = *e_.span_k_;
+    for (int k = 0; k < teeth; ++k) {  // teeth k+1 … k+span: L of the first, R of the last
+      size_item(GearParameter::kEWk, [&](int v) {
+        return span_deviation_um(reading(1, 0, v, k), reading(1, 1, v, k + span - 1),
+                                 gear.base_helix_angle_rad());
+      });
+    }
+  }
+  if (e_.evaluates(GearParameter::kEMdK)) {
+    // Ball k sits in space k (between R of tooth k+1 and L of tooth k+2); its partner opposite
+    // (even z: z/2 pairs) or nearly so (odd z: every space with the one (z−1)/2 further on).
+    const int across = teeth / 2;
+    const int pairs = teeth % 2 == 0 ? across : teeth;
+    const auto ball = [&](int k) -> const BallContact& {
+      return e_.size_balls_[static_cast<std::size_t>(k % teeth)];
+    };
+    const auto shift = [&](int v, int k) {
+      return ball_displacement_um(ball(k), reading(2, 1, v, k), reading(2, 0, v, k + 1));
+    };
+    for (int k = 0; k < pairs; ++k) {
+      size_item(GearParameter::kEMdK, [&](int v) {
+        return ball_dimension_deviation_um(ball(k), shift(v, k), ball(k + across),
+                                           shift(v, k + across));
+      });
     }
   }
   return out;

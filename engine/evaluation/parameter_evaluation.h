@@ -10,9 +10,12 @@
 // measurement error alone) — and `true_dense`, from a dense trace of the real surface (the gear's
 // actual parameter; true_points − true_dense is the sampling error of a sparse trace). Pitch from
 // the profile traces at the reference circle; runout from a ball in every tooth space touching
-// the profile traces at mid profile. Deviations µm in the transverse plane (ISO 1328-1; along
-// the nominal outward normal on a spur gear, that normal's component ÷ cos(beta_b) on a helical
-// one), lengths mm.
+// the profile traces at mid profile; the size deviations from the profile traces where the gauges
+// touch: E_sn on the reference circle, E_Wk where the jaws of the span over k teeth touch its
+// two outer flanks, E_MdK where the ball of diameter D_M touches (gears/size_dimensions.h), all
+// in the profile traces' transverse section. Deviations µm in the transverse plane (ISO 1328-1;
+// along the nominal outward normal on a spur gear, that normal's component ÷ cos(beta_b) on a
+// helical one), lengths mm.
 #pragma once
 
 #include <array>
@@ -91,6 +94,12 @@ class ParameterEvaluator {
   double helix_start_mm() const { return helix_start_; }
   double helix_end_mm() const { return helix_end_; }
   int effect_count() const;  // effects in the chain (budget columns: these + δRcomp alone)
+  // The gauges of the size deviations (nullopt when E_Wk / E_MdK are not evaluated): span k and
+  // where its jaws touch (roll length, mm); ball diameter D_M and where it touches (mm).
+  std::optional<int> span_teeth() const { return span_k_; }
+  double span_contact_mm() const { return span_L_; }
+  std::optional<double> ball_diameter_mm() const { return size_ball_D_; }
+  double ball_contact_mm() const { return size_ball_L_; }
 
   // Collects the grid's measurements of one gear, then evaluates.
   class Gear {
@@ -141,6 +150,10 @@ class ParameterEvaluator {
   void choose_program_traces(std::size_t flank_index);
   std::vector<PlanFlank> scans_;  // dedicated scans per probed flank (empty: the grid)
   std::vector<BallContact> balls_;
+  std::optional<int> span_k_;
+  std::optional<double> size_ball_D_;
+  double span_L_ = 0, size_ball_L_ = 0;
+  std::vector<BallContact> size_balls_;  // the E_MdK ball's contacts, space by space
 };
 
 }  // namespace gearmc

@@ -69,8 +69,10 @@ struct ClassOf {
   }
   std::optional<int> operator()(GearParameter q, double value_um) const {
     const InvoluteGear& g = mc.gear();
-    return iso1328_class_met(parameter_tolerance_kind(q), value_um, g.reference_diameter_mm(),
-                             g.module_mm(), g.face_width_mm(), g.teeth());
+    const std::optional<ToleranceKind> kind = parameter_tolerance_kind(q);
+    if (!kind) return std::nullopt;
+    return iso1328_class_met(*kind, value_um, g.reference_diameter_mm(), g.module_mm(),
+                             g.face_width_mm(), g.teeth());
   }
 };
 
@@ -91,8 +93,8 @@ InspectionSheet trace_sheet(const MonteCarloRun& mc, const ParameterPresentation
   sheet.position_label = profile ? "roll length L, mm" : "face position z, mm";
   sheet.top_word = profile ? "tip" : "z = b";
   sheet.positions_downwards = profile && mc.gear().internal();
-  sheet.total_tolerance_um = tol.get_um(parameter_tolerance_kind(params[0]));
-  sheet.slope_tolerance_um = tol.get_um(parameter_tolerance_kind(params[1]));
+  sheet.total_tolerance_um = parameter_tolerance_um(tol, params[0]);
+  sheet.slope_tolerance_um = parameter_tolerance_um(tol, params[1]);
   const std::vector<int> teeth = chart_teeth(traces, mc.gear().teeth());
   for (int s = 0; s < 2; ++s) {
     const FlankSide side = s == 0 ? FlankSide::kLeft : FlankSide::kRight;
@@ -102,7 +104,7 @@ InspectionSheet trace_sheet(const MonteCarloRun& mc, const ParameterPresentation
     for (std::size_t i = 0; i < params.size(); ++i) {
       InspectionValueRow row;
       row.symbol = symbols[i];
-      row.tolerance_um = tol.get_um(parameter_tolerance_kind(params[i]));
+      row.tolerance_um = parameter_tolerance_um(tol, params[i]);
       row.two_sided = parameter_signed(params[i]);
       row.expanded_uncertainty_um = expanded_uncertainty(p, params[i], side_name);
       out.rows.push_back(row);
@@ -166,7 +168,7 @@ std::vector<RunFigure> parameter_figures(const MonteCarloRun& mc, const RunResul
   const auto values_text = [&](GearParameter q, double measured, double truth,
                                const std::string& side) {
     std::string text = parameter_symbol(q) + " " + parameter_text(measured, 1) + " µm";
-    if (const auto t = tol.get_um(parameter_tolerance_kind(q))) {
+    if (const auto t = parameter_tolerance_um(tol, q)) {
       text += std::string(" (T ") + (q == GearParameter::kfpt ? "±" : "") + parameter_text(*t, 1);
       if (const auto U = expanded_uncertainty(p, q, side)) text += ", U " + parameter_text(*U, 1);
       if (classes) {
@@ -331,6 +333,18 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
       ". error = measured − true, true = the same evaluation of the real surface on a dense "
       "trace; U = 2·√(u² + bias²). Measurement error: measured − true at the same points; "
       "sampling error: true at the points − dense true (standard deviations).");
+  if (const std::string sizes = size_gauges_text(mc); !sizes.empty()) report.paragraph(sizes);
+  if (const auto& spec = e.spec(); spec.profile_cutoff_mm || spec.helix_cutoff_mm) {
+    const auto cut = [](const std::optional<double>& c) {
+      return c ? "λc " + parameter_text(*c, 3) + " mm" : std::string("unfiltered");
+    };
+    report.paragraph(
+        "Filter (ISO 16610-21 Gaussian, first-order regression at the trace ends): "
+        "profile " +
+        cut(spec.profile_cutoff_mm) + ", helix " + cut(spec.helix_cutoff_mm) +
+        "; F, f_H, f_f of the filtered measured and true traces, the charts show "
+        "the unfiltered points.");
+  }
   HtmlTable t;
   t.caption = "Parameters (µm)";
   t.header = {"parameter",     "side",           "n",       "true mean",
@@ -382,8 +396,11 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
   for (const ParameterSummary& s : p.parameters) {
     const ParameterConformity& k = s.conformity;
     if (!k.tolerance_um) {
-      c.rows.push_back({{parameter_symbol(s.parameter), "–", "no tolerance in the set", "", "", "",
-                         "", "", "", ""}});
+      c.rows.push_back(
+          {{parameter_symbol(s.parameter), "–",
+            parameter_is_size(s.parameter) ? "a size: its allowances are the drawing's, not read"
+                                           : "no tolerance in the set",
+            "", "", "", "", "", "", ""}});
       continue;
     }
     c.rows.push_back(

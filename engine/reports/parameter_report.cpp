@@ -12,6 +12,7 @@
 #include "engine/reports/svg_plot.h"
 #include "engine/statistics/histogram_bins.h"
 #include "engine/statistics/stats_json.h"
+#include "gears/size_dimensions.h"
 
 namespace gearmc {
 namespace {
@@ -83,9 +84,9 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
     summary.parameter = p;
     const auto& values = r.parameters->values[static_cast<int>(p)];
     ParameterConformity& c = summary.conformity;
-    const ToleranceKind kind = parameter_tolerance_kind(p);
-    c.tolerance_um = tolerances.get_um(kind);
-    c.tolerance_symbol = tolerance_symbol(kind, tolerances.standard).value_or("");
+    const std::optional<ToleranceKind> kind = parameter_tolerance_kind(p);
+    c.tolerance_um = parameter_tolerance_um(tolerances, p);
+    c.tolerance_symbol = kind ? tolerance_symbol(*kind, tolerances.standard).value_or("") : "";
     c.two_sided = parameter_signed(p);
     c.rule = evaluator->spec().decision_rule == "guard_banded" ? DecisionRule::kGuardBanded
                                                                : DecisionRule::kSimple;
@@ -99,7 +100,7 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
     for (int s = 0; s < 2; ++s) {
       if (values[s].empty()) continue;
       ParameterSideSummary side;
-      side.side = p == GearParameter::kFr ? "both" : (s == 0 ? "left" : "right");
+      side.side = parameter_of_both_flanks(p) ? "both" : (s == 0 ? "left" : "right");
       side.budget.resize(view.budget_sources.size());
       for (const ParameterValue& v : values[s]) {
         ++side.items;
@@ -220,9 +221,41 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
           ? "dedicated scan of " + std::to_string(spec.helix_points) + " points at mid profile"
           : std::string("the probing grid's column nearest mid profile");
   how["truth_points"] = spec.truth_points;
+  const auto cutoff_json = [](const std::optional<double>& c) {
+    return c ? nlohmann::ordered_json(*c) : nlohmann::ordered_json(nullptr);
+  };
+  how["profile_cutoff_mm"] = cutoff_json(spec.profile_cutoff_mm);
+  how["helix_cutoff_mm"] = cutoff_json(spec.helix_cutoff_mm);
+  if (spec.profile_cutoff_mm || spec.helix_cutoff_mm) {
+    how["filter"] =
+        "Gaussian low-pass (ISO 16610-21, 50 % at the cut-off) as first-order Gaussian "
+        "regression (a straight trace stays straight at the ends); null = unfiltered; applied to "
+        "the measured and the true traces before F, f_H, f_f (pitch and sizes unfiltered)";
+  }
   how["decision_rule"] = spec.decision_rule;
   how["budget_sources"] = p.budget_sources;
   how["notes"] = p.notes;
+  const InvoluteGear& gear = mc.gear();
+  if (e.evaluates(GearParameter::kEsn) || e.evaluates(GearParameter::kEWk) ||
+      e.evaluates(GearParameter::kEMdK)) {
+    nlohmann::ordered_json sizes;
+    sizes["definition"] =
+        "E = actual - nominal size, um, from the profile traces where the gauge touches (first "
+        "order in the flank deviations, in the profile traces' transverse section)";
+    if (e.evaluates(GearParameter::kEsn)) sizes["s_n_nominal_mm"] = normal_tooth_thickness_mm(gear);
+    if (const auto k = e.span_teeth()) {
+      sizes["span_teeth"] = *k;
+      sizes["W_k_nominal_mm"] = base_tangent_length_mm(gear, *k);
+      sizes["span_contact_roll_length_mm"] = e.span_contact_mm();
+    }
+    if (const auto D = e.ball_diameter_mm()) {
+      sizes["ball_diameter_mm"] = *D;
+      sizes["M_dK_nominal_mm"] = dimension_over_balls_mm(gear, *D);
+      sizes["M_dK_kind"] = gear.internal() ? "between balls" : "over balls";
+      sizes["ball_contact_roll_length_mm"] = e.ball_contact_mm();
+    }
+    how["sizes"] = sizes;
+  }
   summary["parameter_evaluation"] = how;
 
   nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
@@ -270,7 +303,10 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
     k["two_sided"] = c.two_sided;
     k["decision_rule"] = rule_name(c.rule);
     if (!c.tolerance_um) {
-      k["note"] = "the scenario's tolerance set has no value for this parameter";
+      k["note"] = parameter_is_size(s.parameter)
+                      ? "a size deviation: its allowances are the drawing's (DIN 3967), not "
+                        "read from the scenario"
+                      : "the scenario's tolerance set has no value for this parameter";
     } else {
       k["acceptance_limit_um"] = *c.acceptance.upper;
       if (c.acceptance.lower) k["acceptance_lower_limit_um"] = *c.acceptance.lower;
@@ -379,6 +415,7 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
   }
   out << "  (meas.err, sampl.err: standard deviations of measured − true at the same points and "
          "of true at the points − dense true)\n";
+  if (const std::string sizes = size_gauges_text(mc); !sizes.empty()) out << "  " << sizes << "\n";
   out << "\nConformity (ISO 14253-1, rule " << e.spec().decision_rule
       << "; over every flank, tooth or gear of the run)\n";
   std::snprintf(line, sizeof line, "%-9s %-10s %8s %6s %15s %11s %11s %12s %16s\n", "parameter",
@@ -388,8 +425,11 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
   for (const ParameterSummary& s : p.parameters) {
     const ParameterConformity& c = s.conformity;
     if (!c.tolerance_um) {
-      std::snprintf(line, sizeof line, "%-9s %-10s %8s   (no tolerance in the set)\n",
-                    parameter_symbol(s.parameter).c_str(), "–", "–");
+      std::snprintf(line, sizeof line, "%-9s %-10s %8s   (%s)\n",
+                    parameter_symbol(s.parameter).c_str(), "–", "–",
+                    parameter_is_size(s.parameter)
+                        ? "a size: its allowances are the drawing's, not read"
+                        : "no tolerance in the set");
       out << line;
       continue;
     }
@@ -447,6 +487,31 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
     }
   }
   for (const std::string& note : p.notes) out << "note: " << note << "\n";
+}
+
+std::string size_gauges_text(const MonteCarloRun& mc) {
+  const ParameterEvaluator& e = *mc.parameter_evaluator();
+  const InvoluteGear& gear = mc.gear();
+  std::string text;
+  const auto add = [&](const std::string& part) { text += (text.empty() ? "" : "; ") + part; };
+  if (e.evaluates(GearParameter::kEsn)) {
+    add("E_sn: normal tooth thickness s_n " + parameter_text(normal_tooth_thickness_mm(gear), 4) +
+        " mm on the reference circle");
+  }
+  if (const auto k = e.span_teeth()) {
+    add("E_Wk: base tangent length W_" + std::to_string(*k) + " " +
+        parameter_text(base_tangent_length_mm(gear, *k), 4) + " mm over " + std::to_string(*k) +
+        " teeth, the jaws touching at L " + parameter_text(e.span_contact_mm(), 2) + " mm");
+  }
+  if (const auto D = e.ball_diameter_mm()) {
+    add(std::string("E_MdK: dimension ") + (gear.internal() ? "between" : "over") + " balls M_dK " +
+        parameter_text(dimension_over_balls_mm(gear, *D), 4) + " mm with D_M " +
+        parameter_text(*D, 4) + " mm, touching at L " + parameter_text(e.ball_contact_mm(), 2) +
+        " mm");
+  }
+  if (text.empty()) return text;
+  return "Sizes (actual − nominal, read off the profile traces where each gauge touches): " + text +
+         ".";
 }
 
 }  // namespace gearmc

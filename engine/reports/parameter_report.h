@@ -122,5 +122,8 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
 
 // A value of the parameter tables and figures with `decimals` decimals; "–" when not finite.
 std::string parameter_text(double v, int decimals);
+// The size gauges of the run, one sentence (empty when no size deviation is evaluated):
+// nominal s_n, W_k over k teeth and M_dK over balls of D_M, with where each touches.
+std::string size_gauges_text(const MonteCarloRun& mc);
 
 }  // namespace gearmc

@@ -2,13 +2,67 @@
 #include "engine/scenario/evaluation_spec.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "core/input_error.h"
 #include "core/yaml_reader.h"
 #include "engine/schema/parameter_ranges.h"
 #include "engine/schema/scenario_keys.h"
+#include "gears/size_dimensions.h"
 
 namespace gearmc {
+namespace {
+
+// The size deviations: listed by name only (`all` is ISO 1328-1's nine flank parameters).
+bool size_symbol(const std::string& s) { return s == "E_sn" || s == "E_Wk" || s == "E_MdK"; }
+
+std::string mm_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  return buf;
+}
+
+}  // namespace
+
+std::pair<double, double> profile_evaluation_roll_lengths(const InvoluteGear& gear,
+                                                          const EvaluationSpec& spec) {
+  const double L0 = gear.form_roll_length_mm(), L1 = gear.tip_roll_length_mm();
+  const double end = L0 + spec.profile_end_fraction * (L1 - L0);
+  return {std::min(L0, end), std::max(L0, end)};
+}
+
+std::optional<int> evaluation_span_teeth(const InvoluteGear& gear, const EvaluationSpec& spec) {
+  if (gear.internal()) return std::nullopt;
+  const auto [lo, hi] = profile_evaluation_roll_lengths(gear, spec);
+  const auto inside = [&](int k) {
+    const double L = span_contact_roll_length_mm(gear, k);
+    return L >= lo && L <= hi;
+  };
+  if (spec.span_teeth) {
+    if (*spec.span_teeth < gear.teeth() && inside(*spec.span_teeth)) return spec.span_teeth;
+    return std::nullopt;
+  }
+  std::optional<int> best;
+  const double mid = 0.5 * (lo + hi);
+  for (int k = 1; k < gear.teeth(); ++k) {
+    if (!inside(k)) continue;
+    const double miss = std::abs(span_contact_roll_length_mm(gear, k) - mid);
+    if (!best || miss < std::abs(span_contact_roll_length_mm(gear, *best) - mid)) best = k;
+  }
+  return best;
+}
+
+std::optional<double> evaluation_ball_diameter_mm(const InvoluteGear& gear,
+                                                  const EvaluationSpec& spec) {
+  const auto [lo, hi] = profile_evaluation_roll_lengths(gear, spec);
+  if (spec.ball_diameter_mm) {
+    const double L = ball_position(gear, *spec.ball_diameter_mm).contact_roll_length_mm;
+    if (L >= lo && L <= hi) return spec.ball_diameter_mm;
+    return std::nullopt;
+  }
+  return ball_diameter_touching_at(gear, 0.5 * (lo + hi));
+}
 
 EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
                                InputWarnings* warnings) {
@@ -25,8 +79,10 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
   }() + "), each once";
   const std::optional<YamlValue> given = map.find("parameters");
   if (!given || (given->is_scalar() && !given->is_quoted() && given->as_string() == "all")) {
-    spec.all = true;  // the default: every parameter
-    spec.parameters = symbols;
+    spec.all = true;  // the default: every ISO 1328-1 parameter
+    for (const std::string& s : symbols) {
+      if (!size_symbol(s)) spec.parameters.push_back(s);
+    }
   } else if (given->is_sequence()) {
     const std::vector<YamlValue> items = given->as_sequence();
     if (items.empty()) throw given->error(expected);
@@ -76,6 +132,15 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
         ->error("less than half the face width (" + std::to_string(0.5 * face_width_mm) +
                 " mm), so that a helix evaluation range remains");
   }
+  if (const auto k = map.find("span_teeth")) {
+    spec.span_teeth = integer("span_teeth", 0);
+  }
+  spec.ball_diameter_mm =
+      get_ranged(map, "ball_diameter_mm", r.at("evaluation.ball_diameter_mm"), warnings);
+  spec.profile_cutoff_mm =
+      get_ranged(map, "profile_cutoff_mm", r.at("evaluation.profile_cutoff_mm"), warnings);
+  spec.helix_cutoff_mm =
+      get_ranged(map, "helix_cutoff_mm", r.at("evaluation.helix_cutoff_mm"), warnings);
   if (const auto rule = map.get_choice("decision_rule", key_choices("evaluation.decision_rule"))) {
     spec.decision_rule = *rule;
   } else {
@@ -85,17 +150,68 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
 }
 
 void check_evaluation(const YamlValue& value, const EvaluationSpec& spec,
-                      const ProbingPlanSpec& plan, int gear_teeth, bool has_mesh_surfaces) {
+                      const ProbingPlanSpec& plan, const InvoluteGear& gear,
+                      bool has_mesh_surfaces) {
+  const int gear_teeth = gear.teeth();
   if (has_mesh_surfaces) {
     throw value.error(
         "no `surfaces:` in the same scenario: a mesh flank's true deviation at a point is not "
         "known, so its parameters would have no true value to compare with");
   }
-  if (spec.all) return;  // evaluate what the plan allows, with a note for the rest
   const auto listed = [&](const char* symbol) {
     return std::find(spec.parameters.begin(), spec.parameters.end(), symbol) !=
            spec.parameters.end();
   };
+  // The gauges must touch where the profile is evaluated: their size deviations are read off the
+  // profile traces there.
+  const YamlMap map = value.as_map(child_keys("evaluation"));
+  const auto [lo, hi] = profile_evaluation_roll_lengths(gear, spec);
+  const std::string range = "L_α = " + mm_text(lo) + " … " + mm_text(hi) + " mm";
+  if (spec.span_teeth && !evaluation_span_teeth(gear, spec)) {
+    std::string fits;
+    for (int k = 1; k < gear_teeth && !gear.internal(); ++k) {
+      const double L = span_contact_roll_length_mm(gear, k);
+      if (L >= lo && L <= hi) fits += (fits.empty() ? "" : ", ") + std::to_string(k);
+    }
+    throw map.find("span_teeth")
+        ->error(gear.internal() ? "no span_teeth: an internal gear has no base tangent length"
+                : *spec.span_teeth >= gear_teeth
+                    ? "fewer teeth than the gear's " + std::to_string(gear_teeth)
+                    : "a span whose jaws touch within " + range +
+                          " (k = " + (fits.empty() ? std::string("none") : fits) +
+                          "); this one touches at L = " +
+                          mm_text(span_contact_roll_length_mm(gear, *spec.span_teeth)) + " mm");
+  }
+  if (spec.ball_diameter_mm && !evaluation_ball_diameter_mm(gear, spec)) {
+    const auto d_lo = ball_diameter_touching_at(gear, gear.internal() ? hi : lo);
+    const auto d_hi = ball_diameter_touching_at(gear, gear.internal() ? lo : hi);
+    throw map.find("ball_diameter_mm")
+        ->error("a ball touching within " + range +
+                (d_lo && d_hi ? " (D_M = " + mm_text(*d_lo) + " … " + mm_text(*d_hi) + " mm)"
+                              : std::string("")) +
+                "; this one touches at L = " +
+                mm_text(ball_position(gear, *spec.ball_diameter_mm).contact_roll_length_mm) +
+                " mm");
+  }
+  if (listed("E_Wk") && gear.internal()) {
+    throw value.error(
+        "parameters without E_Wk on an internal gear (no calliper spans its teeth; "
+        "E_MdK is the dimension between balls)");
+  }
+  if (listed("E_Wk") && !evaluation_span_teeth(gear, spec)) {
+    throw value.error("parameters without E_Wk: no span of this gear touches within " + range);
+  }
+  if (listed("E_MdK") && !evaluation_ball_diameter_mm(gear, spec)) {
+    throw value.error("parameters without E_MdK: no ball touches within " + range);
+  }
+  for (const char* symbol : {"E_sn", "E_Wk", "E_MdK"}) {
+    if (listed(symbol) && !(plan.left && plan.right)) {
+      throw value.error(std::string("parameters without ") + symbol +
+                        ", or both flanks probed (probing.flanks: both): a size is measured "
+                        "between two flanks");
+    }
+  }
+  if (spec.all) return;  // evaluate what the plan allows, with a note for the rest
   const bool every_tooth = plan.teeth.empty() || static_cast<int>(plan.teeth.size()) == gear_teeth;
   for (const char* symbol : {"f_pt", "F_p", "F_r"}) {
     if (listed(symbol) && !every_tooth) {

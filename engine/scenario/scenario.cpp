@@ -130,8 +130,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   }
   if (const auto evaluation = top.find("evaluation")) {
     scenario.evaluation = read_evaluation(*evaluation, scenario.gear.face_width_mm, warnings);
-    check_evaluation(*evaluation, *scenario.evaluation, scenario.probing, scenario.gear.teeth,
-                     !scenario.surfaces.empty());
+    check_evaluation(*evaluation, *scenario.evaluation, scenario.probing,
+                     InvoluteGear(scenario.gear), !scenario.surfaces.empty());
   }
   // A claim on a gear parameter needs that parameter in `evaluation:`.
   const auto joined = [](const std::vector<std::string>& v) {

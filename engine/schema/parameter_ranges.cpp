@@ -144,7 +144,20 @@ const RangeTable& probing_ranges() {
         SlipSide::kAbove},
        {"evaluation.helix_end_exclusion_mm", "mm", closed(0, 1000), 0, 20,
         "ISO 1328-1:2013: the smaller of 5 % b and m_n at each end", "µm instead of mm?", false,
-        SlipSide::kAbove}}};
+        SlipSide::kAbove},
+       {"evaluation.span_teeth", "", closed(1, 1000), 2, 20,
+        "spans of 2–10 teeth are usual (k ≈ z/9 + 0.5 at 20°)", "", true},
+       {"evaluation.ball_diameter_mm", "mm", above(0, 1000), 0.5, 60,
+        "balls of about 1.7 m_n touch near the reference circle", "µm instead of mm?", false,
+        SlipSide::kAbove},
+       {"evaluation.profile_cutoff_mm", "mm", above(0, 1000), 0.05, 10,
+        "a profile filter keeps form waves of a few mm and removes roughness (cut-offs of "
+        "0.08–2.5 mm are the surface-texture series)",
+        "µm instead of mm?", false, SlipSide::kAbove},
+       {"evaluation.helix_cutoff_mm", "mm", above(0, 1000), 0.05, 25,
+        "a helix filter keeps the lead's form over the face width (cut-offs of 0.25–8 mm are "
+        "the surface-texture series)",
+        "µm instead of mm?", false, SlipSide::kAbove}}};
   return table;
 }
 

@@ -200,9 +200,11 @@ std::vector<ScenarioKey> make_table() {
 
       make_key(
           "evaluation.parameters", KeyType::kSymbols, std::nullopt, "required",
-          {"F_alpha", "f_Halpha", "f_falpha", "F_beta", "f_Hbeta", "f_fbeta", "f_pt", "F_p", "F_r"},
-          "the ISO 1328-1 parameters evaluated (f_pt, F_p, F_r need every tooth probed, "
-          "F_r both flanks)"),
+          {"F_alpha", "f_Halpha", "f_falpha", "F_beta", "f_Hbeta", "f_fbeta", "f_pt", "F_p", "F_r",
+           "E_sn", "E_Wk", "E_MdK"},
+          "the parameters evaluated: ISO 1328-1's (f_pt, F_p, F_r need every tooth probed, F_r "
+          "both flanks; `all` lists these nine) and the size deviations E_sn, E_Wk, E_MdK (both "
+          "flanks; listed by name)"),
       number_key("evaluation.profile_points", kInt, 0, "",
                  "points of a dedicated profile scan at mid face (0: the grid's mid section)"),
       number_key("evaluation.helix_points", kInt, 0, "",
@@ -213,6 +215,14 @@ std::vector<ScenarioKey> make_table() {
                  "profile evaluation range L_α: this fraction of the active roll length"),
       number_key("evaluation.helix_end_exclusion_mm", kNum, std::nullopt, "min(5 % b, m_n)",
                  "helix evaluation range L_β: b minus this at each end"),
+      number_key("evaluation.span_teeth", kInt, std::nullopt, "jaws nearest mid profile",
+                 "k of the base tangent length W_k (E_Wk): the jaws must touch within L_α"),
+      number_key("evaluation.ball_diameter_mm", kNum, std::nullopt, "ball touching mid profile",
+                 "D_M of the dimension over balls M_dK (E_MdK): it must touch within L_α"),
+      number_key("evaluation.profile_cutoff_mm", kNum, std::nullopt, "unfiltered",
+                 "cut-off λc of the Gaussian profile filter (ISO 16610-21), along L"),
+      number_key("evaluation.helix_cutoff_mm", kNum, std::nullopt, "unfiltered",
+                 "cut-off λc of the Gaussian helix filter (ISO 16610-21), along z"),
       choice_key("evaluation.decision_rule", {"simple", "guard_banded"}, "simple",
                  "ISO 14253-1 acceptance: within T, or within T narrowed at each limit by the "
                  "error's 95 % reach past zero (docs/parameters.md)"),
