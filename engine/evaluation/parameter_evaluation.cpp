@@ -327,6 +327,10 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
   // The size gauges' readings of every flank: at the reference circle, the span's jaws, the
   // ball's contact ([gauge][side][variant][tooth-1]; dense: [gauge][side][tooth-1]).
   const double gauge_L[3] = {e_.reference_L_, e_.span_L_, e_.size_ball_L_};
+  // Only the gauges of the sizes asked for are read (each reading of the real surface costs two
+  // surface evaluations per flank).
+  const bool gauge_used[3] = {e_.evaluates(GearParameter::kEsn), e_.evaluates(GearParameter::kEWk),
+                              e_.evaluates(GearParameter::kEMdK)};
   std::vector<std::vector<double>> gauge_d[3][2];
   std::vector<double> gauge_dense[3][2];
   for (int s = 0; s < 2; ++s) {
@@ -501,6 +505,7 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
             flank.side, true_deviation(e_.reference_L_, e_.profile_z_), alpha);
         ball_dense[s][k] = true_deviation(e_.ball_L_, e_.profile_z_);
         for (int gauge = 0; gauge < 3; ++gauge) {
+          if (!gauge_used[gauge]) continue;
           for (int v = 0; v < variants; ++v) {
             gauge_d[gauge][s][v][k] = interpolate_trace(x, d[v], ps * gauge_L[gauge]);
           }

@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "core/yaml_reader.h"
 #include "engine/schema/parameter_ranges.h"
 #include "engine/schema/scenario_keys.h"
@@ -16,12 +16,6 @@ namespace {
 
 // The size deviations: listed by name only (`all` is ISO 1328-1's nine flank parameters).
 bool size_symbol(const std::string& s) { return s == "E_sn" || s == "E_Wk" || s == "E_MdK"; }
-
-std::string mm_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", v);
-  return buf;
-}
 
 }  // namespace
 
@@ -132,9 +126,7 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
         ->error("less than half the face width (" + std::to_string(0.5 * face_width_mm) +
                 " mm), so that a helix evaluation range remains");
   }
-  if (const auto k = map.find("span_teeth")) {
-    spec.span_teeth = integer("span_teeth", 0);
-  }
+  if (map.find("span_teeth")) spec.span_teeth = integer("span_teeth", 0);
   spec.ball_diameter_mm =
       get_ranged(map, "ball_diameter_mm", r.at("evaluation.ball_diameter_mm"), warnings);
   spec.profile_cutoff_mm =
@@ -166,7 +158,7 @@ void check_evaluation(const YamlValue& value, const EvaluationSpec& spec,
   // profile traces there.
   const YamlMap map = value.as_map(child_keys("evaluation"));
   const auto [lo, hi] = profile_evaluation_roll_lengths(gear, spec);
-  const std::string range = "L_α = " + mm_text(lo) + " … " + mm_text(hi) + " mm";
+  const std::string range = "L_α = " + short_text(lo) + " … " + short_text(hi) + " mm";
   if (spec.span_teeth && !evaluation_span_teeth(gear, spec)) {
     std::string fits;
     for (int k = 1; k < gear_teeth && !gear.internal(); ++k) {
@@ -180,17 +172,17 @@ void check_evaluation(const YamlValue& value, const EvaluationSpec& spec,
                     : "a span whose jaws touch within " + range +
                           " (k = " + (fits.empty() ? std::string("none") : fits) +
                           "); this one touches at L = " +
-                          mm_text(span_contact_roll_length_mm(gear, *spec.span_teeth)) + " mm");
+                          short_text(span_contact_roll_length_mm(gear, *spec.span_teeth)) + " mm");
   }
   if (spec.ball_diameter_mm && !evaluation_ball_diameter_mm(gear, spec)) {
     const auto d_lo = ball_diameter_touching_at(gear, gear.internal() ? hi : lo);
     const auto d_hi = ball_diameter_touching_at(gear, gear.internal() ? lo : hi);
     throw map.find("ball_diameter_mm")
         ->error("a ball touching within " + range +
-                (d_lo && d_hi ? " (D_M = " + mm_text(*d_lo) + " … " + mm_text(*d_hi) + " mm)"
+                (d_lo && d_hi ? " (D_M = " + short_text(*d_lo) + " … " + short_text(*d_hi) + " mm)"
                               : std::string("")) +
                 "; this one touches at L = " +
-                mm_text(ball_position(gear, *spec.ball_diameter_mm).contact_roll_length_mm) +
+                short_text(ball_position(gear, *spec.ball_diameter_mm).contact_roll_length_mm) +
                 " mm");
   }
   if (listed("E_Wk") && gear.internal()) {

@@ -16,6 +16,7 @@
 #include "engine/evaluation/gear_parameters.h"
 #include "gears/involute_gear.h"
 #include "gears/size_dimensions.h"
+#include "tests/support/helical_fixtures.h"
 
 namespace gearmc {
 namespace {
@@ -27,31 +28,26 @@ struct Case {
   int span_teeth;           // 0: no span (internal gears)
 };
 
-GearParameters gear_parameters(int teeth, double m_n, double beta, Hand hand, double x,
-                               bool internal = false) {
-  GearParameters p;
-  p.internal = internal;
-  p.teeth = teeth;
-  p.module_mm = m_n;
-  p.pressure_angle_deg = 20.0;
-  p.helix_angle_deg = beta;
-  p.hand = hand;
-  p.profile_shift = x;
-  p.face_width_mm = 40.0;
-  return p;
-}
-
 int run() {
   const std::vector<Case> cases = {
-      {"spur_even", gear_parameters(20, 1.0, 0.0, Hand::kRight, 0.0), 1.7, 3},
-      {"spur_odd", gear_parameters(21, 1.0, 0.0, Hand::kRight, 0.0), 1.7, 3},
-      {"spur_shifted", gear_parameters(25, 2.0, 0.0, Hand::kRight, 0.3), 3.5, 4},
-      {"helical_even", gear_parameters(20, 1.0, 15.0, Hand::kRight, 0.2), 1.75, 3},
-      {"helical_odd", gear_parameters(23, 2.0, 20.0, Hand::kLeft, 0.1), 3.5, 3},
-      {"internal_even", gear_parameters(40, 1.0, 0.0, Hand::kRight, 0.0, true), 1.7, 0},
-      {"internal_odd", gear_parameters(41, 1.0, 0.0, Hand::kRight, 0.0, true), 1.7, 0},
-      {"span_spur", gear_parameters(24, 3.0, 0.0, Hand::kRight, 0.4), 5.0, 4},
-      {"span_helical", gear_parameters(24, 3.0, 25.0, Hand::kRight, 0.4), 5.0, 5},
+      {"spur_even", testing_support::gear_parameters_of(20, 1.0, 0.0, Hand::kRight, 0.0, 40.0), 1.7,
+       3},
+      {"spur_odd", testing_support::gear_parameters_of(21, 1.0, 0.0, Hand::kRight, 0.0, 40.0), 1.7,
+       3},
+      {"spur_shifted", testing_support::gear_parameters_of(25, 2.0, 0.0, Hand::kRight, 0.3, 40.0),
+       3.5, 4},
+      {"helical_even", testing_support::gear_parameters_of(20, 1.0, 15.0, Hand::kRight, 0.2, 40.0),
+       1.75, 3},
+      {"helical_odd", testing_support::gear_parameters_of(23, 2.0, 20.0, Hand::kLeft, 0.1, 40.0),
+       3.5, 3},
+      {"internal_even",
+       testing_support::gear_parameters_of(40, 1.0, 0.0, Hand::kRight, 0.0, 40.0, true), 1.7, 0},
+      {"internal_odd",
+       testing_support::gear_parameters_of(41, 1.0, 0.0, Hand::kRight, 0.0, 40.0, true), 1.7, 0},
+      {"span_spur", testing_support::gear_parameters_of(24, 3.0, 0.0, Hand::kRight, 0.4, 40.0), 5.0,
+       4},
+      {"span_helical", testing_support::gear_parameters_of(24, 3.0, 25.0, Hand::kRight, 0.4, 40.0),
+       5.0, 5},
   };
   // Flank deviations (µm, transverse, + = material added).
   const double d_left = 0.3, d_right = 0.5;

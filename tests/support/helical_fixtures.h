@@ -8,6 +8,22 @@
 
 namespace gearmc::testing_support {
 
+// A gear of ISO 53 profile A with α_n 20° from its other design data (the reference dumps'
+// cases): z, m_n (mm), β (deg), hand, x, b (mm), internal.
+inline GearParameters gear_parameters_of(int teeth, double m_n, double beta_deg, Hand hand,
+                                         double x, double b_mm, bool internal = false) {
+  GearParameters p;
+  p.internal = internal;
+  p.teeth = teeth;
+  p.module_mm = m_n;
+  p.pressure_angle_deg = 20.0;
+  p.helix_angle_deg = beta_deg;
+  p.hand = hand;
+  p.profile_shift = x;
+  p.face_width_mm = b_mm;
+  return p;
+}
+
 inline GearParameters helical_gear_parameters(Hand hand = Hand::kRight, double beta_deg = 15.0) {
   GearParameters p;
   p.teeth = 31;

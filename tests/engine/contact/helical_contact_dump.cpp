@@ -14,6 +14,7 @@
 #include "engine/contact/contact.h"
 #include "gears/deviations.h"
 #include "gears/normal_expression.h"
+#include "tests/support/helical_fixtures.h"
 
 namespace gearmc {
 namespace {
@@ -22,20 +23,6 @@ struct Case {
   std::string id;
   GearParameters parameters;
 };
-
-GearParameters gear_parameters(int teeth, double m_n, double beta, Hand hand, double x, double b,
-                               bool internal = false) {
-  GearParameters p;
-  p.internal = internal;
-  p.teeth = teeth;
-  p.module_mm = m_n;
-  p.pressure_angle_deg = 20.0;
-  p.helix_angle_deg = beta;
-  p.hand = hand;
-  p.profile_shift = x;
-  p.face_width_mm = b;
-  return p;
-}
 
 const char* status_word(ContactResult::Status s) {
   switch (s) {
@@ -55,10 +42,10 @@ const char* status_word(ContactResult::Status s) {
 
 int run() {
   const std::vector<Case> cases = {
-      {"g1", gear_parameters(31, 4.0, 15.0, Hand::kRight, 0.2, 40.0)},
-      {"g2", gear_parameters(23, 3.0, 25.0, Hand::kLeft, -0.1, 30.0)},
-      {"g3", gear_parameters(60, 2.0, 0.0, Hand::kRight, 0.1, 20.0, true)},
-      {"g4", gear_parameters(71, 2.0, 18.0, Hand::kLeft, 0.2, 25.0, true)},
+      {"g1", testing_support::gear_parameters_of(31, 4.0, 15.0, Hand::kRight, 0.2, 40.0)},
+      {"g2", testing_support::gear_parameters_of(23, 3.0, 25.0, Hand::kLeft, -0.1, 30.0)},
+      {"g3", testing_support::gear_parameters_of(60, 2.0, 0.0, Hand::kRight, 0.1, 20.0, true)},
+      {"g4", testing_support::gear_parameters_of(71, 2.0, 18.0, Hand::kLeft, 0.2, 25.0, true)},
   };
   const FlankDeviation none;
   for (const Case& c : cases) {

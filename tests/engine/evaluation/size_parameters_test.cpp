@@ -38,11 +38,10 @@ std::string scenario_text(const std::string& gear, const std::string& evaluation
          evaluation + "\n";
 }
 
-RunResults run_one(const Scenario& s, const MonteCarloRun& mc) {
+RunResults run_one(const MonteCarloRun& mc) {
   RunOptions o;
   o.end_gear = 1;
   o.threads = 1;
-  (void)s;
   return mc.run(o);
 }
 
@@ -64,7 +63,7 @@ TEST(SizeParameters, SpurGearSizesFromKnownFlankDeviations) {
                       "ball_diameter_mm: 1.7}"),
         "sizes.yaml");
     const MonteCarloRun mc(s);
-    const RunResults r = run_one(s, mc);
+    const RunResults r = run_one(mc);
     ASSERT_TRUE(r.parameters);
     const double alpha = 20 * kDeg;
     const auto dL = [](int t) { return normal_deviation_um(t, -1); };
@@ -133,7 +132,7 @@ TEST(SizeParameters, HelicalGearSizesUseTransverseDeviationsAndTheBaseHelix) {
           "{parameters: [E_sn, E_Wk, E_MdK], profile_points: 30, ball_diameter_mm: 1.75}"),
       "sizes.yaml");
   const MonteCarloRun mc(s);
-  const RunResults r = run_one(s, mc);
+  const RunResults r = run_one(mc);
   const double at = std::atan(std::tan(an) / std::cos(beta));
   const double bb = std::asin(std::sin(beta) * std::cos(an));
   const auto dLn = [](int t) { return normal_deviation_um(t, -1); };
@@ -217,7 +216,7 @@ TEST(SizeParameters, InternalGearThicknessAndDimensionBetweenBalls) {
           "{parameters: [E_sn, E_MdK], profile_points: 30, ball_diameter_mm: 1.7}"),
       "sizes.yaml");
   const MonteCarloRun mc(s);
-  const RunResults r = run_one(s, mc);
+  const RunResults r = run_one(mc);
   const double aK = 16.952062 * kDeg;
   const auto dL = [](int t) { return normal_deviation_um(t, -1); };
   const auto dR = [](int t) { return normal_deviation_um(t, +1); };
