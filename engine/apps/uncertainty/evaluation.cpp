@@ -109,6 +109,9 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
                        {"expectation", e.gum.x[i]},
                        {"u", e.gum.u[i]},
                        {"dof", number_or_null(in.dof)}};
+    if (const auto u = model.units.find(in.name); u != model.units.end()) {
+      inputs[in.name]["unit"] = u->second.text;
+    }
   }
   j["inputs"] = inputs;
   nlohmann::ordered_json outputs = nlohmann::ordered_json::object();
@@ -185,6 +188,9 @@ nlohmann::ordered_json evaluation_json(const UncertaintyModel& model, const McmO
                                   : vs.validated ? "validated"
                                                  : "not_validated"}};
     outputs[g.name] = {{"gum", gj}, {"mcm", mj}, {"validation", vj}};
+    if (const auto u = model.units.find(g.name); u != model.units.end()) {
+      outputs[g.name]["unit"] = u->second.text;
+    }
     if (e.conformity[k].set) {
       const ModelOutput& limits = model.outputs[k];
       nlohmann::ordered_json cj;
@@ -228,7 +234,7 @@ void print_evaluation(std::ostream& out, const UncertaintyModel& model, const Mc
     const std::string nu = g.first_order_vanishes    ? "undefined"
                            : std::isfinite(g.nu_eff) ? fixed(g.nu_eff, 1)
                                                      : "inf";
-    out << "\noutput " << g.name << "\n";
+    out << "\noutput " << g.name << unit_label(model, g.name) << "\n";
     out << std::left << std::setw(22) << "" << std::setw(28) << "GUM (JCGM 100)"
         << "MCM (JCGM 101)\n";
     out << std::setw(22) << "  estimate y" << std::setw(28) << fixed(g.estimate, d)

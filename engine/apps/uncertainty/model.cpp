@@ -14,8 +14,9 @@
 namespace gearmc::uncertainty {
 namespace {
 
-const std::vector<std::string> kTopKeys = {"name",    "inputs",  "constants",  "correlations",
-                                           "outputs", "builtin", "tolerances", "settings"};
+const std::vector<std::string> kTopKeys = {"name",         "inputs",  "constants",
+                                           "correlations", "outputs", "builtin",
+                                           "tolerances",   "units",   "settings"};
 const std::vector<std::string> kSettingKeys = {
     "coverage_probability", "trials", "significant_digits", "seed", "second_order", "max_trials"};
 
@@ -288,6 +289,36 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
     }
   }
 
+  // units: {NAME: "unit"} for every input, constant and output, or none.
+  if (const auto uv = top.find("units")) {
+    std::vector<std::string> names;
+    for (const ModelInput& in : model.inputs) names.push_back(in.name);
+    for (const auto& [name, value] : model.constants) names.push_back(name);
+    for (const ModelOutput& o : model.outputs) names.push_back(o.name);
+    if (!uv->is_map()) throw uv->error("a map NAME: unit (e.g. {L: mm, alpha: um/m K})");
+    const YamlMap units = uv->as_map(names);
+    std::string missing;
+    for (const std::string& name : names) {
+      const auto v = units.find(name);
+      if (!v) {
+        missing += (missing.empty() ? "" : ", ") + name;
+        continue;
+      }
+      if (!v->is_scalar()) throw v->error("a unit such as mm, kg/m^3, um/K or 1");
+      try {
+        model.units[name] = {parse_unit(v->as_string()), v->as_string(), v->location()};
+      } catch (const std::invalid_argument& e) {
+        throw v->error(std::string("a unit: ") + e.what());
+      }
+    }
+    if (!missing.empty()) {
+      throw uv->error(
+          "a unit for every input, constant and output (1 for a pure number); "
+          "missing: " +
+          missing);
+    }
+  }
+
   ModelSettings& s = model.settings;
   if (const auto sv = top.find("settings")) {
     model.settings_where = sv->location();
@@ -316,6 +347,7 @@ UncertaintyModel parse_uncertainty_model(const std::string& text, const std::str
   }
   // Compile once now, so a bad expression is reported before any work.
   const ModelFunction check(model);
+  if (!model.units.empty()) check_model_units(model);
   return model;
 }
 

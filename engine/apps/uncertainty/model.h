@@ -18,6 +18,7 @@
 
 #include "core/input_error.h"
 #include "engine/apps/uncertainty/laws.h"
+#include "engine/apps/uncertainty/units.h"
 
 namespace gearmc::uncertainty {
 
@@ -39,6 +40,13 @@ struct ModelOutput {
   // no such limit. At least one is set when `has_tolerance`.
   bool has_tolerance = false;
   std::optional<double> lower, upper;
+};
+
+// A quantity's unit as the model file states it (`units:`).
+struct ModelUnit {
+  Unit unit;
+  std::string text;  // as written, e.g. "kg/m^3"
+  InputLocation where;
 };
 
 struct ModelSettings {
@@ -69,7 +77,16 @@ struct UncertaintyModel {
   std::map<std::string, double> builtin_parameters;
   ModelSettings settings;
   InputLocation settings_where;
+  // `units:` per input, constant and output (every one, when given; empty: no units), checked
+  // against the expressions when read (units.h).
+  std::map<std::string, ModelUnit> units;
 };
+
+// " (mg)": a quantity's unit for labels, "" when the model states no units.
+inline std::string unit_label(const UncertaintyModel& model, const std::string& name) {
+  const auto it = model.units.find(name);
+  return it == model.units.end() ? "" : " (" + it->second.text + ")";
+}
 
 // Parses the YAML text of a model file (`file` names it in messages). Throws InputError.
 UncertaintyModel parse_uncertainty_model(const std::string& text, const std::string& file);

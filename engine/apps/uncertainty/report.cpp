@@ -167,7 +167,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
     const Validation& v = e.validation[k];
     const ModelOutput& limits = model.outputs[k];  // its tolerance limits (JCGM 106)
     const int d = display_decimals(std::min(g.u, m.u), o.significant_digits);
-    page.heading("Output " + g.name);
+    page.heading("Output " + g.name + unit_label(model, g.name));
     // Shown range: the MCM 0.05 % to 99.95 % quantiles and both intervals, 100 bars.
     const std::vector<double>& s = m.sorted;
     const std::size_t M = s.size();
@@ -194,7 +194,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
       for (double x : s) hist.add(x);
       HistogramPlotOptions ho;
       ho.title = g.name + ": " + std::to_string(M) + " MCM values and the GUM density";
-      ho.x_label = g.name;
+      ho.x_label = g.name + unit_label(model, g.name);
       ho.bars_label = "MCM";
       if (g.u > 0) ho.overlay_pdf = [&g](double x) { return gum_pdf(g, x); };
       ho.overlay_label = std::isfinite(g.nu_eff) ? "GUM: y + u t_ν" : "GUM: N(y, u²)";
@@ -239,7 +239,7 @@ std::string evaluation_report_html(const UncertaintyModel& model, const McmOptio
       }
       XYPlotOptions co;
       co.title = g.name + ": distribution functions";
-      co.x_label = g.name;
+      co.x_label = g.name + unit_label(model, g.name);
       co.y_label = "probability";
       co.x_min = lo;
       co.x_max = hi;
