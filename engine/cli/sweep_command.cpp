@@ -37,6 +37,7 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
     }
   }
   s.points = sweep_grid(base.source_text, o.scenario_path, s.axes, o.overrides);
+  check_sweep_statistic(s.statistic, s.points);
   s.scenario_name = base.name;
   s.source_path = o.scenario_path;
 
@@ -70,6 +71,7 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
   s.threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   s.provenance = make_provenance(o.command_line, o.scenario_path, base.source_text);
+  s.values = sweep_values(s);
 
   OutputFiles files(folder.dir);
   files.write("sweep.csv", sweep_csv(s));
@@ -84,7 +86,11 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
     for (std::size_t a = 0; a < s.axes.size(); ++a) {
       out << (a ? "  " : "  ") << s.axes[a].key << "=" << s.points[i].values[a];
     }
-    out << "  " << s.statistic.text << " (both flanks) = ";
+    out << "  " << s.statistic.text
+        << (s.statistic.parameter.empty() ? " (both flanks)"
+            : s.statistic.ratio()         ? ""
+                                          : " (larger side)")
+        << " = ";
     if (values[i][2].value) {
       out << std::setprecision(4) << *values[i][2].value << std::defaultfloat
           << (*s.statistic.unit() ? " µm" : "") << "\n";

@@ -9,6 +9,7 @@
 #include "core/bytes.h"
 #include "core/input_error.h"
 #include "engine/run/run_partials.h"
+#include "engine/schema/scenario_keys.h"
 #include "engine/statistics/stats_json.h"
 #include "gears/tolerances.h"
 
@@ -84,10 +85,30 @@ SweepAxis parse_vary(const std::string& text) {
   return axis;
 }
 
+const std::vector<std::string> kParameterStatistics = {
+    "bias", "u", "U", "U_over_T", "Q_MP", "false_accept", "false_reject"};
+
+bool SweepStatistic::ratio() const {
+  return !parameter.empty() && statistic != "bias" && statistic != "u" && statistic != "U";
+}
+
 SweepStatistic parse_sweep_statistic(const std::string& text) {
   const std::vector<std::string> parts = split(text, '.');
   const std::string expected =
-      "delta_rcomp.<point|flank_max|flank_mean>.<n|mean|std|min|max|p95|p99_73>";
+      "delta_rcomp.<point|flank_max|flank_mean>.<n|mean|std|min|max|p95|p99_73> or "
+      "parameters.<symbol>.<bias|u|U|U_over_T|Q_MP|false_accept|false_reject>";
+  if (parts.size() == 3 && parts[0] == "parameters") {
+    const std::vector<std::string>& symbols = scenario_key("evaluation.parameters").allowed;
+    if (std::find(symbols.begin(), symbols.end(), parts[1]) == symbols.end()) {
+      throw InputError({}, "--statistic", text, expected, did_you_mean(parts[1], symbols));
+    }
+    if (std::find(kParameterStatistics.begin(), kParameterStatistics.end(), parts[2]) ==
+        kParameterStatistics.end()) {
+      throw InputError({}, "--statistic", text, expected,
+                       did_you_mean(parts[2], kParameterStatistics));
+    }
+    return {text, "parameters", parts[2], parts[1]};
+  }
   if (parts.size() != 3 || parts[0] != "delta_rcomp") {
     throw InputError({}, "--statistic", text, expected);
   }
@@ -97,7 +118,25 @@ SweepStatistic parse_sweep_statistic(const std::string& text) {
   if (std::find(kStatistics.begin(), kStatistics.end(), parts[2]) == kStatistics.end()) {
     throw InputError({}, "--statistic", text, expected, did_you_mean(parts[2], kStatistics));
   }
-  return {text, parts[1], parts[2]};
+  return {text, parts[1], parts[2], ""};
+}
+
+void check_sweep_statistic(const SweepStatistic& s, const std::vector<SweepPoint>& points) {
+  if (s.parameter.empty()) return;
+  for (const SweepPoint& p : points) {
+    const auto& e = p.scenario.evaluation;
+    if (e &&
+        std::find(e->parameters.begin(), e->parameters.end(), s.parameter) != e->parameters.end()) {
+      continue;
+    }
+    std::string at;
+    for (const std::string& v : p.values) at += (at.empty() ? "" : ", ") + v;
+    throw InputError({}, "--statistic", s.text,
+                     "a parameter every variant evaluates: " +
+                         (e ? "evaluation.parameters has no " + s.parameter
+                            : std::string("the scenario has no evaluation: section")) +
+                         (points.size() > 1 ? " (variant " + at + ")" : std::string()));
+  }
 }
 
 std::string sweep_runs_text(const std::vector<SweepPoint>& points, bool brief) {

@@ -29,11 +29,18 @@ struct SweepAxis {
 SweepAxis parse_vary(const std::string& text);
 
 // The statistic of a point: "delta_rcomp.<point|flank_max|flank_mean>.<n|mean|std|min|max|p95|
-// p99_73>", over the left flanks, the right flanks and both together.
+// p99_73>", over the left flanks, the right flanks and both together; or a gear parameter's
+// (`evaluation:`, docs/parameters.md) "parameters.<symbol>.<bias|u|U|U_over_T|Q_MP|
+// false_accept|false_reject>": bias, u, U per side (both: the larger of the two sides, as U/T
+// takes; a parameter of both flanks, F_r or a size, has only both), the others of the parameter
+// as a whole (both only).
 struct SweepStatistic {
   std::string text, quantity, statistic;
-  // The statistic's unit: "" for the count n, "µm" for the others.
-  const char* unit() const { return statistic == "n" ? "" : "µm"; }
+  std::string parameter;  // the gear parameter's symbol; empty for δRcomp
+  // A ratio or rate without unit (U_over_T, Q_MP, false_accept, false_reject).
+  bool ratio() const;
+  // The statistic's unit: "" for the count n and the ratios, "µm" for the others.
+  const char* unit() const { return statistic == "n" || ratio() ? "" : "µm"; }
 };
 SweepStatistic parse_sweep_statistic(const std::string& text);
 
@@ -48,6 +55,9 @@ struct SweepPoint {
   std::vector<std::string> values;  // one per axis
   Scenario scenario;
 };
+// A parameter statistic needs every point to evaluate that parameter: InputError naming
+// --statistic and the first point that does not.
+void check_sweep_statistic(const SweepStatistic& s, const std::vector<SweepPoint>& points);
 
 // "50 gears each (seed 1, the same perturbed gears at every point)" when every point runs the
 // same gears; otherwise what varies ("50–200 gears", "seeds 1–3: other perturbed gears for each

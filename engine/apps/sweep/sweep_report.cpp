@@ -9,6 +9,7 @@
 
 #include "core/number_text.h"
 #include "engine/reports/html_report.h"
+#include "engine/reports/parameter_report.h"
 #include "engine/reports/svg_plot.h"
 
 namespace gearmc {
@@ -33,9 +34,73 @@ std::string csv_field(const std::string& text) {
 
 }  // namespace
 
+namespace {
+
+// A gear parameter's statistic at one point (sweep.h): from the run's parameter presentation,
+// as the run report states it.
+std::array<SweepValue, 3> parameter_values(const SweepStatistic& stat, const Scenario& scenario,
+                                           const RunResults& r) {
+  std::array<SweepValue, 3> v;
+  const MonteCarloRun mc(scenario);
+  const std::optional<ParameterPresentation> p = present_parameters(mc, r);
+  const ParameterSummary* summary = nullptr;
+  if (p) {
+    for (const ParameterSummary& s : p->parameters) {
+      if (parameter_symbol(s.parameter) == stat.parameter) summary = &s;
+    }
+  }
+  if (!summary) {
+    for (SweepValue& x : v) x.note = "not evaluated at this point (see the run's notes)";
+    return v;
+  }
+  const std::string& st = stat.statistic;
+  if (!stat.ratio()) {
+    const auto of = [&](const ParameterSideSummary& side) {
+      return st == "bias" ? side.bias_um : st == "u" ? side.u_um : side.U95_um;
+    };
+    for (const ParameterSideSummary& side : summary->sides) {
+      const int k = side.side == "left" ? 0 : side.side == "right" ? 1 : 2;
+      if (k < 2) {
+        v[k].value = of(side);
+        // both: the larger |value| of the two sides (U/T takes the larger U).
+        if (!v[2].value || std::abs(of(side)) > std::abs(*v[2].value)) v[2].value = of(side);
+      } else {
+        v[2].value = of(side);
+        v[0].note = v[1].note = "an item of " + stat.parameter + " takes both flanks";
+      }
+    }
+    return v;
+  }
+  v[0].note = v[1].note = "a statistic of the parameter as a whole (both)";
+  const ParameterConformity& c = summary->conformity;
+  if (!c.tolerance_um) {
+    v[2].note = "no tolerance for " + stat.parameter + " in the scenario's set";
+    return v;
+  }
+  v[2].value = st == "U_over_T"       ? c.u_over_t
+               : st == "Q_MP"         ? c.capability_ratio
+               : st == "false_accept" ? c.chosen().false_accept_rate()
+                                      : c.chosen().false_reject_rate();
+  return v;
+}
+
+// What the "both" column is, in words: both flanks (δRcomp), the larger side (a parameter's bias,
+// u, U) or the parameter as a whole (its ratios and rates).
+std::string both_words(const SweepStatistic& s) {
+  return s.parameter.empty() ? "both flanks" : s.ratio() ? "the parameter" : "the larger side";
+}
+
+}  // namespace
+
 std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s) {
+  if (!s.values.empty()) return s.values;
   std::vector<std::array<SweepValue, 3>> values;
-  for (const RunResults& r : s.results) {
+  for (std::size_t i = 0; i < s.results.size(); ++i) {
+    const RunResults& r = s.results[i];
+    if (!s.statistic.parameter.empty()) {
+      values.push_back(parameter_values(s.statistic, s.points[i].scenario, r));
+      continue;
+    }
     std::array<SweepValue, 3> v;
     for (int side = 0; side < 3; ++side) {
       v[side].value =
@@ -169,7 +234,7 @@ std::vector<std::string> sweep_figures(const SweepOutcome& s) {
       if (!merged) series.push_back(std::move(line_series));
     }
     XYPlotOptions options;
-    options.title = s.statistic.text + " (both flanks) against " + xa.key;
+    options.title = s.statistic.text + " (" + both_words(s.statistic) + ") against " + xa.key;
     options.x_label = numeric ? xa.key : xa.key + " (index of its values)";
     options.y_label = s.statistic.text + (*s.statistic.unit() ? ", µm" : "");
     options.y_from_zero = true;
@@ -219,17 +284,24 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
     if (without > 0) {
       lines.push_back(std::to_string(without) + " grid point(s) without a value (see the table)");
     }
-    report.verdict(s.statistic.text + " of both flanks over " + std::to_string(s.points.size()) +
-                       " grid points" + (lo ? "" : ": no grid point has a value"),
+    report.verdict(s.statistic.text + " of " + both_words(s.statistic) + " over " +
+                       std::to_string(s.points.size()) + " grid points" +
+                       (lo ? "" : ": no grid point has a value"),
                    lines);
   }
   report.paragraph("Scenario " + s.source_path + ", grid " + grid + ": " +
                    std::to_string(s.points.size()) + " runs of " + sweep_runs_text(s.points) +
                    ". Statistic: " + s.statistic.text + (*s.statistic.unit() ? " in µm" : "") +
-                   ", of the left flanks, the right flanks and both together.");
+                   (s.statistic.parameter.empty()
+                        ? std::string(", of the left flanks, the right flanks and both together.")
+                    : s.statistic.ratio()
+                        ? std::string(", of the parameter as a whole (the run report's).")
+                        : std::string(", of the left and right flanks' items and the larger "
+                                      "side (the run report's per side).")));
   for (std::size_t a = 0; a < figures.size(); ++a) {
     report.figure(figures[a],
-                  s.statistic.text + " of both flanks against " + s.axes[a].key +
+                  s.statistic.text + " of " + both_words(s.statistic) + " against " +
+                      s.axes[a].key +
                       (s.axes.size() > 1 ? "; one line per level of the other key(s)" : ""));
   }
   HtmlTable table;

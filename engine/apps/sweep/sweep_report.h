@@ -4,7 +4,9 @@
 // values, one line per level of the other keys. Values in µm.
 #pragma once
 
+#include <array>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,22 +15,26 @@
 
 namespace gearmc {
 
+struct SweepValue {
+  std::optional<double> value;
+  std::string note;
+};
+
 struct SweepOutcome {
   std::string scenario_name, source_path;
   std::vector<SweepAxis> axes;
   SweepStatistic statistic;
   std::vector<SweepPoint> points;
-  std::vector<RunResults> results;  // one per point, in point order
+  std::vector<RunResults> results;                // one per point, in point order
+  std::vector<std::array<SweepValue, 3>> values;  // optional: sweep_values' result, kept
   int ranks = 1, threads = 1;
   double wall_s = 0.0;
   Provenance provenance;
 };
 
 // Statistic values per point: [point][side 0 L, 1 R, 2 both]; nullopt with a note when missing.
-struct SweepValue {
-  std::optional<double> value;
-  std::string note;
-};
+// `values` of the outcome when set (the command computes them once: a parameter statistic
+// evaluates each point's parameters), else computed from the results.
 std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s);
 
 std::string sweep_csv(const SweepOutcome& s);

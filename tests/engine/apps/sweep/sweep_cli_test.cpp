@@ -96,6 +96,51 @@ TEST(SweepCli, PointEqualsTheRunOfTheVariantWrittenByHand) {
   for (const fs::path& p : {out, variant, run_out, out2}) fs::remove_all(p);
 }
 
+TEST(SweepCli, AGearParameterStatisticIsTheRunReportsOwn) {
+  // U of F_α per side and Q_MP, as `gearmc run` of the variant states them in summary.json (an
+  // independent path through the run command); "both" is the larger side's U (U/T takes it).
+  const std::string params =
+      std::string(GEARMC_SOURCE_DIR) + "/scenarios/p1_reference_parameters.yaml";
+  const fs::path out = temp("param"), out_q = temp("param_q");
+  const std::string grid = " --vary stylus.radius_mm=1 --gears 5 --quiet --out ";
+  ASSERT_EQ(
+      run_gearmc("sweep " + params + grid + out.string() + " --statistic parameters.F_alpha.U")
+          .exit_code,
+      0);
+  ASSERT_EQ(
+      run_gearmc("sweep " + params + grid + out_q.string() + " --statistic parameters.F_alpha.Q_MP")
+          .exit_code,
+      0);
+  std::string text = read(params);
+  const std::string from = "radius_mm: 0.5";
+  ASSERT_EQ(text.find(from), text.rfind(from));
+  text.replace(text.find(from), from.size(), "radius_mm: 1");
+  const fs::path variant = temp("param_variant.yaml"), run_out = temp("param_run");
+  std::ofstream(variant) << text;
+  ASSERT_EQ(run_gearmc("run " + variant.string() + " --gears 5 --quiet --out " + run_out.string())
+                .exit_code,
+            0);
+  const nlohmann::json summary = nlohmann::json::parse(read(run_out / "summary.json"));
+  const auto& fa = summary["parameters"]["F_alpha"];
+  const nlohmann::json point = nlohmann::json::parse(read(out / "sweep.json"))["points"][0];
+  const double left = fa["left"]["U95_um"].get<double>(),
+               right = fa["right"]["U95_um"].get<double>();
+  EXPECT_EQ(point["left_um"].get<double>(), left);
+  EXPECT_EQ(point["right_um"].get<double>(), right);
+  EXPECT_EQ(point["both_um"].get<double>(), std::max(left, right));
+  const nlohmann::json q = nlohmann::json::parse(read(out_q / "sweep.json"))["points"][0];
+  EXPECT_EQ(q["both_um"].get<double>(), summary["conformity"]["F_alpha"]["Q_MP"].get<double>());
+  EXPECT_TRUE(q["left_um"].is_null());
+  EXPECT_NE(q["left_note"].get<std::string>().find("as a whole"), std::string::npos);
+  // A scenario without the parameter: refused before any run.
+  const auto none = run_gearmc("sweep " + kScenario + grid + temp("param_none").string() +
+                               " --statistic parameters.F_alpha.U");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("a parameter every variant evaluates"), std::string::npos) << none.err;
+  EXPECT_FALSE(fs::exists(temp("param_none")));
+  for (const fs::path& p : {out, out_q, variant, run_out}) fs::remove_all(p);
+}
+
 // The count n is a number of values, not µm: the terminal, sweep.csv and the report say so. With
 // the gear count varied, each point counts its own gears: n of the point quantity is
 // gears × 24 teeth × 2 flanks × 10 × 5 points per flank / 2 per side (P1's plan, both flanks).
