@@ -241,7 +241,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->take_all();
   sweep->add_option("--statistic", sweep_options.statistic,
                     "delta_rcomp.<point|flank_max|flank_mean>.<n|mean|std|min|max|p95|p99_73> "
-                    "(default delta_rcomp.flank_max.p99_73)");
+                    "(default delta_rcomp.flank_max.p99_73), or parameters.<symbol>.<bias|u|U|"
+                    "U_over_T|Q_MP|false_accept|false_reject> with evaluation:");
   sweep->add_option("--out", sweep_options.out_dir,
                     "Output folder (default results/<scenario>_sweep)");
   sweep

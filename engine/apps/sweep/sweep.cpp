@@ -85,8 +85,10 @@ SweepAxis parse_vary(const std::string& text) {
   return axis;
 }
 
+namespace {
 const std::vector<std::string> kParameterStatistics = {
     "bias", "u", "U", "U_over_T", "Q_MP", "false_accept", "false_reject"};
+}  // namespace
 
 bool SweepStatistic::ratio() const {
   return !parameter.empty() && statistic != "bias" && statistic != "u" && statistic != "U";
