@@ -44,6 +44,7 @@ enum class TrialPurpose : std::uint32_t {
   kRTestFullMcm = 0x5254'0004,         // the full Monte-Carlo route
   kRTestVerification = 0x5254'0005,    // the simulated verification's repetitions
   kRTestPositions = 0x5254'0006,       // the positions' draws
+  kSweepBootstrap = 0x5357'0001,       // a sweep point's bootstrap resamples of its gears
 };
 
 // How many random bits one uniform takes.

@@ -243,6 +243,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                     "delta_rcomp.<point|flank_max|flank_mean>.<n|mean|std|min|max|p95|p99_73> "
                     "(default delta_rcomp.flank_max.p99_73), or parameters.<symbol>.<bias|u|U|"
                     "U_over_T|Q_MP|false_accept|false_reject> with evaluation:");
+  sweep
+      ->add_option("--confidence", sweep_options.confidence,
+                   "Confidence of each point's band (default 0.95)")
+      ->check(CLI::Range(0.5, 0.99));
+  sweep->add_option("--at-most", sweep_options.at_most,
+                    "Limit: each point meets, misses or is undecided against statistic ≤ V");
+  sweep->add_option("--at-least", sweep_options.at_least,
+                    "Limit: statistic ≥ V (with --at-most: a two-sided limit)");
   sweep->add_option("--out", sweep_options.out_dir,
                     "Output folder (default results/<scenario>_sweep)");
   sweep

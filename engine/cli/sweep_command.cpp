@@ -7,11 +7,14 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "core/input_error.h"
+#include "core/number_text.h"
 #include "core/output_files.h"
 #include "core/provenance.h"
 #include "core/ranks.h"
@@ -35,6 +38,18 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
         throw InputError({}, "--vary", v, "each key varied once ('" + s.axes[a].key + "' twice)");
       }
     }
+  }
+  s.confidence = o.confidence;
+  s.limit = {o.at_most, o.at_least};
+  for (const std::optional<double>* v : {&o.at_most, &o.at_least}) {
+    if (*v && !std::isfinite(**v)) {
+      throw InputError({}, v == &o.at_most ? "--at-most" : "--at-least", std::to_string(**v),
+                       "a finite number");
+    }
+  }
+  if (o.at_most && o.at_least && *o.at_least > *o.at_most) {
+    throw InputError({}, "--at-least", shortest_text(*o.at_least),
+                     "at most --at-most (" + shortest_text(*o.at_most) + ")");
   }
   s.points = sweep_grid(base.source_text, o.scenario_path, s.axes, o.overrides);
   check_sweep_statistic(s.statistic, s.points);
@@ -62,11 +77,13 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
       if (done == total) err << "\n";
     };
   }
+  std::vector<GearValues> gear_values;  // per point (δRcomp statistics), for the bands
   {
     InterruptGuard guard;
-    s.results = run_sweep(s.points, o.threads, ranks, progress);
+    s.results = run_sweep(s.points, o.threads, ranks, progress, &s.statistic, &gear_values);
   }
   if (!ranks.is_root()) return 0;
+  s.bands = sweep_point_bands(s, gear_values);
   s.ranks = ranks.size();
   s.threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -82,6 +99,7 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
   folder.created = false;
 
   const auto values = sweep_values(s);
+  const std::vector<SweepVerdict> verdicts = sweep_verdicts(s);
   for (std::size_t i = 0; i < s.points.size(); ++i) {
     for (std::size_t a = 0; a < s.axes.size(); ++a) {
       out << (a ? "  " : "  ") << s.axes[a].key << "=" << s.points[i].values[a];
@@ -93,10 +111,34 @@ int sweep_command(const SweepCommandOptions& o, std::ostream& out, std::ostream&
         << " = ";
     if (values[i][2].value) {
       out << std::setprecision(4) << *values[i][2].value << std::defaultfloat
-          << (*s.statistic.unit() ? " µm" : "") << "\n";
+          << (*s.statistic.unit() ? " µm" : "");
+      const SweepBand band = s.bands.empty() ? SweepBand{} : s.bands[i][2];
+      if (band.lower) {
+        out << std::setprecision(4) << "  [" << *band.lower << ", " << *band.upper << "]"
+            << std::defaultfloat;
+      }
+      if (!verdicts.empty()) out << "  " << sweep_verdict_text(verdicts[i]);
+      out << "\n";
     } else {
-      out << "— (" << values[i][2].note << ")\n";
+      out << "— (" << values[i][2].note << ")" << (verdicts.empty() ? "" : "  undecided") << "\n";
     }
+  }
+  bool any_band = false;
+  for (const auto& b : s.bands) any_band = any_band || b[2].lower.has_value();
+  std::ostringstream bands_words;
+  bands_words << o.confidence * 100 << " % bands of " << s.resamples
+              << " bootstrap resamples of the gears";
+  if (!any_band) {
+    bands_words.str(s.bands.empty() ? "no bands: the count is exact, an extreme has none"
+                                    : "no bands: " + s.bands[0][2].note);
+  }
+  if (!verdicts.empty()) {
+    int count[3] = {0, 0, 0};
+    for (SweepVerdict v : verdicts) ++count[static_cast<int>(v)];
+    out << "limit " << s.limit.text(s.statistic.unit()) << ": " << count[0] << " meet, " << count[1]
+        << " miss, " << count[2] << " undecided (" << bands_words.str() << ")\n";
+  } else if (any_band) {
+    out << "[…]: " << bands_words.str() << "\n";
   }
   out << "report: " << (folder.dir / "report.html").string() << "\n";
   return 0;

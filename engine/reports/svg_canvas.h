@@ -228,27 +228,54 @@ inline double text_width(std::string_view text) {
 
 // The header above the plot area: the title (y = 22) and one centred row (y = 42) with the
 // legend entries followed by a grey note. Kept out of the plot area so it never hides data.
+// The legend's rows: entries in order, a new row when the next would pass the right edge.
+constexpr double kLegendSwatch = 22.0, kLegendGap = 18.0, kLegendRow = 42.0, kLegendRowStep = 18.0;
+inline double legend_entry_width(const LegendEntry& e) {
+  return kLegendSwatch + text_width(e.label) + kLegendGap;
+}
+inline int legend_rows(int width, const std::vector<LegendEntry>& legend,
+                       const std::string& note = "") {
+  int rows = 1;
+  double x = 4.0;
+  for (const LegendEntry& e : legend) {
+    if (x > 4.0 && x + legend_entry_width(e) > width - 4.0) ++rows, x = 4.0;
+    x += legend_entry_width(e);
+  }
+  if (!note.empty() && x > 4.0 && x + text_width(note) > width - 4.0) ++rows;
+  return rows;
+}
+
+// The title and the legend under it: one centred row when it fits, else rows from the left
+// (legend_rows of them, kLegendRowStep apart; the caller leaves room for the extra rows).
 inline void draw_header(Svg& svg, int width, const std::string& title,
                         const std::vector<LegendEntry>& legend, const std::string& note = "") {
   if (!title.empty()) {
     svg.text(width / 2.0, 22.0, title, "middle", " font-size=\"15\" font-weight=\"bold\"");
   }
-  constexpr double kSwatch = 22.0, kGap = 18.0, kRow = 42.0;
   double total = note.empty() ? 0.0 : text_width(note);
-  for (const LegendEntry& e : legend) total += kSwatch + text_width(e.label) + kGap;
-  double x = std::max(4.0, (width - total) / 2.0);
+  for (const LegendEntry& e : legend) total += legend_entry_width(e);
+  const bool one_row = legend_rows(width, legend, note) == 1;
+  double x = one_row ? std::max(4.0, (width - total) / 2.0) : 4.0;
+  double row = kLegendRow;
   for (const LegendEntry& e : legend) {
-    if (e.is_line) {
-      svg.line(x, kRow - 4, x + 16, kRow - 4, e.colour, 2.0);
-    } else if (e.opacity < 1.0) {
-      svg.rect(x + 2, kRow - 10, 12, 12, e.colour, " fill-opacity=\"" + fixed(e.opacity, 2) + "\"");
-    } else {
-      svg.rect(x + 2, kRow - 10, 12, 12, e.colour);
+    if (!one_row && x > 4.0 && x + legend_entry_width(e) > width - 4.0) {
+      x = 4.0;
+      row += kLegendRowStep;
     }
-    svg.text(x + kSwatch, kRow, e.label);
-    x += kSwatch + text_width(e.label) + kGap;
+    if (e.is_line) {
+      svg.line(x, row - 4, x + 16, row - 4, e.colour, 2.0);
+    } else if (e.opacity < 1.0) {
+      svg.rect(x + 2, row - 10, 12, 12, e.colour, " fill-opacity=\"" + fixed(e.opacity, 2) + "\"");
+    } else {
+      svg.rect(x + 2, row - 10, 12, 12, e.colour);
+    }
+    svg.text(x + kLegendSwatch, row, e.label);
+    x += legend_entry_width(e);
   }
-  if (!note.empty()) svg.text(x, kRow, note, "start", " fill=\"#555555\"");
+  if (!note.empty()) {
+    if (!one_row && x > 4.0 && x + text_width(note) > width - 4.0) x = 4.0, row += kLegendRowStep;
+    svg.text(x, row, note, "start", " fill=\"#555555\"");
+  }
 }
 
 }  // namespace gearmc::svg_canvas

@@ -93,16 +93,22 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
       log ? Ticks{0.0, std::max(1.0, std::ceil(std::log10(std::max(y_top, 1.0)) - 1e-9)), 1.0, 0}
           : loose_ticks(0.0, y_top > 0 ? y_top : 1.0, 6);
   const auto to_axis = [&](double count) { return log ? std::log10(count) : count; };
-  const Frame f =
-      make_frame(options.width_px, options.height_px, x_lo, x_hi, log ? log_floor : 0.0, yt.hi);
-  const Ticks xt = loose_ticks(x_lo, x_hi);
-
   std::string note;
   if (histogram.underflow() > 0 || histogram.overflow() > 0) {
     note = "outside the bins: " + std::to_string(histogram.underflow()) + " below, " +
            std::to_string(histogram.overflow()) + " above";
   }
-  Svg svg(options.width_px, options.height_px);
+  std::vector<LegendEntry> legend;
+  if (!options.bars_label.empty()) legend.push_back({options.bars_label, kPalette[0], false});
+  if (options.overlay_pdf) legend.push_back({options.overlay_label, kPalette[1], true});
+  // A legend of more than one row moves the plot area down.
+  const double extra = (legend_rows(options.width_px, legend, note) - 1) * kLegendRowStep;
+  Frame f =
+      make_frame(options.width_px, options.height_px, x_lo, x_hi, log ? log_floor : 0.0, yt.hi);
+  f.top += extra;
+  f.bottom += extra;
+  const Ticks xt = loose_ticks(x_lo, x_hi);
+  Svg svg(options.width_px, options.height_px + static_cast<int>(extra));
   draw_axes(svg, f, xt, yt, options.x_label, options.y_label, log);
 
   const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(histogram.width()))));
@@ -129,10 +135,6 @@ std::string histogram_svg(const Histogram& histogram, const HistogramPlotOptions
     svg.polyline(points, kPalette[1], 2.0);
   }
   draw_markers(svg, f, options.markers, 2);
-
-  std::vector<LegendEntry> legend;
-  if (!options.bars_label.empty()) legend.push_back({options.bars_label, kPalette[0], false});
-  if (options.overlay_pdf) legend.push_back({options.overlay_label, kPalette[1], true});
   draw_header(svg, options.width_px, options.title, legend, note);
   return svg.finish();
 }
@@ -183,6 +185,14 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
       y_lo = std::min(y_lo, s.y[i]), y_hi = std::max(y_hi, s.y[i]);
     }
   }
+  for (const ErrorBar& b : options.error_bars) {
+    if (std::isfinite(b.lower) && std::isfinite(b.upper)) {
+      y_lo = std::min({y_lo, b.lower, b.upper}), y_hi = std::max({y_hi, b.lower, b.upper});
+    }
+  }
+  for (const HorizontalLine& h : options.limit_lines) {
+    if (std::isfinite(h.y)) y_lo = std::min(y_lo, h.y), y_hi = std::max(y_hi, h.y);
+  }
   for (const MarkerLine& m : options.markers) {
     if (std::isfinite(m.x)) x_lo = std::min(x_lo, m.x), x_hi = std::max(x_hi, m.x);
   }
@@ -201,15 +211,34 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
   if (y_lo > y_hi) y_lo = 0, y_hi = 1;
   const Ticks xt0 = loose_ticks(options.x_min.value_or(x_lo), options.x_max.value_or(x_hi));
   const Ticks yt0 = loose_ticks(options.y_min.value_or(y_lo), options.y_max.value_or(y_hi));
-  const Frame f = make_frame(options.width_px, options.height_px, options.x_min.value_or(xt0.lo),
-                             options.x_max.value_or(xt0.hi), options.y_min.value_or(yt0.lo),
-                             options.y_max.value_or(yt0.hi));
+  // The legend first: a legend of more than one row moves the plot area down.
+  constexpr double kBandOpacity = 0.2;
+  std::vector<LegendEntry> legend;
+  for (const HorizontalBand& b : options.bands) {
+    if (std::isfinite(b.lo) && std::isfinite(b.hi) && !b.label.empty()) {
+      legend.push_back({b.label, b.colour.empty() ? "#777777" : b.colour, false, kBandOpacity});
+    }
+  }
+  for (const PointHalos& h : options.halos) {
+    if (!h.label.empty() && !h.x.empty()) legend.push_back({h.label, h.colour, false});
+  }
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    if (!s.label.empty()) {
+      legend.push_back({s.label, colour_or(s.colour, k),
+                        draws_lines(s.style) || s.style == SeriesStyle::kStems});
+    }
+  }
+  const double extra = (legend_rows(options.width_px, legend) - 1) * kLegendRowStep;
+  Frame f = make_frame(options.width_px, options.height_px, options.x_min.value_or(xt0.lo),
+                       options.x_max.value_or(xt0.hi), options.y_min.value_or(yt0.lo),
+                       options.y_max.value_or(yt0.hi));
+  f.top += extra;
+  f.bottom += extra;
   const Ticks xt = loose_ticks(f.x_lo, f.x_hi), yt = loose_ticks(f.y_lo, f.y_hi);
 
-  Svg svg(options.width_px, options.height_px);
+  Svg svg(options.width_px, options.height_px + static_cast<int>(extra));
   draw_axes(svg, f, xt, yt, options.x_label, options.y_label);
-  std::vector<LegendEntry> legend;
-  constexpr double kBandOpacity = 0.2;
   for (const HorizontalBand& b : options.bands) {
     if (!std::isfinite(b.lo) || !std::isfinite(b.hi)) continue;
     const double lo = std::clamp(std::min(b.lo, b.hi), f.y_lo, f.y_hi);
@@ -218,10 +247,17 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
     svg.rect(f.left, f.to_y(hi), f.right - f.left, f.to_y(lo) - f.to_y(hi), colour,
              " class=\"band\" fill-opacity=\"" + fixed(kBandOpacity, 2) + "\"",
              b.label.empty() ? "" : b.label);
-    if (!b.label.empty()) legend.push_back({b.label, colour, false, kBandOpacity});
   }
   for (double y : options.horizontal_lines) {
     if (y >= f.y_lo && y <= f.y_hi) svg.line(f.left, f.to_y(y), f.right, f.to_y(y), "#777777");
+  }
+  for (const PointHalos& h : options.halos) {
+    for (std::size_t i = 0; i < std::min(h.x.size(), h.y.size()); ++i) {
+      if (std::isfinite(h.x[i]) && std::isfinite(h.y[i]) && h.x[i] >= f.x_lo && h.x[i] <= f.x_hi &&
+          h.y[i] >= f.y_lo && h.y[i] <= f.y_hi) {
+        svg.circle(f.to_x(h.x[i]), f.to_y(h.y[i]), 8.0, h.colour);
+      }
+    }
   }
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
@@ -258,8 +294,25 @@ std::string xy_plot_svg(const std::vector<Series>& series, const XYPlotOptions& 
         if (inside(i)) svg.circle(f.to_x(s.x[i]), f.to_y(s.y[i]), radius, colour);
       }
     }
-    if (!s.label.empty()) {
-      legend.push_back({s.label, colour, draws_lines(s.style) || s.style == SeriesStyle::kStems});
+  }
+  for (const ErrorBar& b : options.error_bars) {
+    if (!std::isfinite(b.lower) || !std::isfinite(b.upper) || b.x < f.x_lo || b.x > f.x_hi) {
+      continue;
+    }
+    const std::string colour = b.colour.empty() ? "#555555" : b.colour;
+    const double x = f.to_x(b.x) + b.x_offset_px;
+    const double y1 = f.to_y(std::clamp(b.lower, f.y_lo, f.y_hi));
+    const double y2 = f.to_y(std::clamp(b.upper, f.y_lo, f.y_hi));
+    svg.line(x, y1, x, y2, colour, 1.2);
+    svg.line(x - 4, y1, x + 4, y1, colour, 1.2);
+    svg.line(x - 4, y2, x + 4, y2, colour, 1.2);
+  }
+  for (const HorizontalLine& h : options.limit_lines) {
+    if (!(h.y >= f.y_lo && h.y <= f.y_hi)) continue;
+    svg.line(f.left, f.to_y(h.y), f.right, f.to_y(h.y), h.colour, 1.5, true);
+    if (!h.label.empty()) {
+      svg.text(f.right - 4, f.to_y(h.y) - 5, h.label, "end",
+               " fill=\"" + escape_xml(h.colour) + "\"");
     }
   }
   draw_markers(svg, f, options.markers, series.size());

@@ -82,6 +82,29 @@ struct Series {
   std::string colour;  // CSS colour; empty: the next palette colour
 };
 
+// A vertical whisker with caps from y = lower to upper at x (e.g. a confidence band), drawn over
+// the series; inside the default y range. Non-finite ends: not drawn.
+struct ErrorBar {
+  double x = 0.0, lower = 0.0, upper = 0.0;
+  std::string colour;        // CSS colour; empty: grey
+  double x_offset_px = 0.0;  // drawn this far right of x (bars of several lines at one x)
+};
+
+// Large pale discs under the series at (x, y) with a legend entry, marking points (e.g. a
+// verdict: meets, misses).
+struct PointHalos {
+  std::string label, colour;
+  std::vector<double> x, y;
+};
+
+// A labelled horizontal line across the plot area (e.g. a limit), dashed, its label at the right
+// end above the line; inside the default y range.
+struct HorizontalLine {
+  double y = 0.0;
+  std::string label;
+  std::string colour = "#c0392b";
+};
+
 // A shaded horizontal band lo ≤ y ≤ hi (data units) across the plot area, under the data, with
 // a legend entry, e.g. the range a bin mean of pure noise stays within (±2σ/√n).
 struct HorizontalBand {
@@ -92,9 +115,12 @@ struct HorizontalBand {
 
 struct XYPlotOptions {
   std::string title, x_label, y_label;
-  std::vector<MarkerLine> markers;                   // vertical lines at x
-  std::vector<double> horizontal_lines;              // thin reference lines at y (e.g. 0)
-  std::vector<HorizontalBand> bands;                 // shaded y ranges, inside the default range
+  std::vector<MarkerLine> markers;          // vertical lines at x
+  std::vector<double> horizontal_lines;     // thin reference lines at y (e.g. 0)
+  std::vector<HorizontalBand> bands;        // shaded y ranges, inside the default range
+  std::vector<HorizontalLine> limit_lines;  // labelled dashed lines at y
+  std::vector<ErrorBar> error_bars;
+  std::vector<PointHalos> halos;
   std::optional<double> x_min, x_max, y_min, y_max;  // default: the data (and lines), rounded out
   bool y_from_zero = false;                          // include y = 0 in the default range
   int width_px = 640, height_px = 400;

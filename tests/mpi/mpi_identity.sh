@@ -81,10 +81,13 @@ for n in 2 3; do
 done
 
 echo "== sweep: 2 × 2 variants over 3 ranks"
-sweep_args=(sweep small.yaml --vary stylus.radius_mm=0.4,0.6 --vary probing.points_along_profile=3,4 --gears 40)
+sweep_args=(sweep small.yaml --vary stylus.radius_mm=0.4,0.6 --vary probing.points_along_profile=3,4 --gears 40 --statistic delta_rcomp.point.p95 --at-most 1)
 run_case sweep_single 0 1 "${sweep_args[@]}"
 run_case sweep_n3 3 1 "${sweep_args[@]}"
 $compare sweep_single/out sweep_n3/out || fail=1
+# The bands travel from the ranks with each point's per-gear values: they must exist to be compared.
+python3 -c "import json,sys; p=json.load(open('sweep_n3/out/sweep.json'))['points']; sys.exit(0 if all(x['both_band_um'] for x in p) else 1)" \
+  || { echo "sweep: a point without a band"; fail=1; }
 
 echo "== check: a max claim runs to the budget of 1100 gears (batches 256, 256, 512, 76)"
 cp small.yaml claims.yaml

@@ -8,6 +8,7 @@
 
 #include "core/bytes.h"
 #include "core/input_error.h"
+#include "engine/apps/sweep/sweep_bands.h"
 #include "engine/run/run_partials.h"
 #include "engine/schema/scenario_keys.h"
 #include "engine/statistics/stats_json.h"
@@ -250,11 +251,13 @@ std::vector<SweepPoint> sweep_grid(const std::string& base_text, const std::stri
 }
 
 std::vector<RunResults> run_sweep(const std::vector<SweepPoint>& points, int threads,
-                                  const Ranks& ranks,
-                                  const std::function<void(int, int)>& progress) {
+                                  const Ranks& ranks, const std::function<void(int, int)>& progress,
+                                  const SweepStatistic* s, std::vector<GearValues>* gear_values) {
   const int total = static_cast<int>(points.size());
   const Ranks::Share mine = ranks.share(points.size());
+  const bool per_gear = gear_values != nullptr && s != nullptr && s->parameter.empty();
   std::vector<RunResults> local;
+  std::vector<GearValues> local_gears;
   const std::vector<std::string> parts = ranks.gather([&] {
     std::string bytes;
     for (std::uint64_t i = mine.begin; i < mine.end; ++i) {
@@ -262,6 +265,15 @@ std::vector<RunResults> run_sweep(const std::vector<SweepPoint>& points, int thr
       const MonteCarloRun mc(scenario);
       RunOptions options;
       options.threads = threads;
+      GearValues gears;
+      if (per_gear) {
+        options.on_gear = [&](const GearOutcome& g) {
+          const auto& q = s->quantity == "point"       ? g.point_delta
+                          : s->quantity == "flank_max" ? g.flank_max
+                                                       : g.flank_mean;
+          gears.add_gear(q[0], q[1]);
+        };
+      }
       RunResults r;
       try {
         r = mc.run(options);
@@ -270,11 +282,15 @@ std::vector<RunResults> run_sweep(const std::vector<SweepPoint>& points, int thr
       }
       if (ranks.is_root()) {
         local.push_back(std::move(r));
+        local_gears.push_back(std::move(gears));
         if (progress) {
           progress(std::min(total, static_cast<int>(local.size()) * ranks.size()), total);
         }
       } else {
         ByteWriter(bytes).put_text(encode_partial(r));
+        std::string encoded;
+        gears.encode(encoded);
+        ByteWriter(bytes).put_text(encoded);
       }
     }
     return bytes;
@@ -282,8 +298,12 @@ std::vector<RunResults> run_sweep(const std::vector<SweepPoint>& points, int thr
   if (!ranks.is_root()) return {};
   for (std::size_t r = 1; r < parts.size(); ++r) {
     ByteReader in(parts[r]);
-    while (!in.done()) local.push_back(decode_partial(in.get_text()));
+    while (!in.done()) {
+      local.push_back(decode_partial(in.get_text()));
+      local_gears.push_back(GearValues::decode(in.get_text()));
+    }
   }
+  if (per_gear) *gear_values = std::move(local_gears);
   return local;
 }
 

@@ -72,11 +72,17 @@ std::vector<SweepPoint> sweep_grid(const std::string& base_text, const std::stri
                                    const std::vector<SweepAxis>& axes,
                                    const ScenarioOverrides& overrides);
 
+struct GearValues;
+
 // Runs every point (each with `threads` threads) split over `ranks`; on rank 0 the results in
-// point order (other ranks: empty). `progress(done, total)` on rank 0 after each of its points,
-// with the estimate done × ranks. Collective; an error on any rank is thrown on all.
+// point order (other ranks: empty). With `gear_values` and a δRcomp statistic `s`, also each
+// point's per-gear values of s's quantity (for the bands, sweep_bands.h) into *gear_values on
+// rank 0. `progress(done, total)` on rank 0 after each of its points, with the estimate
+// done × ranks. Collective; an error on any rank is thrown on all.
 std::vector<RunResults> run_sweep(const std::vector<SweepPoint>& points, int threads,
                                   const Ranks& ranks,
-                                  const std::function<void(int, int)>& progress = {});
+                                  const std::function<void(int, int)>& progress = {},
+                                  const SweepStatistic* s = nullptr,
+                                  std::vector<GearValues>* gear_values = nullptr);
 
 }  // namespace gearmc

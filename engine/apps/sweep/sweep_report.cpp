@@ -10,6 +10,7 @@
 #include "core/number_text.h"
 #include "engine/reports/html_report.h"
 #include "engine/reports/parameter_report.h"
+#include "engine/reports/svg_canvas.h"
 #include "engine/reports/svg_plot.h"
 
 namespace gearmc {
@@ -34,14 +35,9 @@ std::string csv_field(const std::string& text) {
 
 }  // namespace
 
-namespace {
-
-// A gear parameter's statistic at one point (sweep.h): from the run's parameter presentation,
-// as the run report states it.
-std::array<SweepValue, 3> parameter_values(const SweepStatistic& stat, const Scenario& scenario,
-                                           const RunResults& r) {
+std::array<SweepValue, 3> sweep_parameter_values(const SweepStatistic& stat,
+                                                 const MonteCarloRun& mc, const RunResults& r) {
   std::array<SweepValue, 3> v;
-  const MonteCarloRun mc(scenario);
   const std::optional<ParameterPresentation> p = present_parameters(mc, r);
   const ParameterSummary* summary = nullptr;
   if (p) {
@@ -84,6 +80,8 @@ std::array<SweepValue, 3> parameter_values(const SweepStatistic& stat, const Sce
   return v;
 }
 
+namespace {
+
 // What the "both" column is, in words: both flanks (δRcomp), the larger side (a parameter's bias,
 // u, U) or the parameter as a whole (its ratios and rates).
 std::string both_words(const SweepStatistic& s) {
@@ -98,7 +96,7 @@ std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s) {
   for (std::size_t i = 0; i < s.results.size(); ++i) {
     const RunResults& r = s.results[i];
     if (!s.statistic.parameter.empty()) {
-      values.push_back(parameter_values(s.statistic, s.points[i].scenario, r));
+      values.push_back(sweep_parameter_values(s.statistic, MonteCarloRun(s.points[i].scenario), r));
       continue;
     }
     std::array<SweepValue, 3> v;
@@ -111,6 +109,54 @@ std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s) {
   return values;
 }
 
+std::vector<std::array<SweepBand, 3>> sweep_point_bands(const SweepOutcome& s,
+                                                        const std::vector<GearValues>& gears) {
+  std::vector<std::array<SweepBand, 3>> bands;
+  if (!sweep_statistic_has_band(s.statistic)) return bands;
+  for (std::size_t i = 0; i < s.results.size(); ++i) {
+    const Scenario& scenario = s.points[i].scenario;
+    if (s.statistic.parameter.empty()) {
+      bands.push_back(i < gears.size() ? delta_rcomp_bands(s.statistic, gears[i], s.confidence,
+                                                           scenario.seed, s.resamples)
+                                       : std::array<SweepBand, 3>{});
+    } else {
+      bands.push_back(parameter_bands(s.statistic, MonteCarloRun(scenario), s.results[i],
+                                      s.confidence, scenario.seed, s.resamples));
+    }
+  }
+  return bands;
+}
+
+std::vector<SweepVerdict> sweep_verdicts(const SweepOutcome& s) {
+  if (!s.limit.any()) return {};
+  const auto values = sweep_values(s);
+  std::vector<SweepVerdict> verdicts;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const SweepBand band = i < s.bands.size() ? s.bands[i][2] : SweepBand{};
+    verdicts.push_back(sweep_verdict(s.limit, s.statistic, values[i][2].value, band));
+  }
+  return verdicts;
+}
+
+namespace {
+
+// "[4.41, 4.93]" or "—" with the band's note.
+std::string band_text(const SweepBand& b) {
+  if (!b.lower) return "— (" + b.note + ")";
+  std::ostringstream text;
+  text.precision(4);
+  text << "[" << *b.lower << ", " << *b.upper << "]";
+  return text.str();
+}
+
+std::string percent_text(double confidence) {
+  std::ostringstream text;
+  text << confidence * 100.0;
+  return text.str() + " %";
+}
+
+}  // namespace
+
 std::string sweep_csv(const SweepOutcome& s) {
   std::ostringstream csv;
   // The header first (read with any tool's defaults); the provenance is sweep.json's.
@@ -118,6 +164,16 @@ std::string sweep_csv(const SweepOutcome& s) {
   csv << "gears,contacts,failed_contacts";
   const std::string unit = *s.statistic.unit() ? "_um" : "";
   for (const char* side : kSides) csv << "," << s.statistic.text << "_" << side << unit;
+  const bool bands = !s.bands.empty();
+  if (bands) {
+    for (const char* side : kSides) {
+      for (const char* end : {"lower", "upper"}) {
+        csv << "," << s.statistic.text << "_" << side << "_" << end << unit;
+      }
+    }
+  }
+  const std::vector<SweepVerdict> verdicts = sweep_verdicts(s);
+  if (!verdicts.empty()) csv << ",verdict";
   csv << "\n";
   const auto values = sweep_values(s);
   for (std::size_t i = 0; i < s.points.size(); ++i) {
@@ -127,6 +183,13 @@ std::string sweep_csv(const SweepOutcome& s) {
     for (const SweepValue& v : values[i]) {
       csv << "," << (v.value ? shortest_text(*v.value) : std::string());
     }
+    if (bands) {
+      for (const SweepBand& b : s.bands[i]) {
+        csv << "," << (b.lower ? shortest_text(*b.lower) : std::string()) << ","
+            << (b.upper ? shortest_text(*b.upper) : std::string());
+      }
+    }
+    if (!verdicts.empty()) csv << "," << sweep_verdict_text(verdicts[i]);
     csv << "\n";
   }
   return csv.str();
@@ -141,6 +204,20 @@ nlohmann::ordered_json sweep_json(const SweepOutcome& s) {
   nlohmann::ordered_json axes = nlohmann::ordered_json::array();
   for (const SweepAxis& a : s.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
   j["vary"] = axes;
+  if (!s.bands.empty()) {
+    j["bands"] = {{"confidence", s.confidence},
+                  {"method", "cluster bootstrap over gears, percentile"},
+                  {"resamples", s.resamples}};
+  }
+  if (s.limit.any()) {
+    nlohmann::ordered_json limit;
+    limit["at_most"] =
+        s.limit.at_most ? nlohmann::ordered_json(*s.limit.at_most) : nlohmann::ordered_json();
+    limit["at_least"] =
+        s.limit.at_least ? nlohmann::ordered_json(*s.limit.at_least) : nlohmann::ordered_json();
+    j["limit"] = limit;
+  }
+  const std::vector<SweepVerdict> verdicts = sweep_verdicts(s);
   const auto values = sweep_values(s);
   nlohmann::ordered_json points = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < s.points.size(); ++i) {
@@ -161,6 +238,16 @@ nlohmann::ordered_json sweep_json(const SweepOutcome& s) {
           v.value ? nlohmann::ordered_json(*v.value) : nlohmann::ordered_json();
       if (!v.value) p[kSides[side] + std::string("_note")] = v.note;
     }
+    if (!s.bands.empty()) {
+      for (int side = 0; side < 3; ++side) {
+        const SweepBand& b = s.bands[i][side];
+        const std::string key = kSides[side] + std::string("_band_um");
+        p[key] = b.lower ? nlohmann::ordered_json::array({*b.lower, *b.upper})
+                         : nlohmann::ordered_json();
+        if (!b.lower) p[kSides[side] + std::string("_band_note")] = b.note;
+      }
+    }
+    if (!verdicts.empty()) p["verdict"] = sweep_verdict_text(verdicts[i]);
     points.push_back(p);
   }
   j["points"] = points;
@@ -172,6 +259,7 @@ nlohmann::ordered_json sweep_json(const SweepOutcome& s) {
 
 std::vector<std::string> sweep_figures(const SweepOutcome& s) {
   const auto values = sweep_values(s);
+  const std::vector<SweepVerdict> verdicts = sweep_verdicts(s);
   std::vector<std::string> figures;
   const std::size_t axes = s.axes.size();
   // Index of the point with the value index `at[a]` on every axis a (last axis fastest).
@@ -190,6 +278,16 @@ std::vector<std::string> sweep_figures(const SweepOutcome& s) {
       if (a != x_axis) lines *= s.axes[a].values.size();
     }
     std::vector<Series> series;
+    std::vector<std::vector<ErrorBar>> bars;  // per series: its points' bands
+    XYPlotOptions options;
+    // With a limit: each point's verdict as a pale disc under it (one set per verdict).
+    const char* verdict_colours[3] = {"#a5d6a7", "#ef9a9a", "#d0d0d0"};  // meets, misses, undecided
+    if (!verdicts.empty()) {
+      for (int m = 0; m < 3; ++m) {
+        options.halos.push_back(
+            {sweep_verdict_text(static_cast<SweepVerdict>(m)), verdict_colours[m], {}, {}});
+      }
+    }
     for (std::size_t line = 0; line < lines; ++line) {
       std::vector<std::size_t> at(axes, 0);
       std::size_t rest = line;
@@ -206,11 +304,22 @@ std::vector<std::string> sweep_figures(const SweepOutcome& s) {
       Series line_series;
       line_series.label = label;
       line_series.style = SeriesStyle::kLineAndPoints;
+      std::vector<ErrorBar> line_bars;
       for (std::size_t k = 0; k < xa.values.size(); ++k) {
         at[x_axis] = k;
-        const SweepValue& v = values[point_index(at)][2];
-        line_series.x.push_back(numeric ? *number_of(xa.values[k]) : static_cast<double>(k));
+        const std::size_t point = point_index(at);
+        const SweepValue& v = values[point][2];
+        const double x = numeric ? *number_of(xa.values[k]) : static_cast<double>(k);
+        line_series.x.push_back(x);
         line_series.y.push_back(v.value ? *v.value : std::nan(""));
+        if (!s.bands.empty() && s.bands[point][2].lower) {
+          line_bars.push_back({x, *s.bands[point][2].lower, *s.bands[point][2].upper, ""});
+        }
+        if (!verdicts.empty() && v.value) {
+          PointHalos& h = options.halos[static_cast<std::size_t>(verdicts[point])];
+          h.x.push_back(x);
+          h.y.push_back(*v.value);
+        }
       }
       // A line with exactly the values of an earlier one would hide it: one line, both labels.
       bool merged = false;
@@ -231,9 +340,35 @@ std::vector<std::string> sweep_figures(const SweepOutcome& s) {
           break;
         }
       }
-      if (!merged) series.push_back(std::move(line_series));
+      if (!merged) {
+        series.push_back(std::move(line_series));
+        bars.push_back(std::move(line_bars));
+      }
     }
-    XYPlotOptions options;
+    // The bands in their line's colour, side by side when lines share an x.
+    for (std::size_t k = 0; k < series.size(); ++k) {
+      const double shift =
+          series.size() > 1 && !bars[k].empty()
+              ? (static_cast<double>(k) - static_cast<double>(series.size() - 1) / 2.0)
+              : 0.0;
+      for (ErrorBar b : bars[k]) {
+        b.colour = svg_canvas::colour_or(series[k].colour, k);
+        b.x_offset_px = 5.0 * shift;
+        options.error_bars.push_back(b);
+      }
+    }
+    if (!verdicts.empty()) {
+      const char* unit = s.statistic.unit();
+      const std::string u = *unit ? std::string(" ") + unit : std::string();
+      if (s.limit.at_most) {
+        options.limit_lines.push_back(
+            {*s.limit.at_most, "at most " + shortest_text(*s.limit.at_most) + u});
+      }
+      if (s.limit.at_least) {
+        options.limit_lines.push_back(
+            {*s.limit.at_least, "at least " + shortest_text(*s.limit.at_least) + u});
+      }
+    }
     options.title = s.statistic.text + " (" + both_words(s.statistic) + ") against " + xa.key;
     options.x_label = numeric ? xa.key : xa.key + " (index of its values)";
     options.y_label = s.statistic.text + (*s.statistic.unit() ? ", µm" : "");
@@ -284,10 +419,24 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
     if (without > 0) {
       lines.push_back(std::to_string(without) + " grid point(s) without a value (see the table)");
     }
+    const std::vector<SweepVerdict> verdicts = sweep_verdicts(s);
+    int count[3] = {0, 0, 0};
+    if (!verdicts.empty()) {
+      for (SweepVerdict v : verdicts) ++count[static_cast<int>(v)];
+      lines.insert(lines.begin(),
+                   "limit " + s.limit.text(s.statistic.unit()) + ": " + std::to_string(count[0]) +
+                       " meet (the whole " + percent_text(s.confidence) + " band within), " +
+                       std::to_string(count[1]) + " miss (the whole band beyond), " +
+                       std::to_string(count[2]) + " undecided (more gears would decide)");
+    }
     report.verdict(s.statistic.text + " of " + both_words(s.statistic) + " over " +
                        std::to_string(s.points.size()) + " grid points" +
                        (lo ? "" : ": no grid point has a value"),
-                   lines);
+                   lines,
+                   verdicts.empty() ? HtmlReport::Tone::kNeutral
+                   : count[1] > 0   ? HtmlReport::Tone::kBad
+                   : count[2] == 0  ? HtmlReport::Tone::kGood
+                                    : HtmlReport::Tone::kNeutral);
   }
   report.paragraph("Scenario " + s.source_path + ", grid " + grid + ": " +
                    std::to_string(s.points.size()) + " runs of " + sweep_runs_text(s.points) +
@@ -298,6 +447,17 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
                         ? std::string(", of the parameter as a whole (the run report's).")
                         : std::string(", of the left and right flanks' items and the larger "
                                       "side (the run report's per side).")));
+  if (!s.bands.empty()) {
+    report.paragraph(
+        "The whiskers are " + percent_text(s.confidence) +
+        " confidence bands of the statistic: where it lies for infinitely many gears, from " +
+        std::to_string(s.resamples) +
+        " bootstrap resamples of the point's gears (whole gears drawn with replacement, as the "
+        "gear is the unit of independence; the band is the resamples' central " +
+        percent_text(s.confidence) +
+        " range). The points share their perturbed gears (same seed), so two points' "
+        "difference is known better than their bands suggest.");
+  }
   for (std::size_t a = 0; a < figures.size(); ++a) {
     report.figure(figures[a],
                   s.statistic.text + " of " + both_words(s.statistic) + " against " +
@@ -310,6 +470,11 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
   const std::string unit = *s.statistic.unit() ? ", µm" : "";
   for (const std::string h : {"gears", "contacts", "failed"}) table.header.push_back(h);
   for (const std::string side : {"left", "right", "both"}) table.header.push_back(side + unit);
+  if (!s.bands.empty()) {
+    table.header.push_back("both: " + percent_text(s.confidence) + " band" + unit);
+  }
+  const std::vector<SweepVerdict> verdicts = sweep_verdicts(s);
+  if (!verdicts.empty()) table.header.push_back("limit " + s.limit.text(s.statistic.unit()));
   const auto values = sweep_values(s);
   for (std::size_t i = 0; i < s.points.size(); ++i) {
     HtmlTable::Row row;
@@ -328,6 +493,8 @@ std::string sweep_report_html(const SweepOutcome& s, const std::vector<std::stri
       }
       row.cells.push_back(text.str());
     }
+    if (!s.bands.empty()) row.cells.push_back(band_text(s.bands[i][2]));
+    if (!verdicts.empty()) row.cells.push_back(sweep_verdict_text(verdicts[i]));
     table.rows.push_back(row);
   }
   report.table(table);

@@ -12,6 +12,7 @@
 
 #include "core/provenance.h"
 #include "engine/apps/sweep/sweep.h"
+#include "engine/apps/sweep/sweep_bands.h"
 
 namespace gearmc {
 
@@ -27,15 +28,32 @@ struct SweepOutcome {
   std::vector<SweepPoint> points;
   std::vector<RunResults> results;                // one per point, in point order
   std::vector<std::array<SweepValue, 3>> values;  // optional: sweep_values' result, kept
+  // One per point (empty: no bands): the statistic's confidence bands (sweep_bands.h).
+  std::vector<std::array<SweepBand, 3>> bands;
+  double confidence = 0.95;
+  int resamples = kSweepResamples;
+  SweepLimit limit;  // --at-most / --at-least (none: no verdicts)
   int ranks = 1, threads = 1;
   double wall_s = 0.0;
   Provenance provenance;
 };
 
+// A gear parameter's statistic at one point (sweep.h) from the run's parameter presentation, as
+// the run report states it: [0] L, [1] R, [2] both (the larger side, or the parameter as a whole).
+std::array<SweepValue, 3> sweep_parameter_values(const SweepStatistic& stat,
+                                                 const MonteCarloRun& mc, const RunResults& r);
+
 // Statistic values per point: [point][side 0 L, 1 R, 2 both]; nullopt with a note when missing.
 // `values` of the outcome when set (the command computes them once: a parameter statistic
 // evaluates each point's parameters), else computed from the results.
 std::vector<std::array<SweepValue, 3>> sweep_values(const SweepOutcome& s);
+
+// The bands of every point at the outcome's confidence: δRcomp statistics from each point's
+// per-gear values (run_sweep's gear_values), parameter statistics from the point's run.
+std::vector<std::array<SweepBand, 3>> sweep_point_bands(const SweepOutcome& s,
+                                                        const std::vector<GearValues>& gears);
+// The verdict of each point's "both" value against the limit (sweep_verdict); empty without one.
+std::vector<SweepVerdict> sweep_verdicts(const SweepOutcome& s);
 
 std::string sweep_csv(const SweepOutcome& s);
 nlohmann::ordered_json sweep_json(const SweepOutcome& s);

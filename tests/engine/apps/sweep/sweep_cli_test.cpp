@@ -169,6 +169,69 @@ TEST(SweepCli, TheCountHasNoUnitAndVariedGearCountsAreSaid) {
   fs::remove_all(out);
 }
 
+// A limit: each point's verdict from its band, in the terminal, sweep.csv, sweep.json and the
+// report; the band (95 % by default) brackets the point's value; the count has no band.
+TEST(SweepCli, ALimitGivesEachPointAVerdictFromItsBand) {
+  const fs::path out = temp("limit");
+  const auto r = run_gearmc("sweep " + kScenario +
+                            " --vary stylus.radius_mm=0.3,1.5 --statistic delta_rcomp.point.p95"
+                            " --gears 20 --at-most 2 --quiet --out " +
+                            out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json sweep = nlohmann::json::parse(read(out / "sweep.json"));
+  EXPECT_EQ(sweep["bands"]["confidence"], 0.95);
+  EXPECT_EQ(sweep["bands"]["resamples"], 1000);
+  EXPECT_EQ(sweep["limit"]["at_most"], 2.0);
+  EXPECT_TRUE(sweep["limit"]["at_least"].is_null());
+  const std::string csv = read(out / "sweep.csv");
+  int verdicts[3] = {0, 0, 0};
+  for (const auto& p : sweep["points"]) {
+    ASSERT_TRUE(p["both_band_um"].is_array()) << p.dump();
+    const double lo = p["both_band_um"][0], hi = p["both_band_um"][1], v = p["both_um"];
+    EXPECT_LT(lo, hi);
+    // The estimate is the histogram's (rounded up by at most 2^-12 relative): inside the band.
+    EXPECT_LE(lo, v);
+    EXPECT_GE(hi * (1.0 + 0x1.0p-12), v);
+    const std::string expected = hi <= 2.0 ? "meets" : lo > 2.0 ? "misses" : "undecided";
+    EXPECT_EQ(p["verdict"], expected) << p.dump();
+    ++verdicts[expected == "meets" ? 0 : expected == "misses" ? 1 : 2];
+    EXPECT_NE(csv.find("," + expected + "\n"), std::string::npos) << csv;
+  }
+  // P1 with a 0.3 mm stylus stays far below 2 µm at p95 and a 1.5 mm one far above it.
+  EXPECT_EQ(sweep["points"][0]["verdict"], "meets");
+  EXPECT_EQ(sweep["points"][1]["verdict"], "misses");
+  EXPECT_NE(r.out.find("limit ≤ 2 µm: " + std::to_string(verdicts[0]) + " meet, " +
+                       std::to_string(verdicts[1]) + " miss, " + std::to_string(verdicts[2]) +
+                       " undecided (95 % bands of 1000 bootstrap resamples of the gears)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(csv.rfind("stylus.radius_mm,gears,contacts,failed_contacts,", 0), 0u);
+  EXPECT_NE(csv.find(",delta_rcomp.point.p95_both_lower_um,delta_rcomp.point.p95_both_upper_um,"
+                     "verdict\n"),
+            std::string::npos)
+      << csv;
+  const std::string html = read(out / "report.html");
+  EXPECT_NE(html.find("limit ≤ 2 µm: 1 meet"), std::string::npos);
+  EXPECT_NE(html.find("at most 2 µm"), std::string::npos);  // the limit line's label
+  // A narrower confidence gives a narrower band of the same resamples.
+  const fs::path out80 = temp("limit80");
+  ASSERT_EQ(run_gearmc("sweep " + kScenario +
+                       " --vary stylus.radius_mm=0.3,1.5 --statistic delta_rcomp.point.p95"
+                       " --gears 20 --confidence 0.8 --quiet --out " +
+                       out80.string())
+                .exit_code,
+            0);
+  const nlohmann::json s80 = nlohmann::json::parse(read(out80 / "sweep.json"));
+  for (int i = 0; i < 2; ++i) {
+    const auto& b95 = sweep["points"][i]["both_band_um"];
+    const auto& b80 = s80["points"][i]["both_band_um"];
+    EXPECT_GT(b80[0].get<double>(), b95[0].get<double>());
+    EXPECT_LT(b80[1].get<double>(), b95[1].get<double>());
+  }
+  EXPECT_FALSE(s80.contains("limit"));
+  for (const fs::path& p : {out, out80}) fs::remove_all(p);
+}
+
 TEST(SweepCli, BadKeysValuesAndStatisticsAreOneMessageAndNothingWritten) {
   struct Case {
     std::string args, expected;
@@ -184,6 +247,10 @@ TEST(SweepCli, BadKeysValuesAndStatisticsAreOneMessageAndNothingWritten) {
       // every variant, and the header once printed the option's count for all of them.
       {"--vary run.gears=3,4", "--vary: got 'run.gears', expected a key --gears does not override"},
       {"--vary seed=1,2 --seed 5", "--vary: got 'seed', expected a key --seed does not override"},
+      {"--vary stylus.radius_mm=0.5 --at-most 1 --at-least 2",
+       "--at-least: got '2', expected at most --at-most (1)"},
+      {"--vary stylus.radius_mm=0.5 --confidence 1.5", "--confidence"},
+      {"--vary stylus.radius_mm=0.5 --at-most abc", "--at-most"},
   };
   for (const Case& c : cases) {
     const fs::path out = temp("bad");
