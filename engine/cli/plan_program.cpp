@@ -15,6 +15,13 @@ void apply_plan_program(const std::string& plan_path, Scenario& scenario) {
                          ": a dedicated evaluation scan is not part of a user's program; drop it "
                          "to evaluate the program's own profile and helix traces");
   }
+  if (scenario.evaluation && scenario.evaluation->sections_at) {
+    const EvaluationSpec& e = *scenario.evaluation;
+    throw InputError(*e.sections_at, e.sections_key, e.sections_value,
+                     "1 with --plan " + plan_path +
+                         ": a user's program gives one profile and one helix trace per flank "
+                         "(its own, docs/parameters.md)");
+  }
   const InvoluteGear gear(scenario.gear);
   scenario.probing.points = plan_from_dmis(gear, read_dmis_plan(plan_path), plan_path);
 }

@@ -91,8 +91,10 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
     parameters_.push_back(p);
   }
 
-  // Where the traces run: the grid's section nearest mid face and column nearest mid profile, or
-  // the dedicated scans there.
+  // Where the traces run: one trace (1 section) at mid face / mid profile, several at the centres
+  // of equal parts of L_β / L_α; on the grid its section nearest mid face and column nearest mid
+  // profile, several spread alike over the grid's (the scenario check keeps them at most the
+  // grid's count); or the dedicated scans there.
   std::vector<double> Ls, zs;
   if (!flanks.empty()) {
     for (const PlanPoint& q : flanks.front().points) {
@@ -100,15 +102,42 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
       if (q.i == 0) zs.push_back(q.z_mm);
     }
   }
-  grid_section_ = nearest(zs, 0.5 * (helix_start_ + helix_end_));
-  grid_column_ = nearest(Ls, ball_L_);
-  profile_z_ =
-      spec.profile_points > 0 || zs.empty() ? 0.5 * (helix_start_ + helix_end_) : zs[grid_section_];
-  helix_L_ = spec.helix_points > 0 || Ls.empty() ? ball_L_ : Ls[grid_column_];
+  const int n_profile = std::max(1, spec.profile_sections);
+  const int n_helix = std::max(1, spec.helix_sections);
+  middle_profile_ = (n_profile - 1) / 2;
+  middle_helix_ = (n_helix - 1) / 2;
+  const auto spread = [](int n, int count, int k, int nearest_middle) {
+    if (n == 1) return nearest_middle;
+    return std::min(count - 1, static_cast<int>(std::floor((k + 0.5) * count / n)));
+  };
+  std::vector<double> profile_zs, helix_Ls;
+  for (int k = 0; k < n_profile; ++k) {
+    const double z = helix_start_ + (helix_end_ - helix_start_) * (k + 0.5) / n_profile;
+    if (spec.profile_points > 0 || zs.empty()) {
+      profile_zs.push_back(z);
+    } else {
+      grid_sections_.push_back(spread(n_profile, static_cast<int>(zs.size()), k,
+                                      nearest(zs, 0.5 * (helix_start_ + helix_end_))));
+      profile_zs.push_back(zs[static_cast<std::size_t>(grid_sections_.back())]);
+    }
+  }
+  for (int k = 0; k < n_helix; ++k) {
+    const double L = profile_start_ + (profile_end_ - profile_start_) * (k + 0.5) / n_helix;
+    if (spec.helix_points > 0 || Ls.empty()) {
+      helix_Ls.push_back(L);
+    } else {
+      grid_columns_.push_back(
+          spread(n_helix, static_cast<int>(Ls.size()), k, nearest(Ls, ball_L_)));
+      helix_Ls.push_back(Ls[static_cast<std::size_t>(grid_columns_.back())]);
+    }
+  }
+  profile_z_ = profile_zs[static_cast<std::size_t>(middle_profile_)];
+  helix_L_ = helix_Ls[static_cast<std::size_t>(middle_helix_)];
   if (spec.profile_points > 0 || spec.helix_points > 0) {
     const double R = model.stylus_radius_mm();
     int order = model.sequence_length();  // the scans follow the grid, flank after flank
     for (const PlanFlank& f : flanks) {
+      std::vector<int>& trace = scan_trace_.emplace_back();
       PlanFlank& s = scans_.emplace_back();
       s.tooth = f.tooth;
       s.side = f.side;
@@ -128,31 +157,52 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
                                   q.nominal.normal, model.stylus_shape(), kProbeApproachMm)
                 .smallest();
       };
+      // Profile scans: j = 0; helix scans: i = 0, j ≥ 1 (scan_trace_ says which trace).
       const int np = spec.profile_points, nh = spec.helix_points;
-      for (int i = 0; i < np; ++i) {
-        add(i, 0, profile_start_ + (profile_end_ - profile_start_) * i / (np - 1), profile_z_);
+      for (int t = 0; t < n_profile && np > 0; ++t) {
+        for (int i = 0; i < np; ++i) {
+          add(i, 0, profile_start_ + (profile_end_ - profile_start_) * i / (np - 1),
+              profile_zs[static_cast<std::size_t>(t)]);
+          trace.push_back(t);
+        }
       }
-      for (int j = 0; j < nh; ++j) {
-        add(0, 1 + j, helix_L_, helix_start_ + (helix_end_ - helix_start_) * j / (nh - 1));
+      for (int t = 0; t < n_helix && nh > 0; ++t) {
+        for (int j = 0; j < nh; ++j) {
+          add(0, 1 + j, helix_Ls[static_cast<std::size_t>(t)],
+              helix_start_ + (helix_end_ - helix_start_) * j / (nh - 1));
+          trace.push_back(t);
+        }
       }
     }
   }
   // Which points make each flank's traces.
   program_ = !model.scenario().probing.points.empty();
   trace_member_.resize(flanks.size());
-  flank_profile_z_.assign(flanks.size(), profile_z_);
-  flank_helix_L_.assign(flanks.size(), helix_L_);
+  profile_trace_.resize(flanks.size());
+  helix_trace_.resize(flanks.size());
+  flank_profile_z_.assign(flanks.size(), profile_zs);
+  flank_helix_L_.assign(flanks.size(), helix_Ls);
   for (std::size_t f = 0; f < flanks.size(); ++f) {
     std::vector<unsigned char>& member = trace_member_[f];
     member.assign(flanks[f].points.size(), 0);
+    profile_trace_[f].assign(flanks[f].points.size(), -1);
+    helix_trace_[f].assign(flanks[f].points.size(), -1);
     if (program_) {
       choose_program_traces(f);
       continue;
     }
     for (std::size_t k = 0; k < member.size(); ++k) {
       const PlanPoint& q = flanks[f].points[k];
-      if (spec.profile_points == 0 && q.j == grid_section_) member[k] |= kInProfile;
-      if (spec.helix_points == 0 && q.i == grid_column_) member[k] |= kInHelix;
+      for (std::size_t t = 0; t < grid_sections_.size(); ++t) {
+        if (q.j != grid_sections_[t]) continue;
+        member[k] |= kInProfile;
+        profile_trace_[f][k] = static_cast<int>(t);
+      }
+      for (std::size_t t = 0; t < grid_columns_.size(); ++t) {
+        if (q.i != grid_columns_[t]) continue;
+        member[k] |= kInHelix;
+        helix_trace_[f][k] = static_cast<int>(t);
+      }
     }
   }
   if (program_) {
@@ -160,9 +210,10 @@ ParameterEvaluator::ParameterEvaluator(const MeasurementModel& model, const Eval
     // traces must share theirs.
     double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
     for (std::size_t f = 0; f < flanks.size(); ++f) {
-      if (std::isnan(flank_profile_z_[f])) continue;
-      z_lo = std::min(z_lo, flank_profile_z_[f]);
-      z_hi = std::max(z_hi, flank_profile_z_[f]);
+      const double z = flank_profile_z_[f][0];
+      if (std::isnan(z)) continue;
+      z_lo = std::min(z_lo, z);
+      z_hi = std::max(z_hi, z);
     }
     if (z_hi >= z_lo) profile_z_ = z_lo;
     if (z_hi - z_lo > kSameTraceMm) {
@@ -238,11 +289,12 @@ void ParameterEvaluator::choose_program_traces(std::size_t f) {
     if (best < 0) return std::numeric_limits<double>::quiet_NaN();
     for (const std::size_t k : groups[static_cast<std::size_t>(best)]) {
       member[k] |= profile ? kInProfile : kInHelix;
+      (profile ? profile_trace_ : helix_trace_)[f][k] = 0;
     }
     return across[groups[static_cast<std::size_t>(best)].front()];
   };
-  flank_profile_z_[f] = pick(zs, true);
-  flank_helix_L_[f] = pick(Ls, false);
+  flank_profile_z_[f] = {pick(zs, true)};
+  flank_helix_L_[f] = {pick(Ls, false)};
 }
 
 ParameterEvaluator::~ParameterEvaluator() = default;
@@ -380,21 +432,21 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       const PointRecord* record;
       double L, z;
     };
-    const auto trace_samples = [&](bool profile) {
+    const auto trace_samples = [&](bool profile, int trace) {
       std::vector<Sample> samples;
       const bool scanned = profile ? e_.spec_.profile_points > 0 : e_.spec_.helix_points > 0;
       if (scanned) {
         const PlanFlank& scan = e_.scans_[f];
         for (std::size_t k = 0; k < scan.points.size(); ++k) {
           const PlanPoint& q = scan.points[k];
-          if ((q.j == 0) != profile) continue;
+          if ((q.j == 0) != profile || e_.scan_trace_[f][k] != trace) continue;
           samples.push_back(
               {profile ? ps * q.roll_length_mm : q.z_mm, &scans[f][k], q.roll_length_mm, q.z_mm});
         }
       } else {
         for (std::size_t k = 0; k < flank.points.size(); ++k) {
           const PlanPoint& q = flank.points[k];
-          if (!(e_.trace_member_[f][k] & (profile ? kInProfile : kInHelix))) continue;
+          if ((profile ? e_.profile_trace_ : e_.helix_trace_)[f][k] != trace) continue;
           samples.push_back(
               {profile ? ps * q.roll_length_mm : q.z_mm, &grid_[f][k], q.roll_length_mm, q.z_mm});
         }
@@ -403,8 +455,20 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
                 [](const Sample& a, const Sample& b) { return a.x < b.x; });
       return samples;
     };
-    for (const bool profile : {true, false}) {
-      if (std::isnan(profile ? e_.flank_profile_z_[f] : e_.flank_helix_L_[f])) {
+    // Every trace of the flank (EvaluationSpec::profile_sections, helix_sections); the middle
+    // profile trace also gives pitch, runout and sizes, the middle traces the charts.
+    std::vector<std::pair<bool, int>> traces;
+    for (std::size_t t = 0; t < e_.flank_profile_z_[f].size(); ++t) {
+      traces.emplace_back(true, static_cast<int>(t));
+    }
+    for (std::size_t t = 0; t < e_.flank_helix_L_[f].size(); ++t) {
+      traces.emplace_back(false, static_cast<int>(t));
+    }
+    for (const auto& [profile, trace] : traces) {
+      const double across =
+          (profile ? e_.flank_profile_z_ : e_.flank_helix_L_)[f][static_cast<std::size_t>(trace)];
+      const bool middle = trace == (profile ? e_.middle_profile_ : e_.middle_helix_);
+      if (std::isnan(across)) {
         // A program with no such trace on this flank: its values are not evaluated.
         const std::vector<double> none(variants, kNaN);
         put(profile ? GearParameter::kFalpha : GearParameter::kFbeta, s, none, kNaN);
@@ -412,7 +476,7 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
         put(profile ? GearParameter::kffalpha : GearParameter::kffbeta, s, none, kNaN);
         continue;
       }
-      const std::vector<Sample> samples = trace_samples(profile);
+      const std::vector<Sample> samples = trace_samples(profile, trace);
       std::vector<double> x;
       std::vector<std::vector<double>> d(variants);
       FlankTrace chart;
@@ -445,8 +509,7 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
       std::vector<double> xd(n_dense), dd(n_dense);
       for (int i = 0; i < n_dense; ++i) {
         xd[i] = a + (b - a) * i / (n_dense - 1);
-        dd[i] = profile ? true_deviation(ps * xd[i], e_.flank_profile_z_[f])
-                        : true_deviation(e_.flank_helix_L_[f], xd[i]);
+        dd[i] = profile ? true_deviation(ps * xd[i], across) : true_deviation(across, xd[i]);
       }
       // The trace parameters of filtered traces (ISO 16610-21 Gaussian, `*_cutoff_mm`), the
       // real surface's dense trace filtered alike; pitch and sizes read the unfiltered traces.
@@ -492,9 +555,9 @@ GearParameterValues ParameterEvaluator::Gear::finish(bool keep_traces) {
         chart.true_line = *dense;
         if (profile) chart.true_line.slope_um_per_mm *= ps;
       }
-      if (keep_traces)
+      if (keep_traces && middle)
         (profile ? out.traces.profile : out.traces.helix).push_back(std::move(chart));
-      if (profile && x.size() >= 2) {
+      if (profile && middle && x.size() >= 2) {
         const int k = flank.tooth - 1;
         for (int v = 0; v < variants; ++v) {
           pitch_u[s][v][k] = flank_arc_position_um(

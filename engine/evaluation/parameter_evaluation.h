@@ -135,10 +135,13 @@ class ParameterEvaluator {
   std::vector<std::string> notes_;
   double profile_start_ = 0, profile_end_ = 0, helix_start_ = 0, helix_end_ = 0;
   double profile_sign_ = 1;              // roll sign: a profile trace's abscissa is sigma L
-  double profile_z_ = 0, helix_L_ = 0;   // where the traces run
+  double profile_z_ = 0, helix_L_ = 0;   // where the middle traces run (pitch, sizes, runout)
   double reference_L_ = 0, ball_L_ = 0;  // pitch circle and ball contacts (roll lengths)
   double transverse_per_normal_ = 1;     // 1 / cos(beta_b): normal to transverse deviation
-  int grid_section_ = 0, grid_column_ = 0;
+  // The grid's sections and columns of the traces (EvaluationSpec::profile_sections,
+  // helix_sections), and which of them is the middle one (charts, pitch, runout, sizes).
+  std::vector<int> grid_sections_, grid_columns_;
+  int middle_profile_ = 0, middle_helix_ = 0;
   bool program_ = false;  // the plan is a user's program (MeasurementModel's explicit points)
   // Per flank (MeasurementModel::flanks() order) and plan point: kInProfile | kInHelix when the
   // point belongs to the flank's profile or helix trace (the grid's section and column, or the
@@ -146,7 +149,12 @@ class ParameterEvaluator {
   // trace, mm).
   static constexpr unsigned char kInProfile = 1, kInHelix = 2;
   std::vector<std::vector<unsigned char>> trace_member_;
-  std::vector<double> flank_profile_z_, flank_helix_L_;
+  // Per flank and plan point (and per scan flank and scan point): the index of the profile and
+  // of the helix trace it belongs to, −1 for none.
+  std::vector<std::vector<int>> profile_trace_, helix_trace_, scan_trace_;
+  // Per flank and trace: z of its profile traces, L of its helix traces (mm; NaN: a program
+  // without that trace on the flank).
+  std::vector<std::vector<double>> flank_profile_z_, flank_helix_L_;
   void choose_program_traces(std::size_t flank_index);
   std::vector<PlanFlank> scans_;  // dedicated scans per probed flank (empty: the grid)
   std::vector<BallContact> balls_;

@@ -106,6 +106,17 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
       integer("helix_points", static_cast<int>(number_default("evaluation.helix_points")));
   spec.truth_points =
       integer("truth_points", static_cast<int>(number_default("evaluation.truth_points")));
+  spec.profile_sections =
+      integer("profile_sections", static_cast<int>(number_default("evaluation.profile_sections")));
+  spec.helix_sections =
+      integer("helix_sections", static_cast<int>(number_default("evaluation.helix_sections")));
+  for (const char* key : {"profile_sections", "helix_sections"}) {
+    if (const auto v = map.find(key); v && v->as_int() > 1 && !spec.sections_at) {
+      spec.sections_at = v->location();
+      spec.sections_key = std::string("evaluation.") + key;
+      spec.sections_value = std::to_string(v->as_int());
+    }
+  }
   for (const char* key : {"profile_points", "helix_points"}) {
     if (const auto v = map.find(key); v && v->as_int() > 0 && v->as_int() < 3) {
       throw v->error("0 (the probing grid) or at least 3 points (a mean line and a form need 3)");
@@ -195,6 +206,17 @@ void check_evaluation(const YamlValue& value, const EvaluationSpec& spec,
   }
   if (listed("E_MdK") && !evaluation_ball_diameter_mm(gear, spec)) {
     throw value.error("parameters without E_MdK: no ball touches within " + range);
+  }
+  // On the grid, several traces take distinct sections (columns) of it.
+  if (spec.profile_points == 0 && spec.profile_sections > plan.grid.sections_across_face) {
+    throw map.find("profile_sections")
+        ->error("at most the grid's " + std::to_string(plan.grid.sections_across_face) +
+                " sections (probing.sections_across_face), or profile_points for scans");
+  }
+  if (spec.helix_points == 0 && spec.helix_sections > plan.grid.points_along_profile) {
+    throw map.find("helix_sections")
+        ->error("at most the grid's " + std::to_string(plan.grid.points_along_profile) +
+                " columns (probing.points_along_profile), or helix_points for scans");
   }
   for (const char* symbol : {"E_sn", "E_Wk", "E_MdK"}) {
     if (listed(symbol) && !(plan.left && plan.right)) {

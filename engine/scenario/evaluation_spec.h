@@ -31,6 +31,13 @@ struct EvaluationSpec {
   // message that refuses scans (`run --plan`: a user's program does not run them).
   std::optional<InputLocation> scans_at;
   std::string scans_key, scans_value;
+  // Profile traces per flank at this many heights across the face and helix traces at this many
+  // roll lengths across the profile: the centres of equal parts of L_β resp. L_α (1: mid face,
+  // mid profile); on the grid its sections / columns spread alike. Every trace is an item.
+  int profile_sections = 1, helix_sections = 1;
+  // Where the first of them above 1 was written (a user's program has one trace per flank).
+  std::optional<InputLocation> sections_at;
+  std::string sections_key, sections_value;
   // Points of the dense trace on the real surface that gives a parameter's true value.
   int truth_points = 100;
   // Profile evaluation range L_α: from the form circle over this fraction of the active roll

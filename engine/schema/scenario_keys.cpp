@@ -209,6 +209,12 @@ std::vector<ScenarioKey> make_table() {
                  "points of a dedicated profile scan at mid face (0: the grid's mid section)"),
       number_key("evaluation.helix_points", kInt, 0, "",
                  "points of a dedicated helix scan at mid profile (0: the grid's mid column)"),
+      number_key("evaluation.profile_sections", kInt, 1, "",
+                 "profile traces per flank, at the centres of equal parts of the helix range "
+                 "(1: mid face; on the grid, its sections spread alike)"),
+      number_key("evaluation.helix_sections", kInt, 1, "",
+                 "helix traces per flank, at the centres of equal parts of the profile range "
+                 "(1: mid profile; on the grid, its columns spread alike)"),
       number_key("evaluation.truth_points", kInt, 100, "",
                  "points of the dense trace on the real surface (true values)"),
       number_key("evaluation.profile_end_fraction", kNum, 0.95, "",

@@ -302,6 +302,20 @@ TEST(PlanProgram, PointsOffTheGearAreRefusedAtTheirStatement) {
             std::string::npos)
       << e.err;
   EXPECT_FALSE(fs::exists(dir / "eval"));
+  // So are several traces per flank (a program gives one of each kind per flank).
+  write_text(dir / "sections.yaml",
+             read_text(fs::path(GEARMC_SOURCE_DIR) / "scenarios" / "p1_reference.yaml") +
+                 "evaluation: {parameters: [f_Halpha], profile_sections: 2}\n");
+  const auto sec =
+      run_gearmc("run " + (dir / "sections.yaml").string() + " --plan " +
+                 (dir / "good.dmi").string() + " --out " + (dir / "sections").string());
+  EXPECT_EQ(sec.exit_code, 2);
+  EXPECT_NE(sec.err.find("sections.yaml:" + std::to_string(last_line) + ":"), std::string::npos)
+      << sec.err;
+  EXPECT_NE(sec.err.find("evaluation.profile_sections: got '2', expected 1 with --plan"),
+            std::string::npos)
+      << sec.err;
+  EXPECT_FALSE(fs::exists(dir / "sections"));
   // The good point alone runs.
   const auto ok = run_gearmc("run --gears 2 --plan " + (dir / "good.dmi").string() + " --out " +
                              (dir / "ok").string());
