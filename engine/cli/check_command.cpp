@@ -18,6 +18,7 @@
 #include "engine/apps/check/check_outputs.h"
 #include "engine/apps/check/sequential_check.h"
 #include "engine/cli/interrupt_guard.h"
+#include "engine/cli/run_outputs.h"
 #include "engine/evaluation/gear_parameters.h"
 #include "engine/run/monte_carlo.h"
 
@@ -77,6 +78,7 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   options.threads = o.threads;
   options.cancel = &interrupted_flag();
   options.ranks = &ranks;
+  options.keep_run = true;  // the run report of the gears the claims rest on (run/)
   const bool show_progress = !o.quiet && isatty(STDERR_FILENO);
   if (show_progress) {
     options.on_look = [&](const SequentialCheck& check) {
@@ -120,10 +122,25 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
   context.max_gears = o.max_gears;
   context.threads = o.threads;
   context.ranks = ranks.size();
+  context.run_report = "run/report.html";
   OutputFiles files(folder.dir);
   files.write("check.json", check_json(context, run).dump(2) + "\n");
   files.write("report.html", check_report_html(context, run));
   const std::string junit = o.junit_path.empty() ? "" : check_junit_xml(context, run);
+  // The run report of the same gears, as `gearmc run --gears N` of the scenario writes it.
+  const fs::path run_dir = folder.dir / "run";
+  const bool made_run_dir = !fs::exists(run_dir);
+  fs::create_directories(run_dir);
+  try {
+    OutputFiles run_files(run_dir);
+    Scenario ran = scenario;
+    ran.gears = run.gears;
+    write_run_files(run_files, ran, mc, *run.run_results, o.command_line, ranks.size(), o.threads);
+    run_files.commit();
+  } catch (...) {
+    if (made_run_dir) remove_if_empty(run_dir);
+    throw;
+  }
   files.commit();
   folder.created = false;
   if (!o.junit_path.empty()) write_file_atomically(o.junit_path, junit);
@@ -139,7 +156,8 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
         << " contacts gave no value (failed, edge or collision); the claims rest on the others\n";
   }
   out << run.gears << " gears in " << std::fixed << std::setprecision(1) << run.wall_s
-      << " s; check.json and report.html in " << folder.dir.string() << "\n"
+      << " s; check.json and report.html in " << folder.dir.string()
+      << " (the run report of these gears in run/)\n"
       << std::defaultfloat;
   return check_exit_code(run);
 }

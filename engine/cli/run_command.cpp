@@ -5,6 +5,7 @@
 
 #include "engine/cli/interrupt_guard.h"
 #include "engine/cli/plan_program.h"
+#include "engine/cli/run_outputs.h"
 
 #include <unistd.h>
 
@@ -179,38 +180,10 @@ int run_command(const RunCommandOptions& o, std::ostream& out, std::ostream& err
     throw InputError({scenario.source_path, 0, 0}, msg.str());
   }
 
-  const RunPresentation view =
-      present_run(r, make_provenance(o.command_line, scenario.source_path, scenario.source_text));
-  // Gear parameters (scenario `evaluation:`): their summary keys, figures and report section.
-  const std::optional<ParameterPresentation> parameters = present_parameters(mc, r);
-  nlohmann::ordered_json summary = run_summary_json(scenario, mc, r, view, o.only_gear);
-  if (parameters) add_parameter_json(summary, mc, *parameters);
-  // The job's shape: with the wall times, the only fields that differ between runs of any number
-  // of ranks and threads.
-  summary["ranks"] = ranks.size();
-  summary["threads"] = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
-  files->write("summary.json", summary.dump(2) + "\n");
-  files->write("histograms.csv", run_histograms_csv(r, view));
-  const std::vector<RunFigure> figures = run_figures(scenario, r, view);
-  for (const RunFigure& f : figures) files->write(f.file, f.svg);
-  std::vector<RunFigure> parameter_charts;
-  if (parameters) parameter_charts = parameter_figures(mc, r, *parameters);
-  for (const RunFigure& f : parameter_charts) files->write(f.file, f.svg);
-  std::function<void(HtmlReport&)> parameter_section, opening;
-  if (parameters) {
-    parameter_section = [&](HtmlReport& report) {
-      add_parameter_section(report, mc, *parameters, parameter_charts);
-    };
-    opening = [&](HtmlReport& report) {
-      const ParameterVerdict v = parameter_verdict(*parameters);
-      report.verdict(v.headline, v.lines,
-                     v.assessed == 0           ? HtmlReport::Tone::kNeutral
-                     : v.capable == v.assessed ? HtmlReport::Tone::kGood
-                                               : HtmlReport::Tone::kBad);
-    };
-  }
-  files->write("report.html",
-               run_report_html(scenario, r, view, figures, parameter_section, opening));
+  const RunOutputs written = write_run_files(*files, scenario, mc, r, o.command_line, ranks.size(),
+                                             o.threads, o.only_gear);
+  const RunPresentation& view = written.view;
+  const std::optional<ParameterPresentation>& parameters = written.parameters;
   files->commit();
   folder.created = false;  // keep it: it holds the results now
 

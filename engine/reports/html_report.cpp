@@ -108,6 +108,13 @@ HtmlReport& HtmlReport::paragraph(std::string_view text) {
   return *this;
 }
 
+HtmlReport& HtmlReport::link_paragraph(std::string_view text, std::string_view href,
+                                       std::string_view link_text) {
+  body_ += "<p>" + escape_xml(text) + "<a href=\"" + escape_xml(href) + "\">" +
+           escape_xml(link_text) + "</a></p>\n";
+  return *this;
+}
+
 HtmlReport& HtmlReport::table(const HtmlTable& table) {
   // The caption above a scrolling box: a table wider than a narrow window scrolls by itself,
   // not the page, and its caption wraps at the window's width.

@@ -38,6 +38,10 @@ class HtmlReport {
   HtmlReport& contents(std::string_view title = "Contents");
   HtmlReport& heading(std::string_view text, int level = 2);  // level 2..4
   HtmlReport& paragraph(std::string_view text);
+  // A paragraph of `text` followed by a link to `href` (a relative path or URL) reading
+  // `link_text`; all escaped.
+  HtmlReport& link_paragraph(std::string_view text, std::string_view href,
+                             std::string_view link_text);
   // In a box that scrolls sideways when the table is wider than the window.
   HtmlReport& table(const HtmlTable& table);
   // `svg` from svg_plot.h, inlined verbatim; `caption` escaped.

@@ -117,6 +117,7 @@ nlohmann::ordered_json check_json(const CheckContext& context, const CheckRun& r
   j["threads"] = context.threads;
   j["max_gears"] = context.max_gears;
   j["gears"] = run.gears;
+  if (!context.run_report.empty()) j["run_report"] = context.run_report;
   j["looks"] = look_points(context.max_gears);
   j["contacts"] = run.contacts;
   j["failed_contacts"] = run.failed_contacts;
@@ -220,6 +221,13 @@ std::string check_report_html(const CheckContext& context, const CheckRun& run) 
                    all_claims_hold(run) ? HtmlReport::Tone::kGood
                    : fails > 0          ? HtmlReport::Tone::kBad
                                         : HtmlReport::Tone::kNeutral);
+  }
+  if (!context.run_report.empty()) {
+    report.link_paragraph("The run report of these " + std::to_string(run.gears) +
+                              " gears (every statistic, histogram and chart of the run, as "
+                              "gearmc run --gears " +
+                              std::to_string(run.gears) + " writes it): ",
+                          context.run_report, context.run_report);
   }
   report.contents();
   HtmlTable summary;

@@ -21,6 +21,8 @@ struct CheckContext {
   int max_gears = kDefaultMaxGears;
   int threads = 0;  // as asked (0: all cores)
   int ranks = 1;    // processes of the MPI job
+  // The run report of the gears the claims rest on, relative to check's report (empty: none).
+  std::string run_report;
 };
 
 // True when every claim holds.

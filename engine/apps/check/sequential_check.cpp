@@ -155,11 +155,20 @@ CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims
     batch.end_gear = end;
     batch.threads = options.threads;
     batch.cancel = options.cancel;
-    const RunResults r = run_on_ranks(mc, batch, ranks, stream);
+    batch.keep_block_moments = options.keep_run;
+    RunResults r = run_on_ranks(mc, batch, ranks, stream);
     first = end;
+    const bool cancelled = r.cancelled;
+    if (options.keep_run && ranks.is_root() && !cancelled) {
+      if (run.run_results) {
+        append_partial(*run.run_results, r);
+      } else {
+        run.run_results = std::move(r);
+      }
+    }
     const std::vector<std::string> state = ranks.all_gather([&] {
       if (!ranks.is_root()) return std::string();
-      return std::string(r.cancelled ? "c" : check.done() ? "d" : "g");
+      return std::string(cancelled ? "c" : check.done() ? "d" : "g");
     });
     if (state[0] == "c") {
       run.cancelled = true;
@@ -171,6 +180,7 @@ CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims
   run.results = check.results();
   run.trackers = check.trackers();
   run.wall_s = elapsed();
+  if (run.run_results) run.run_results->wall_s = run.wall_s;
   return run;
 }
 

@@ -10,10 +10,12 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "engine/apps/check/claim_tracker.h"
+#include "engine/run/monte_carlo.h"
 #include "engine/scenario/claims.h"
 
 namespace gearmc {
@@ -68,6 +70,9 @@ struct CheckOptions {
   const Ranks* ranks = nullptr;
   // After each look, with the gears done so far (calling thread).
   std::function<void(const SequentialCheck&)> on_look;
+  // Keep the run's results of every gear the check measured (CheckRun::run_results, rank 0):
+  // the batches merged as one run of those gears would give them (run_partials.h).
+  bool keep_run = false;
 };
 
 struct CheckRun {
@@ -80,14 +85,17 @@ struct CheckRun {
   // Every contact of the first gear gave no value (failed, edge or collision): the run stopped
   // after that gear, and the claims have no values to rest on (the command refuses the scenario).
   bool no_values = false;
+  // With CheckOptions::keep_run: the results of gears 0 … gears−1, bit-identical to MonteCarloRun
+  // ::run of that many gears (rank 0; wall_s the check's).
+  std::optional<RunResults> run_results;
 };
 
 // Measures gears 0, 1, … of the run's scenario (its seed) in batches that end at the looks (over
 // the ranks of options.ranks, in parallel blocks of 256 gears), feeding them in gear order to a
 // SequentialCheck on rank 0, until done. Gear 0 runs alone first (and again in the first batch):
 // when none of its contacts gives a value the run stops there with no_values set and gears 0 (a
-// stylus too large for the tooth space would otherwise cost a whole first look of failing gears). Each claim's time_s is the wall time of the
-// look that decided it (or of the last look).
+// stylus too large for the tooth space would otherwise cost a whole first look of failing gears).
+// Each claim's time_s is the wall time of the look that decided it (or of the last look).
 CheckRun run_check(const MonteCarloRun& mc, const std::vector<ClaimSpec>& claims,
                    const CheckOptions& options);
 

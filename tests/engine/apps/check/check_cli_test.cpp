@@ -333,6 +333,34 @@ TEST(CheckCli, AllHoldingIsExit0) {
   fs::remove_all(out);
 }
 
+// check writes the run report of the gears its claims rest on (run/, linked from its report):
+// the same numbers as `gearmc run --gears N` of the scenario (an independent path: the run
+// command), for a check that stops at the second look (512 gears, two batches merged).
+TEST(CheckCli, TheRunReportOfTheSameGearsIsBesideTheVerdicts) {
+  const std::string path = write_scenario(
+      "run_report",
+      "claims:\n  - {name: m, quantity: delta_rcomp.point, statistic: max, at_most_um: 50}\n");
+  const std::string out = temp_path("run_report_out"), run_out = temp_path("run_report_run");
+  fs::remove_all(out);
+  const auto r = run_gearmc("check " + path + " --out " + out + " --max-gears 512 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("(the run report of these gears in run/)"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read(out + "/check.json"));
+  ASSERT_EQ(j["gears"], 512);  // a max claim holds only at the budget
+  EXPECT_EQ(j["run_report"], "run/report.html");
+  EXPECT_NE(read(out + "/report.html").find("<a href=\"run/report.html\">"), std::string::npos);
+  ASSERT_TRUE(fs::exists(out + "/run/report.html"));
+  ASSERT_EQ(run_gearmc("run " + path + " --gears 512 --quiet --out " + run_out).exit_code, 0);
+  const nlohmann::json from_check = nlohmann::json::parse(read(out + "/run/summary.json"));
+  const nlohmann::json from_run = nlohmann::json::parse(read(run_out + "/summary.json"));
+  EXPECT_EQ(from_check["gears"], 512);
+  EXPECT_EQ(from_check["delta_rcomp_um"], from_run["delta_rcomp_um"]);
+  EXPECT_EQ(from_check["contacts"], from_run["contacts"]);
+  EXPECT_EQ(read(out + "/run/histograms.csv"), read(run_out + "/histograms.csv"));
+  fs::remove_all(out);
+  fs::remove_all(run_out);
+}
+
 TEST(CheckRegression, P1ClaimsKeepTheirMeasuredVerdicts) {
   // A regression of the claims in scenarios/p1_claims.yaml (seed 1, all 20000 gears allowed),
   // measured when the claims were written: P1's "δRcomp ≤ 4 µm at 99.73 %" on the per-flank
