@@ -43,17 +43,27 @@ int check_command(const CheckCommandOptions& o, std::ostream& out, std::ostream&
                          "(docs/check.md)");
   }
   const MonteCarloRun mc(scenario);
-  // U/T claims: the tolerance interval's width of their parameter (2T for ±T, T for ≤ T).
+  // U/T claims: the tolerance interval's width of their parameter (2T for ±T, T for ≤ T, upper −
+  // lower for a size's allowances).
   for (ClaimSpec& c : scenario.claims) {
     if (c.statistic != ClaimStatistic::kUOverT) continue;
+    if (scenario.evaluation) {
+      const auto& allowances = scenario.evaluation->size_allowances_um;
+      if (const auto a = allowances.find(c.parameter); a != allowances.end()) {
+        c.tolerance_width_um = a->second.second - a->second.first;
+        continue;
+      }
+    }
     const std::optional<GearParameter> p = parameter_from_symbol(c.parameter);
-    const std::optional<double> T = p ? parameter_tolerance_um(mc.tolerances(), *p) : std::nullopt;
-    if (!T || !(*T > 0.0)) {
+    const double T = p ? parameter_tolerance_um(mc.tolerances(), *p).value_or(0.0) : 0.0;
+    if (!(T > 0.0)) {
       throw InputError(c.statistic_where, "claims.statistic", "U_over_T",
                        "a statistic this claim can have: the scenario's tolerances have no T for " +
-                           c.parameter + " (U/T needs it; statistic U needs none)");
+                           c.parameter +
+                           " (U/T needs it, or evaluation.size_allowances_um for a "
+                           "size; statistic U needs none)");
     }
-    c.tolerance_width_um = parameter_signed(*p) ? 2.0 * *T : *T;
+    c.tolerance_width_um = parameter_signed(*p) ? 2.0 * T : T;
   }
 
   // Fail before the work: the output folder and the JUnit file must be writable now.

@@ -398,14 +398,13 @@ void add_parameter_section(HtmlReport& report, const MonteCarloRun& mc,
     if (!k.tolerance_um) {
       c.rows.push_back(
           {{parameter_symbol(s.parameter), "–",
-            parameter_is_size(s.parameter) ? "a size: its allowances are the drawing's, not read"
+            parameter_is_size(s.parameter) ? "a size without allowances (size_allowances_um)"
                                            : "no tolerance in the set",
             "", "", "", "", "", "", ""}});
       continue;
     }
     c.rows.push_back(
-        {{parameter_symbol(s.parameter), k.tolerance_symbol,
-          (k.two_sided ? "±" : "") + parameter_text(*k.tolerance_um, 1),
+        {{parameter_symbol(s.parameter), k.tolerance_symbol, k.tolerance_text(),
           parameter_text(k.u_over_t, 2),
           parameter_text(100 * k.capability_ratio, 0) + " %" + (k.capable() ? "" : " > 30 %"),
           acceptance_text(k), parameter_text(100 * k.chosen().false_accept_rate(), 2) + " %",

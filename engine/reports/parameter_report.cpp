@@ -67,6 +67,15 @@ std::string parameter_text(double v, int decimals) {
   return b;
 }
 
+std::string ParameterConformity::tolerance_text() const {
+  if (!tolerance_um) return {};
+  if (allowances) {
+    return "[" + parameter_text(*tolerance.lower, 1) + ", " + parameter_text(*tolerance.upper, 1) +
+           "]";
+  }
+  return (two_sided ? "±" : "≤ ") + parameter_text(*tolerance_um, 1);
+}
+
 std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
                                                         const RunResults& r) {
   const ParameterEvaluator* evaluator = mc.parameter_evaluator();
@@ -88,6 +97,16 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
     c.tolerance_um = parameter_tolerance_um(tolerances, p);
     c.tolerance_symbol = kind ? tolerance_symbol(*kind, tolerances.standard).value_or("") : "";
     c.two_sided = parameter_signed(p);
+    const auto& allowances = evaluator->spec().size_allowances_um;
+    std::optional<std::pair<double, double>> allowance;
+    if (const auto a = allowances.find(parameter_symbol(p)); a != allowances.end()) {
+      allowance = a->second;
+      c.allowances = c.two_sided = true;
+      c.tolerance_um = a->second.second - a->second.first;
+      c.tolerance_symbol = "allowances";
+    }
+    // The worst measured value is the one farthest from the tolerance zone's centre.
+    const double centre = allowance ? 0.5 * (allowance->first + allowance->second) : 0.0;
     c.rule = evaluator->spec().decision_rule == "guard_banded" ? DecisionRule::kGuardBanded
                                                                : DecisionRule::kSimple;
     std::vector<double> all_true, all_measured;
@@ -123,7 +142,8 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
           if (std::isfinite(v.budget[b])) side.budget[b].add(v.budget[b] - v.true_points);
         }
         if (all_measured.empty() ||
-            (c.two_sided ? std::abs(v.measured) > std::abs(worst) : v.measured > worst)) {
+            (c.two_sided ? std::abs(v.measured - centre) > std::abs(worst - centre)
+                         : v.measured > worst)) {
           worst = v.measured;
           worst_side = summary.sides.size();  // the index this side gets below
         }
@@ -159,11 +179,14 @@ std::optional<ParameterPresentation> present_parameters(const MonteCarloRun& mc,
     }
     if (c.tolerance_um) {
       const double T = *c.tolerance_um;
-      c.tolerance = c.two_sided ? ToleranceLimits{-T, T} : ToleranceLimits{std::nullopt, T};
+      c.tolerance = allowance     ? ToleranceLimits{allowance->first, allowance->second}
+                    : c.two_sided ? ToleranceLimits{-T, T}
+                                  : ToleranceLimits{std::nullopt, T};
       const ToleranceLimits simple = acceptance_limits(c.tolerance, DecisionRule::kSimple, 0.0);
       const ToleranceLimits guarded = acceptance_limits(
           c.tolerance, DecisionRule::kGuardBanded, c.guard_band_lower_um, c.guard_band_upper_um);
-      c.u_over_t = largest_U95 / (c.two_sided ? 2.0 * T : T);
+      // U over the tolerance interval's width: 2T for ±T, T for ≤ T or a size's allowances.
+      c.u_over_t = largest_U95 / (c.two_sided && !c.allowances ? 2.0 * T : T);
       c.capability_ratio = 2.0 * c.u_over_t;
       c.acceptance = c.rule == DecisionRule::kSimple ? simple : guarded;
       c.simple = decision_rates(all_true, all_measured, c.tolerance, simple);
@@ -304,10 +327,11 @@ void add_parameter_json(nlohmann::ordered_json& summary, const MonteCarloRun& mc
     k["decision_rule"] = rule_name(c.rule);
     if (!c.tolerance_um) {
       k["note"] = parameter_is_size(s.parameter)
-                      ? "a size deviation: its allowances are the drawing's (DIN 3967), not "
-                        "read from the scenario"
+                      ? "a size deviation: its allowances are the drawing's (DIN 3967); give "
+                        "them as evaluation.size_allowances_um"
                       : "the scenario's tolerance set has no value for this parameter";
     } else {
+      if (c.allowances) k["limits_um"] = {*c.tolerance.lower, *c.tolerance.upper};
       k["acceptance_limit_um"] = *c.acceptance.upper;
       if (c.acceptance.lower) k["acceptance_lower_limit_um"] = *c.acceptance.lower;
       k["guard_band_upper_um"] = c.guard_band_upper_um;
@@ -349,9 +373,8 @@ ParameterVerdict parameter_verdict(const ParameterPresentation& p) {
     v.lines.push_back(
         parameter_symbol(s.parameter) + ": Q_MP " + q + (c.capable() ? " ≤ " : " > ") +
         parameter_text(100.0 * kCapabilityRatioLimit, 0) + " % (U " + parameter_text(U, 2) +
-        " µm, tolerance " + (c.two_sided ? "±" : "≤ ") + parameter_text(*c.tolerance_um, 1) +
-        " µm, U/T " + parameter_text(c.u_over_t, 2) + ") — " +
-        (c.capable() ? "capable" : "NOT capable") + "; rule " + rule_name(c.rule) + ": " +
+        " µm, tolerance " + c.tolerance_text() + " µm, U/T " + parameter_text(c.u_over_t, 2) +
+        ") — " + (c.capable() ? "capable" : "NOT capable") + "; rule " + rule_name(c.rule) + ": " +
         parameter_text(100.0 * c.chosen().false_accept_rate(), 2) + " % false accept, " +
         parameter_text(100.0 * c.chosen().false_reject_rate(), 2) + " % false reject");
   }
@@ -428,7 +451,7 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
       std::snprintf(line, sizeof line, "%-9s %-10s %8s   (%s)\n",
                     parameter_symbol(s.parameter).c_str(), "–", "–",
                     parameter_is_size(s.parameter)
-                        ? "a size: its allowances are the drawing's, not read"
+                        ? "a size without allowances (size_allowances_um)"
                         : "no tolerance in the set");
       out << line;
       continue;
@@ -441,19 +464,18 @@ void print_parameter_tables(std::ostream& out, const MonteCarloRun& mc,
                                                    parameter_text(*c.acceptance.upper, 2)
                                              : "y ≤ " + parameter_text(*c.acceptance.upper, 2);
     const DecisionRates& other = c.rule == DecisionRule::kSimple ? c.guard_banded : c.simple;
-    std::snprintf(
-        line, sizeof line, "%-9s %-10s %s %6s %s %11s %11s %12s %16s\n",
-        parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
-        right_aligned((c.two_sided ? "±" : "") + parameter_text(*c.tolerance_um, 1), 8).c_str(),
-        parameter_text(c.u_over_t, 2).c_str(), right_aligned(accept, 15).c_str(),
-        percent(c.chosen().false_accept_rate()).c_str(),
-        percent(c.chosen().false_reject_rate()).c_str(),
-        percent(1.0 - static_cast<double>(other.accepted) /
-                          static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
-            .c_str(),
-        (parameter_text(c.worst_measured_um, 2) + ": " +
-         parameter_text(c.conformance_probability_of_worst, 3))
-            .c_str());
+    std::snprintf(line, sizeof line, "%-9s %-10s %s %6s %s %11s %11s %12s %16s\n",
+                  parameter_symbol(s.parameter).c_str(), c.tolerance_symbol.c_str(),
+                  right_aligned(c.tolerance_text(), 8).c_str(),
+                  parameter_text(c.u_over_t, 2).c_str(), right_aligned(accept, 15).c_str(),
+                  percent(c.chosen().false_accept_rate()).c_str(),
+                  percent(c.chosen().false_reject_rate()).c_str(),
+                  percent(1.0 - static_cast<double>(other.accepted) /
+                                    static_cast<double>(std::max<std::uint64_t>(other.items, 1)))
+                      .c_str(),
+                  (parameter_text(c.worst_measured_um, 2) + ": " +
+                   parameter_text(c.conformance_probability_of_worst, 3))
+                      .c_str());
     out << line;
   }
   out << "  (U/T: the largest U over the tolerance interval's width; guard_banded narrows each "

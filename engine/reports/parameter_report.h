@@ -45,7 +45,12 @@ inline constexpr double kCapabilityRatioLimit = 0.30;
 struct ParameterConformity {
   std::optional<double> tolerance_um;  // absent: the tolerance set has none for this parameter
   std::string tolerance_symbol;        // the set's symbol, e.g. "F_alpha" or "f_f"
-  bool two_sided = false;              // ±T (slope, single pitch)
+  bool two_sided = false;              // ±T (slope, single pitch), or a size's allowances
+  // A size deviation with the drawing's allowances (evaluation.size_allowances_um): the limits
+  // are [lower, upper] and tolerance_um is their width.
+  bool allowances = false;
+  // "±T", "≤ T" or "[lower, upper]" (µm, one decimal; empty without a tolerance).
+  std::string tolerance_text() const;
   DecisionRule rule = DecisionRule::kSimple;
   // guard_banded's band at each limit, from the error's own law (each side's probabilistically
   // symmetric 95 % interval [e_lo, e_hi], the largest over the sides): at the upper limit

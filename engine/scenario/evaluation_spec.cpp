@@ -140,6 +140,26 @@ EvaluationSpec read_evaluation(const YamlValue& value, double face_width_mm,
   if (map.find("span_teeth")) spec.span_teeth = integer("span_teeth", 0);
   spec.ball_diameter_mm =
       get_ranged(map, "ball_diameter_mm", r.at("evaluation.ball_diameter_mm"), warnings);
+  if (const auto allowances = map.find("size_allowances_um")) {
+    const YamlMap sizes = allowances->as_map(child_keys("evaluation.size_allowances_um"));
+    for (const char* symbol : {"E_sn", "E_Wk", "E_MdK"}) {
+      const auto size = sizes.find(symbol);
+      if (!size) continue;
+      const std::string base = std::string("evaluation.size_allowances_um.") + symbol;
+      const YamlMap ends = size->as_map(child_keys(base));
+      const auto upper = get_ranged(ends, "upper", r.at(base + ".upper"), warnings);
+      const auto lower = get_ranged(ends, "lower", r.at(base + ".lower"), warnings);
+      if (!upper || !lower) {
+        throw size->error("both allowances of " + std::string(symbol) +
+                          ": {upper: µm, lower: µm} (e.g. {upper: -20, lower: -60})");
+      }
+      if (!(*lower < *upper)) {
+        throw ends.find("lower")->error("below the upper allowance (" + short_text(*upper) +
+                                        " µm)");
+      }
+      spec.size_allowances_um[symbol] = {*lower, *upper};
+    }
+  }
   spec.profile_cutoff_mm =
       get_ranged(map, "profile_cutoff_mm", r.at("evaluation.profile_cutoff_mm"), warnings);
   spec.helix_cutoff_mm =

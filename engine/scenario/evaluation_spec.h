@@ -4,6 +4,7 @@
 // run's outputs are those of a scenario without the section). Lengths in mm.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -53,6 +54,9 @@ struct EvaluationSpec {
   // Cut-offs λc of the Gaussian profile and helix filters (ISO 16610-21; roll length resp. face
   // position, mm); nullopt = unfiltered traces (engine/evaluation/trace_filter.h).
   std::optional<double> profile_cutoff_mm, helix_cutoff_mm;
+  // The drawing's allowances of a size deviation (`size_allowances_um`), µm: symbol (E_sn, E_Wk,
+  // E_MdK) → [lower, upper]; a size without them has no conformity decision.
+  std::map<std::string, std::pair<double, double>> size_allowances_um;
 };
 
 // The profile evaluation range L_α as an interval of roll length [lo, hi] (mm): from the form

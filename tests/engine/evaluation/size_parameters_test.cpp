@@ -16,6 +16,7 @@
 
 #include "core/input_error.h"
 #include "engine/evaluation/parameter_evaluation.h"
+#include "engine/reports/parameter_report.h"
 #include "engine/run/monte_carlo.h"
 #include "engine/scenario/scenario.h"
 
@@ -204,6 +205,55 @@ TEST(SizeParameters, GaugesOutsideTheEvaluationRangeAndImpossibleSizesAreRefused
   // `all` stays the nine ISO 1328-1 parameters.
   const Scenario s = parse_scenario(scenario_text(spur, "{parameters: all}"), "sizes.yaml");
   EXPECT_EQ(s.evaluation->parameters.size(), 9u);
+}
+
+// The drawing's allowances of a size (evaluation.size_allowances_um): the limits [lower, upper],
+// U/T over their width, the worst value the one farthest from the zone's centre, and the items
+// whose true value lies outside them. Hand values: E_sn of tooth t is (d_L + d_R)/cos α =
+// (1.6 + 0.02 t)/cos 20° (normal_deviation_um), 1.724 … 2.128 µm over t = 1 … 20; inside
+// [1.8, 2.2] from t = 5 on ((1.6 + 0.02 t)/cos 20° ≥ 1.8 ⇔ t ≥ 4.57), so teeth 1–4 do not conform.
+TEST(SizeParameters, AllowancesGiveTheSizesConformityDecisions) {
+  const Scenario s = parse_scenario(
+      scenario_text("{teeth: 20, module_mm: 1, pressure_angle_deg: 20, face_width_mm: 10}",
+                    "{parameters: [E_sn, E_Wk], profile_points: 30, "
+                    "size_allowances_um: {E_sn: {upper: 2.2, lower: 1.8}}}"),
+      "sizes.yaml");
+  const MonteCarloRun mc(s);
+  const RunResults r = run_one(mc);
+  const std::optional<ParameterPresentation> p = present_parameters(mc, r);
+  ASSERT_TRUE(p);
+  const ParameterSummary* esn = nullptr;
+  const ParameterSummary* ewk = nullptr;
+  for (const ParameterSummary& x : p->parameters) {
+    if (x.parameter == GearParameter::kEsn) esn = &x;
+    if (x.parameter == GearParameter::kEWk) ewk = &x;
+  }
+  ASSERT_TRUE(esn && ewk);
+  const ParameterConformity& c = esn->conformity;
+  ASSERT_TRUE(c.tolerance_um);
+  EXPECT_TRUE(c.allowances);
+  EXPECT_DOUBLE_EQ(*c.tolerance.lower, 1.8);
+  EXPECT_DOUBLE_EQ(*c.tolerance.upper, 2.2);
+  EXPECT_NEAR(*c.tolerance_um, 0.4, 1e-12);
+  EXPECT_EQ(c.tolerance_text(), "[1.8, 2.2]");
+  EXPECT_NEAR(c.u_over_t, esn->sides.front().U95_um / 0.4, 1e-12);
+  EXPECT_EQ(c.simple.items, 20u);
+  EXPECT_EQ(c.simple.nonconforming, 4u);
+  EXPECT_EQ(c.simple.accepted, 16u);
+  // Farthest from the centre 2.0: tooth 1 (1.724) rather than tooth 20 (2.128).
+  EXPECT_NEAR(c.worst_measured_um, 1.62 / std::cos(20 * kDeg), kMeasuredTolUm);
+  // A size without allowances has no decision.
+  EXPECT_FALSE(ewk->conformity.tolerance_um);
+  // Both ends are needed, the lower below the upper.
+  const std::string spur = "{teeth: 20, module_mm: 1, pressure_angle_deg: 20, face_width_mm: 10}";
+  const std::string one = error_of(
+      scenario_text(spur, "{parameters: [E_sn], size_allowances_um: {E_sn: {upper: -20}}}"));
+  EXPECT_NE(one.find("evaluation.size_allowances_um.E_sn"), std::string::npos) << one;
+  EXPECT_NE(one.find("both allowances of E_sn"), std::string::npos) << one;
+  const std::string order = error_of(scenario_text(
+      spur, "{parameters: [E_sn], size_allowances_um: {E_sn: {upper: -60, lower: -20}}}"));
+  EXPECT_NE(order.find("evaluation.size_allowances_um.E_sn.lower"), std::string::npos) << order;
+  EXPECT_NE(order.find("below the upper allowance (-60 µm)"), std::string::npos) << order;
 }
 
 TEST(SizeParameters, InternalGearThicknessAndDimensionBetweenBalls) {

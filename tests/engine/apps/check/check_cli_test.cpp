@@ -510,6 +510,22 @@ TEST(CheckCli, ClaimsOnGearParameterErrors) {
   EXPECT_EQ(b.exit_code, 2) << b.err;
   EXPECT_NE(b.err.find("it evaluates: F_alpha"), std::string::npos) << b.err;
   EXPECT_FALSE(fs::exists(out + "_bad"));
+
+  // A size's U/T takes the width of the drawing's allowances (upper − lower = 40 µm here), the
+  // same as the run report's conformity block states them.
+  const std::string sizes = temp_path("param_claims_size") + ".yaml";
+  std::ofstream(sizes) << limited.substr(0, at)
+                       << "evaluation: {parameters: [E_sn], size_allowances_um: {E_sn: {upper: "
+                          "-20, lower: -60}}}\nclaims:\n  - {name: sn_ut, quantity: "
+                          "parameters.E_sn.error, statistic: U_over_T, at_most: 0.5}\n";
+  const auto z = run_gearmc("check " + sizes + " --max-gears 256 --out " + out + "_size");
+  EXPECT_EQ(z.exit_code, 0) << z.err;
+  const nlohmann::json jz = nlohmann::json::parse(std::ifstream(out + "_size/check.json"));
+  EXPECT_EQ(jz["claims"][0]["tolerance_width_um"].get<double>(), 40.0);
+  const nlohmann::json rz = nlohmann::json::parse(std::ifstream(out + "_size/run/summary.json"));
+  EXPECT_EQ(rz["conformity"]["E_sn"]["tolerance_um"].get<double>(), 40.0);
+  EXPECT_EQ(rz["conformity"]["E_sn"]["limits_um"], nlohmann::json::array({-60.0, -20.0}));
+  EXPECT_EQ(rz["conformity"]["E_sn"]["tolerance_symbol"], "allowances");
 }
 
 }  // namespace
