@@ -43,13 +43,13 @@
 //     exact prediction's rounding, it is not a law of the residuals), combined by min-P over the
 //     same K null replicates (GapStatistics::combined_p; the gates apply to the replicates as to
 //     the data, so the level stays alpha up to 1/(K + 1)); named_effect = the first
-//     selected effect when the selected effects explain ≥ 50 % of the excess residual variance
-//     (Σr² − nσ²) and no structure remains after them, "unexplained" when a gap is detected but
-//     nothing in the library explains it or structure remains after the library's best fit (the
-//     verdict leads with what is not explained; the fitted library effects stay listed, the first
-//     as partially_explained_by, with the axis the remaining structure varies along),
-//     "none" when there is no gap; unexplained_structure when the gap tests still reject after
-//     the fit.
+//     selected effect (after the re-test, the one that explains most given the others) when the
+//     selected effects explain ≥ 50 % of the excess residual variance (Σr² − nσ²) and no structure
+//     remains after them, "unexplained" when a gap is detected but nothing in the library explains
+//     it or structure remains after the library's best fit (the verdict leads with what is not
+//     explained; the fitted library effects stay listed, the first as partially_explained_by, with
+//     the axis the remaining structure varies along), "none" when there is no gap;
+//     unexplained_structure when the gap tests still reject after the fit.
 // Units: residuals and RMS in µm, parameters in the units of their names (µm, ppm, µrad, K, deg).
 // Deterministic: the same inputs and seed give the same result for any number of threads (the
 // null replicates run in parallel, each from its own counter-based streams into its own slots).

@@ -299,6 +299,12 @@ std::string diagnosis_json(const Diagnosis& d) {
     steps.push_back(js);
   }
   j["selection"] = steps;
+  {  // Every selected effect re-tested given the others (selection.h): kept and dropped.
+    Json kept = Json::array(), dropped = Json::array();
+    for (const CandidateTest& t : d.selection.retest) kept.push_back(test_json(t));
+    for (const CandidateTest& t : d.selection.dropped) dropped.push_back(test_json(t));
+    j["selection_retest"] = {{"kept", kept}, {"dropped", dropped}};
+  }
   Json orders = Json::array();
   for (std::size_t k = 0; k < d.spectrum_before_um.size(); ++k) orders.push_back(k);
   j["spectrum"] = {{"orders", orders},

@@ -250,6 +250,92 @@ Eigen::MatrixXd step_gram(const std::vector<CandidateDesign>& candidates,
 namespace {
 
 // forward_select on columns and residuals of `rows` points (their own length, or compressed).
+// Every selected effect tested as the last one in: the nested test of adding it to all the
+// others (selection.h). Drops the weakest failing effect and repeats until all pass; then orders
+// `selected` by the RMS each removes given the others, largest first.
+void retest_selected(const std::vector<CandidateDesign>& candidates,
+                     const Eigen::VectorXd& residual_um, int rows, double noise_floor_um,
+                     const SelectionOptions& options, Selection& out) {
+  const double n = static_cast<double>(rows);
+  for (;;) {
+    std::vector<CandidateTest> tests;
+    std::vector<double> p;
+    for (const int e : out.selected) {
+      std::vector<int> others;
+      for (const int o : out.selected) {
+        if (o != e) others.push_back(o);
+      }
+      const StepDesign d = step_design(candidates, others, residual_um, false, rows);
+      const double rss_others = rss_after_selected(d, residual_um);
+      const std::size_t entry = static_cast<std::size_t>(
+          std::find(d.candidates.begin(), d.candidates.end(), e) - d.candidates.begin());
+      const Statistic st = nested_test(d, entry, rss_others);
+      CandidateTest t;
+      t.candidate = e;
+      t.name = candidates[e].name;
+      t.added_rank = st.q;
+      t.dof_residual = st.dof;
+      t.f = st.f;
+      t.p_f = st.q > 0 && st.dof > 0 ? st.p : 1.0;
+      t.delta_bic = rss_others > 0.0 && st.rss > 0.0
+                        ? n * std::log(st.rss / rss_others) + st.q * std::log(n)
+                        : std::numeric_limits<double>::quiet_NaN();
+      t.effect_rms_um = std::sqrt(st.reduction / n);
+      if (st.q == 0) t.note = "nested in the other selected effects";
+      tests.push_back(std::move(t));
+      p.push_back(tests.back().p_f);
+    }
+    const std::vector<double> holm = holm_adjust(p);
+    int weakest = -1;
+    for (std::size_t k = 0; k < tests.size(); ++k) {
+      CandidateTest& t = tests[k];
+      t.p_holm = holm[k];
+      t.significant = t.added_rank > 0 && t.p_holm < options.alpha;
+      t.bic_support = t.delta_bic <= -options.min_delta_bic;
+      t.practical = !(noise_floor_um > 0.0) ||
+                    t.effect_rms_um >= options.min_effect_rms_fraction * noise_floor_um;
+      t.accepted = t.eligible();
+      if (t.accepted) continue;
+      const auto worse = [](const CandidateTest& a, const CandidateTest& b) {
+        if (a.p_holm != b.p_holm) return a.p_holm > b.p_holm;
+        const double da = std::isnan(a.delta_bic) ? INFINITY : a.delta_bic;
+        const double db = std::isnan(b.delta_bic) ? INFINITY : b.delta_bic;
+        return da > db;
+      };
+      if (weakest < 0 || worse(t, tests[static_cast<std::size_t>(weakest)])) {
+        weakest = static_cast<int>(k);
+      }
+    }
+    if (weakest < 0) {
+      // All kept: the one removing most given the others first (ties: selection order).
+      std::vector<std::size_t> order(tests.size());
+      for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return tests[a].effect_rms_um > tests[b].effect_rms_um;
+      });
+      out.selected.clear();
+      out.retest.clear();
+      for (const std::size_t k : order) {
+        out.selected.push_back(tests[k].candidate);
+        out.retest.push_back(tests[k]);
+      }
+      return;
+    }
+    CandidateTest drop = tests[static_cast<std::size_t>(weakest)];
+    std::string others;
+    for (const CandidateTest& t : tests) {
+      if (t.candidate != drop.candidate) others += (others.empty() ? "" : ", ") + t.name;
+    }
+    drop.note = "dropped: " +
+                std::string(!drop.significant   ? "not significant"
+                            : !drop.bic_support ? "no BIC support"
+                                                : "below the practical size") +
+                " given " + others;
+    out.selected.erase(std::find(out.selected.begin(), out.selected.end(), drop.candidate));
+    out.dropped.push_back(std::move(drop));
+  }
+}
+
 Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::VectorXd& residual_um,
                  int rows, double noise_floor_um, const SelectionOptions& options) {
   Selection out;
@@ -328,6 +414,7 @@ Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::Ve
     out.steps.push_back(std::move(s));
     if (best < 0) break;
   }
+  retest_selected(candidates, residual_um, rows, noise_floor_um, options, out);
   return out;
 }
 

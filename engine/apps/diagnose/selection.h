@@ -95,7 +95,14 @@ struct SelectionStep {
 
 struct Selection {
   std::vector<SelectionStep> steps;
-  std::vector<int> selected;  // candidate indices, in the order selected
+  // Candidate indices of the kept effects, the one that explains most given the others first
+  // (its drop-one effect_rms_um in `retest`): after the forward steps every selected effect is
+  // re-tested in the presence of all the others (the nested test of dropping it: F table, Holm
+  // over the selected, ΔBIC, practical size — the null calibration is the forward steps'); while
+  // one fails, the weakest (largest Holm p, then largest ΔBIC) is dropped and the rest re-tested.
+  std::vector<int> selected;
+  std::vector<CandidateTest> retest;   // the final round, in `selected`'s order
+  std::vector<CandidateTest> dropped;  // effects dropped by the re-test, in the order dropped
 };
 
 // Simulates the null for one step: `replicates` residual vectors of independent N(0, σ²) noise at

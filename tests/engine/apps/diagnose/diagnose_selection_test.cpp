@@ -388,6 +388,47 @@ TEST(DiagnoseSelection, TheBicGateDecidesBetweenTwoSignificantEffects) {
   EXPECT_EQ(forward_select(one, walsh_residual(std::sqrt(0.344)), 0.01, loose).selected.size(), 1u);
 }
 
+// The re-test after the forward steps (selection.h): a compound candidate a = w2 + w4 + 0.4 w16
+// explains more of y = w2 + 0.5 w4 + 0.1 r on its own ((32 + 16)² / (64 + 32 · 0.16) = 33.3)
+// than b = w2 (32) or c = w4 (8), so it is selected first; b and c follow (each removes the part
+// of the other that a cannot carry without its w16). Given b and c, a adds only w16, which y does
+// not have: its drop-one reduction is 0 (F 0, p 1), so the re-test drops it, and b, which removes
+// 32 · 1² = 32 µm² given c against c's 32 · 0.5² = 8, comes first (the headline). r = w2 ∘ w8 is
+// orthogonal to every column (the residual noise: RSS 0.32 µm² on 32 points).
+TEST(DiagnoseSelection, TheReTestDropsAnEffectTheOthersMakeRedundantAndOrdersByWhatEachExplains) {
+  const CandidateDesign w2 = walsh_candidate("w2", 2), w4 = walsh_candidate("w4", 4);
+  const CandidateDesign w8 = walsh_candidate("w8", 8), w16 = walsh_candidate("w16", 16);
+  CandidateDesign a = w2;
+  a.name = "a";
+  a.x.col(0) = w2.x.col(0) + w4.x.col(0) + 0.4 * w16.x.col(0);
+  CandidateDesign b = w2, c = w4;
+  b.name = "b";
+  c.name = "c";
+  const Eigen::VectorXd y =
+      w2.x.col(0) + 0.5 * w4.x.col(0) + 0.1 * w2.x.col(0).cwiseProduct(w8.x.col(0));
+  SelectionOptions o = gate_options();
+  o.max_effects = 3;
+  const Selection s = forward_select({a, b, c}, y, 0.01, o);
+  ASSERT_EQ(s.steps.size(), 3u);
+  EXPECT_EQ(s.steps[0].tests[s.steps[0].accepted].name, "a");  // the forward choice
+  ASSERT_EQ(s.selected.size(), 2u);
+  EXPECT_EQ(s.selected[0], 1);  // b
+  EXPECT_EQ(s.selected[1], 2);  // c
+  ASSERT_EQ(s.dropped.size(), 1u);
+  EXPECT_EQ(s.dropped[0].name, "a");
+  EXPECT_NEAR(s.dropped[0].effect_rms_um, 0.0, 1e-9);
+  EXPECT_NE(s.dropped[0].note.find("dropped: not significant given b, c"), std::string::npos)
+      << s.dropped[0].note;
+  ASSERT_EQ(s.retest.size(), 2u);
+  EXPECT_NEAR(s.retest[0].effect_rms_um, std::sqrt(32.0 / 32.0), 1e-9);  // √(ΔRSS / n)
+  EXPECT_NEAR(s.retest[1].effect_rms_um, std::sqrt(8.0 / 32.0), 1e-9);
+  EXPECT_TRUE(s.retest[0].accepted && s.retest[1].accepted);
+  // Control: without a the forward steps already find b then c, and nothing is dropped.
+  const Selection plain = forward_select({b, c}, y, 0.01, o);
+  EXPECT_EQ(plain.selected, (std::vector<int>{0, 1}));
+  EXPECT_TRUE(plain.dropped.empty());
+}
+
 // The min-P null p-value is a Monte-Carlo p-value, (1 + #{null min p ≤ p}) / (1 + K)
 // (Davison & Hinkley 1997, eq. 4.11): never 0, at least 1/(K + 1) however strong the effect.
 // A strong Walsh signal (F = 31 · 4 = 124, no null replicate comes near) with K replicates:
