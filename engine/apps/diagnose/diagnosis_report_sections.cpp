@@ -402,6 +402,25 @@ void selection_section(HtmlReport& report, const ReportContext& ctx) {
     }
     report.table(t);
   }
+  if (d.selection.retest.empty() && d.selection.dropped.empty()) return;
+  // The re-test: each selected effect as the last one in, given all the others (selection.h).
+  HtmlTable r;
+  r.caption = "Re-test of the selected effects, each given all the others" +
+              std::string(d.selection.dropped.empty()
+                              ? ": every one kept"
+                              : ": " + std::to_string(d.selection.dropped.size()) + " dropped") +
+              " (kept ones ordered by the RMS each removes; the first is the headline)";
+  r.header = {"effect", "columns", "F", "p (F, Holm)", "ΔBIC", "removes RMS, µm", "kept"};
+  const auto row = [&](const CandidateTest& test, bool kept) {
+    std::string name = test.name;
+    if (!test.note.empty()) name += " (" + test.note + ")";
+    r.rows.push_back({{name, std::to_string(test.added_rank), general(test.f), general(test.p_holm),
+                       fixed(test.delta_bic, 1), fixed(test.effect_rms_um), kept ? "yes" : "no"},
+                      kept});
+  };
+  for (const CandidateTest& test : d.selection.retest) row(test, true);
+  for (const CandidateTest& test : d.selection.dropped) row(test, false);
+  report.table(r);
 }
 
 void ambiguity_section(HtmlReport& report, const ReportContext& ctx) {
