@@ -206,6 +206,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->check(CLI::Range(0, 10000));
   diagnose->add_option("--candidates", diagnose_options.candidates,
                        "Comma-separated library effects the diagnosis may name (default: all)");
+  diagnose
+      ->add_option("--workpiece", diagnose_options.workpiece,
+                   "master (default: nominal or calibrated, every gap is the machine's) or "
+                   "production (the gear's own flank deviations are fitted in every model)")
+      ->check(CLI::IsMember({"master", "production"}));
+  diagnose->add_option(
+      "--turned-by", diagnose_options.turned_by,
+      "With --workpiece production: every gear/run of the readings is the same gear, turned on "
+      "the table by K teeth in each (one K per gear or run, e.g. 0,3: the plan's tooth t holds "
+      "the gear's tooth t + K); the part's deviations move with the gear, the machine's stay");
   diagnose->add_flag("--model-gears", diagnose_options.model_gears,
                      "Predict on the model's perturbed gears (same seed) instead of its nominal "
                      "master (only for readings simulated from the same gear model)");

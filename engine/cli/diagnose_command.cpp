@@ -133,6 +133,41 @@ int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::os
   DiagnoseOptions options;
   options.prediction.artefact =
       o.model_gears ? ArtefactModel::kModelGears : ArtefactModel::kNominalMaster;
+  options.workpiece = o.workpiece == "production" ? Workpiece::kProduction : Workpiece::kMaster;
+  if (!o.turned_by.empty()) {
+    const InputLocation at{"--turned-by", 0, 0};
+    if (options.workpiece != Workpiece::kProduction) {
+      throw InputError(at,
+                       "--turned-by: set-ups of one gear are read with --workpiece production "
+                       "(a master's readings need no turning)");
+    }
+    std::string item;
+    std::istringstream list(o.turned_by);
+    while (std::getline(list, item, ',')) {
+      std::size_t used = 0;
+      int k = 0;
+      try {
+        k = std::stoi(item, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != item.size() || item.empty() || std::abs(k) > 100000) {
+        throw InputError(at, "--turned-by: '" + item +
+                                 "' is not a whole number of teeth; expected one integer per "
+                                 "measured gear or run, e.g. --turned-by 0,3");
+      }
+      options.turned_by_teeth.push_back(k);
+    }
+    int gears = 0;
+    for (const ReadingRow& row : readings->rows) gears = std::max(gears, row.gear + 1);
+    if (static_cast<int>(options.turned_by_teeth.size()) != gears) {
+      throw InputError(at, "--turned-by: " + std::to_string(options.turned_by_teeth.size()) +
+                               " value" + (options.turned_by_teeth.size() == 1 ? "" : "s") +
+                               " for " + std::to_string(gears) +
+                               " measured gears or runs; expected one per gear or run, in "
+                               "order (the files' gears follow each other)");
+    }
+  }
   if (o.null_seed) options.selection.seed = *o.null_seed;
   if (o.null_replicates) options.selection.null_replicates = *o.null_replicates;
   if (!o.candidates.empty()) {

@@ -27,6 +27,12 @@ struct DiagnoseCommandOptions {
   bool model_gears = false;  // predict on the model's perturbed gears, not its nominal master
   // --candidates a,b,…: the library effects the selection may name (default: all of them)
   std::string candidates;
+  // --workpiece master|production: a production gear's own flank deviations are part of every
+  // model (engine/apps/diagnose/part_model.h)
+  std::string workpiece = "master";
+  // --turned-by K,K,…: with production, every gear/run of the readings is the same gear, in
+  // set-up g turned on the table by K_g teeth (one per gear index, in order)
+  std::string turned_by;
   std::string command_line;  // as typed, for the outputs' provenance
 };
 

@@ -23,6 +23,7 @@ table { border-collapse: collapse; margin: 1em 0; }
 th, td { border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: right; }
 th { background: #f0f0f0; }
 th:first-child, td:first-child { text-align: left; }
+table.text-last td:last-child, table.text-last th:last-child { text-align: left; }
 tr.highlight td { background: #fff4d6; }
 figure { margin: 1.2em 0; break-inside: avoid; }
 figure svg { max-width: 100%; height: auto; }
@@ -121,7 +122,8 @@ HtmlReport& HtmlReport::table(const HtmlTable& table) {
   if (!table.caption.empty()) {
     body_ += "<div class=\"table-caption\">" + escape_xml(table.caption) + "</div>\n";
   }
-  body_ += "<div class=\"table-scroll\">\n<table>\n";
+  body_ += table.last_column_text ? "<div class=\"table-scroll\">\n<table class=\"text-last\">\n"
+                                  : "<div class=\"table-scroll\">\n<table>\n";
   if (!table.header.empty()) {
     body_ += "<thead><tr>";
     for (const std::string& h : table.header) body_ += "<th>" + escape_xml(h) + "</th>";

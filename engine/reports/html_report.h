@@ -24,6 +24,7 @@ struct HtmlTable {
   std::string caption;  // empty: none
   std::vector<std::string> header;
   std::vector<Row> rows;
+  bool last_column_text = false;  // the last column is prose: left-aligned like the first
 };
 
 class HtmlReport {

@@ -350,6 +350,51 @@ CompressedDesigns compressed_candidate_designs(const PointContexts& points,
   return out;
 }
 
+CompressedDesigns compressed_candidate_designs(const PointContexts& points,
+                                               const Eigen::VectorXd& residual_um,
+                                               const CandidateOptions& options,
+                                               const Eigen::MatrixXd& base_q) {
+  CompressedDesigns out;
+  out.rows = static_cast<int>(points.size()) - static_cast<int>(base_q.cols());
+  out.candidates = build_designs(points, options, ranges_if_asked(points, options));
+  auto project = [&](const Eigen::MatrixXd& m) -> Eigen::MatrixXd {
+    return m - base_q * (base_q.transpose() * m);
+  };
+  int columns = 1;
+  for (const CandidateDesign& d : out.candidates) columns += static_cast<int>(d.x.cols());
+  Eigen::MatrixXd all(static_cast<int>(points.size()), columns);
+  int at = 0;
+  for (CandidateDesign& d : out.candidates) {
+    mark_observable(d);
+    Eigen::MatrixXd copy;
+    const Eigen::MatrixXd& observable = d.observable_columns(copy);
+    double correlation = 1.0;
+    if (observable.cols() > 0) {
+      const Eigen::MatrixXd q = orthonormal_basis(observable).q;
+      const std::vector<double> cc = canonical_correlations(base_q, q);
+      correlation = static_cast<int>(cc.size()) < q.cols() ? 0.0 : cc.back();
+    }
+    out.base_correlation.push_back(correlation);
+    Eigen::MatrixXd projected = project(d.x);
+    for (int c = 0; c < projected.cols(); ++c) {
+      if (!(projected.col(c).norm() > 1e-6 * d.x.col(c).norm())) projected.col(c).setZero();
+    }
+    all.middleCols(at, projected.cols()) = projected;
+    at += static_cast<int>(projected.cols());
+  }
+  all.col(at) = project(residual_um);
+  const Eigen::MatrixXd r = upper_triangle(std::move(all));
+  at = 0;
+  for (CandidateDesign& d : out.candidates) {
+    const int q = static_cast<int>(d.coefficients.size());
+    d.x = r.middleCols(at, q);
+    at += q;
+    mark_observable(d);
+  }
+  out.residual_um = r.col(at);
+  return out;
+}
+
 Eigen::MatrixXd full_columns(const PointContexts& points, const CandidateOptions& options,
                              const std::vector<CandidateDesign>& compressed,
                              const std::vector<int>& which) {

@@ -143,11 +143,25 @@ std::vector<CandidateDesign> candidate_designs(const PointContexts& points,
 struct CompressedDesigns {
   std::vector<CandidateDesign> candidates;  // x: (m + 1) × the candidate's columns
   Eigen::VectorXd residual_um;              // m + 1 entries
-  int rows = 0;                             // N, the points
+  int rows = 0;                             // N, the points (N − k with a base: below)
+  // With a base: per candidate, the smallest canonical correlation of its observable columns with
+  // the base's span (1: wholly inside it, 0: some direction orthogonal to it); empty without.
+  std::vector<double> base_correlation;
 };
 CompressedDesigns compressed_candidate_designs(const PointContexts& points,
                                                const Eigen::VectorXd& residual_um,
                                                const CandidateOptions& options = {});
+
+// The same with the columns and the residuals first projected off the span of `base_q` (N × k
+// orthonormal columns: a production gear's own deviations, part_model.h): the selection then
+// tests each candidate on what the base cannot explain (Frisch–Waugh–Lovell), `rows` = N − k for
+// the degrees of freedom. A column with less than 1e-6 of its norm outside the base's span is not
+// observable. Built from the N-row columns at once (a production gear's diagnosis is one gear or
+// a few; part_model.h kMaxPartCells bounds the base).
+CompressedDesigns compressed_candidate_designs(const PointContexts& points,
+                                               const Eigen::VectorXd& residual_um,
+                                               const CandidateOptions& options,
+                                               const Eigen::MatrixXd& base_q);
 
 // The N-row observable columns of candidates `which` (indices into `compressed`, which says
 // which columns are observable), side by side in that order: what the joint fit needs.

@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/constants.h"
+#include "core/input_error.h"
 #include "engine/apps/diagnose/cluster_tests.h"
 #include "engine/apps/diagnose/diagnosis_stages.h"
 #include "engine/apps/diagnose/linear_model.h"
@@ -130,6 +131,7 @@ PointLawOptions point_law_options(const DiagnoseOptions& options, int replicates
   po.min_effect_rms_fraction = options.selection.min_effect_rms_fraction;
   po.white_fraction = options.point_law_white_fraction;
   po.white_normal_approximation = options.null_rows > 0 && rows > 2 * options.null_rows;
+  po.leverage_correction = options.workpiece == Workpiece::kProduction;
   return po;
 }
 
@@ -186,9 +188,38 @@ void select_and_fit(State& state, Diagnosis& out) {
   }
   // The candidates' columns compressed with the residuals (the selection and the ambiguity checks
   // use only their inner products; candidates.h): no N-row matrix of every candidate is held.
+  // A production gear: its own deviations (part_model.h) are in every model, the candidates are
+  // selected on what they leave, and "before" is the part's fit alone.
   const PointContexts contexts(residuals.points, &ResidualPoint::context);
+  const bool production = options.workpiece == Workpiece::kProduction;
+  const Eigen::VectorXd r_measured = state.r;
+  if (production) {
+    state.part = part_columns(residuals.points, options.turned_by_teeth);
+    const double cells = static_cast<double>(rows) * state.part.columns();
+    if (cells > kMaxPartCells) {
+      throw InputError({"--workpiece", 0, 0},
+                       "production: the part's deviations on " +
+                           std::to_string(state.part.flanks.size()) + " flanks need " +
+                           std::to_string(state.part.columns()) + " columns over " +
+                           std::to_string(rows) +
+                           " readings, more than this diagnosis holds (2e7 values); diagnose "
+                           "fewer gears at once");
+    }
+    state.p_base = state.part.rank();
+    if (rows - state.p_base < 2 * kPartTerms) {
+      throw InputError({"--workpiece", 0, 0},
+                       "production: " + std::to_string(rows) + " readings on " +
+                           std::to_string(state.part.flanks.size()) +
+                           " flanks leave too few beyond the part's own deviations (" +
+                           std::to_string(state.p_base) +
+                           " parameters): measure more points per flank");
+    }
+    state.r -= state.part.q * (state.part.q.transpose() * state.r);
+  }
+  out.workpiece = options.workpiece;
   CompressedDesigns compressed =
-      compressed_candidate_designs(contexts, state.r, options.candidates);
+      production ? compressed_candidate_designs(contexts, state.r, options.candidates, state.part.q)
+                 : compressed_candidate_designs(contexts, state.r, options.candidates);
   for (const CandidateDesign& c : compressed.candidates) out.candidate_names.push_back(c.name);
 
   // 3. Selection.
@@ -197,9 +228,20 @@ void select_and_fit(State& state, Diagnosis& out) {
   state.candidates = std::move(compressed.candidates);
   const std::vector<CandidateDesign>& candidates = state.candidates;
 
-  // 4. Joint fit of the selected effects, on their N-row columns.
+  // 4. Joint fit of the selected effects, on their N-row columns (and the part's, last). Fitted
+  // to the measured residuals, so that the part's coefficients are its deviations; the effects'
+  // coefficients and the residuals are those of the fit to the projected ones (Frisch–Waugh), and
+  // `fitted` is made the fit of the projected residuals.
   state.x_selected = full_columns(contexts, options.candidates, candidates, selected);
-  state.fit = least_squares(state.x_selected, state.r);
+  const int effect_columns = static_cast<int>(state.x_selected.cols());
+  if (production) {
+    state.x_selected.conservativeResize(rows, effect_columns + state.part.columns());
+    state.x_selected.rightCols(state.part.columns()) = state.part.x;
+    state.fit = least_squares(state.x_selected, r_measured);
+    state.fit.fitted -= r_measured - state.r;
+  } else {
+    state.fit = least_squares(state.x_selected, state.r);
+  }
   const Eigen::MatrixXd& x_selected = state.x_selected;
   const LeastSquaresFit& fit = state.fit;
   const int p = fit.rank;
@@ -226,6 +268,25 @@ void select_and_fit(State& state, Diagnosis& out) {
         x_selected.middleCols(offsets[s], q) * fit.beta.segment(offsets[s], q);
     e.fitted_rms_um = std::sqrt(contribution.squaredNorm() / rows);
     out.effects.push_back(std::move(e));
+  }
+  if (production) {
+    const int k = state.part.columns();
+    std::vector<bool> estimable(fit.estimable.end() - k, fit.estimable.end());
+    out.part = part_deviations(state.part, fit.beta.tail(k),
+                               fit.cov_unscaled.bottomRightCorner(k, k), estimable, sigma2_hat);
+    out.part.turned_by_teeth = options.turned_by_teeth;
+    out.part.fitted_rms_um =
+        std::sqrt((state.part.x * fit.beta.tail(k)).squaredNorm() / std::max(1, rows));
+    for (std::size_t c = 0; c < compressed.base_correlation.size(); ++c) {
+      const double rho = compressed.base_correlation[c];
+      if (!(rho >= kPartConfoundedCorrelation)) continue;
+      PartConfounding pc;
+      pc.effect = candidates[c].name;
+      pc.correlation = rho;
+      pc.indistinguishable = rho >= kPartIndistinguishable;
+      pc.separate_by = separate_from_part(pc.effect);
+      out.part.confounded.push_back(std::move(pc));
+    }
   }
   // Until the point-law stage says otherwise: the linear fit's residuals under the floor's law.
   state.law_before = floor_law(state.noise);

@@ -66,13 +66,24 @@
 #include "engine/apps/diagnose/coordinate_grid.h"
 #include "engine/apps/diagnose/empirical_term.h"
 #include "engine/apps/diagnose/outlier_screen.h"
+#include "engine/apps/diagnose/part_model.h"
 #include "engine/apps/diagnose/point_law_stage.h"
 #include "engine/apps/diagnose/prediction.h"
 #include "engine/apps/diagnose/selection.h"
 
 namespace gearmc {
 
+// What was measured: a master (nominal, or calibrated: ref_dev_um) whose every residual is the
+// machine's, or a production gear whose own flank deviations are part of every model
+// (part_model.h).
+enum class Workpiece { kMaster, kProduction };
+
 struct DiagnoseOptions {
+  Workpiece workpiece = Workpiece::kMaster;
+  // A production gear measured in several set-ups (or runs): one entry per gear index, the teeth
+  // the gear was turned by on the table (part_model.h part_columns); empty: each gear index is its
+  // own gear.
+  std::vector<int> turned_by_teeth;
   PredictionOptions prediction;
   CandidateOptions candidates;
   SelectionOptions selection;  // also: alpha, replicates and seed of the gap's null simulation
@@ -217,6 +228,11 @@ struct Diagnosis {
   std::string partially_explained_by;
   double explained_fraction = kNotAvailable;  // of the excess variance
   std::vector<FittedEffect> effects;          // selected effects, in selection order
+  // A production gear (DiagnoseOptions::workpiece): its own flank deviations, fitted jointly with
+  // the effects; "before" (gap_before, residual_before_um, the spectrum before) is then the
+  // model with the part's deviations fitted, so the gap is the machine's (part_model.h).
+  Workpiece workpiece = Workpiece::kMaster;
+  PartDeviations part;
   GapStatistics gap_before, gap_after;
   // The RMS of the residuals after, each predicted by the selected effects fitted on the other
   // fold (diagnosis_stages.h HeldOutSplit; "nothing_fitted": the RMS before).

@@ -29,7 +29,8 @@ constexpr int kBootstrapReplicates = 999;  // (R + 1) · 0.025 an integer (clust
 
 }  // namespace
 
-HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns) {
+HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns,
+                            bool within_flanks) {
   // Candidate splits, coarsest first: each gives a group key per point; the groups, in sorted
   // order, alternate between the two folds.
   struct Candidate {
@@ -55,7 +56,10 @@ HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int column
        }},
   };
   HeldOutSplit out;
-  for (const Candidate& c : candidates) {
+  // Within flanks: profile points first (each fold keeps every section, so a flank's helix terms
+  // stay estimable in both folds), then sections.
+  const std::vector<Candidate> inside = {candidates[3], candidates[2]};
+  for (const Candidate& c : within_flanks ? inside : candidates) {
     std::map<std::tuple<int, int, int>, int> groups;
     for (const ResidualPoint& p : points) groups.emplace(c.key(p), 0);
     if (groups.size() < 2) continue;
@@ -75,8 +79,13 @@ HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int column
   }
   out.name = "none";
   out.why_none =
-      "the readings cannot be split into two halves (by teeth, flanks, face sections "
-      "or profile points) each with more points than the " +
+      (within_flanks ? std::string("the readings cannot be split into two halves within every "
+                                   "flank (by face sections or profile points: the part's "
+                                   "deviations are fitted per flank) each with more points than "
+                                   "the ")
+                     : std::string("the readings cannot be split into two halves (by teeth, "
+                                   "flanks, face sections or profile points) each with more "
+                                   "points than the ")) +
       std::to_string(columns) + " fitted parameters";
   return out;
 }
@@ -215,7 +224,7 @@ void measure_gap(const State& state, Diagnosis& out) {
   // 5. Gap before / after and held-out check.
   out.residual_before_um = to_vector(r);
   out.residual_after_um = to_vector(state.r_after);
-  out.gap_before = gap_statistics(r, rows, state.law_before);
+  out.gap_before = gap_statistics(r, rows - state.p_base, state.law_before);
   out.gap_after = gap_statistics(state.r_after, rows - state.p_after, state.law_after);
   if (out.effects.empty()) {
     out.held_out_rms_um = out.gap_before.rms_um;  // nothing fitted: nothing to hold out
@@ -223,7 +232,7 @@ void measure_gap(const State& state, Diagnosis& out) {
     return;
   }
   const HeldOutSplit split =
-      held_out_split(state.residuals.points, static_cast<int>(x_after.cols()));
+      held_out_split(state.residuals.points, static_cast<int>(x_after.cols()), state.p_base > 0);
   out.held_out_split = split.name;
   if (split.fold.empty()) {
     out.held_out_rms_um = kNotAvailable;
@@ -305,7 +314,10 @@ void simulate_null(const State& state, Diagnosis& out) {
   const int replicates = out.null_replicates;
   // The rows the χ² and KS statistics are simulated on: all, or the subsample (see
   // DiagnoseOptions::null_rows), with its own design and its statistics rescaled to n below.
-  const bool subsample = replicates > 0 && options.null_rows > 0 && rows > 2 * options.null_rows;
+  // (A production gear's part columns, state.part.q, are projected off whole: no subsample.)
+  const bool subsample =
+      replicates > 0 && options.null_rows > 0 && rows > 2 * options.null_rows && state.p_base == 0;
+  const Eigen::MatrixXd& q_base = state.part.q;
   const std::vector<int> sub_rows =
       subsample ? null_subsample(residuals.points, options.null_rows) : std::vector<int>{};
   const int m = subsample ? static_cast<int>(sub_rows.size()) : rows;
@@ -362,6 +374,11 @@ void simulate_null(const State& state, Diagnosis& out) {
     Eigen::VectorXd eps(m), eps_law_after(m);
     RandomStream rng(so.seed, static_cast<std::uint32_t>(k), kDiagnoseNullStream, kGapNullSubIndex);
     for (int i = 0; i < m; ++i) eps[i] = sim_before.draw(rng);
+    Eigen::VectorXd eps_drawn;
+    if (state.p_base > 0) {  // before = after the part's fit alone
+      eps_drawn = eps;
+      eps -= q_base * (q_base.transpose() * eps);
+    }
     ResidualLaw l_before = sim_before, l_after = sim_after;
     if (reestimate) {
       const std::vector<double> e = to_vector(eps);
@@ -376,10 +393,10 @@ void simulate_null(const State& state, Diagnosis& out) {
                              kGapNullSubIndex + 1);
       for (int i = 0; i < m; ++i) eps_law_after[i] = sim_after.draw(rng_after);
     } else {
-      eps_law_after = eps;
+      eps_law_after = state.p_base > 0 ? eps_drawn : eps;
     }
     const Eigen::VectorXd eps_after = eps_law_after - q_sim * (q_sim.transpose() * eps_law_after);
-    const GapStatistics gb = gap_statistics(eps, m, l_before);
+    const GapStatistics gb = gap_statistics(eps, m - state.p_base, l_before);
     const GapStatistics ga = gap_statistics(eps_after, dof_sim_after, l_after);
     chi2_before[k] = subsample ? 1.0 + (gb.chi2_dof - 1.0) * chi2_scale_before : gb.chi2_dof;
     chi2_after[k] = subsample ? 1.0 + (ga.chi2_dof - 1.0) * chi2_scale_after : ga.chi2_dof;
@@ -459,6 +476,7 @@ void simulate_null(const State& state, Diagnosis& out) {
     Eigen::VectorXd y_before(rows), y_after(rows);
     for (int i = 0; i < rows; ++i) y_before[i] = sim_before.draw(rng);
     for (int i = 0; i < rows; ++i) y_after[i] = sim_after.draw(rng);
+    if (state.p_base > 0) y_before -= q_base * (q_base.transpose() * y_before);
     y_after -= q_after * (q_after.transpose() * y_after);
     const std::vector<double> before = to_vector(r), after = to_vector(r_after_c);
     const std::vector<double> yb = to_vector(y_before), ya = to_vector(y_after);
@@ -541,7 +559,7 @@ void make_verdict(const State& state, Diagnosis& out) {
   out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
   out.unexplained_structure = gap_rejects(out.gap_after);
   const double v0 = law_before.variance_um2();
-  const double excess = r.squaredNorm() - rows * v0;
+  const double excess = r.squaredNorm() - (rows - state.p_base) * v0;
   const double explained = stage.chosen > 0 ? r.squaredNorm() - r_after_c.squaredNorm() +
                                                   rows * (law_after.variance_um2() - v0)
                            : state.per_gear_fit ? r.squaredNorm() - r_after_c.squaredNorm()

@@ -19,6 +19,59 @@ Json numbers(const std::vector<double>& values) {
   return a;
 }
 
+Json part_value(const PartValue& v) {
+  if (!v.estimable) return nullptr;
+  return Json{{"value_um", number(v.value_um)}, {"U_um", number(v.u_um)}};
+}
+
+// A production gear's own deviations (part_model.h): per flank and per side, with U (k = 2).
+Json part_json(const PartDeviations& p) {
+  Json flanks = Json::array();
+  for (const PartFlankDeviations& d : p.flanks) {
+    const PartFlank& f = d.flank;
+    flanks.push_back({{"gear", f.gear},
+                      {"tooth", f.tooth},
+                      {"flank", f.side == FlankSide::kRight ? "R" : "L"},
+                      {"points", f.points},
+                      {"profile_range_mm", {number(f.profile_from_mm), number(f.profile_to_mm)}},
+                      {"face_range_mm", {number(f.face_from_mm), number(f.face_to_mm)}},
+                      {"position", part_value(d.position)},
+                      {"f_Halpha", part_value(d.f_h_alpha)},
+                      {"C_alpha", part_value(d.c_alpha)},
+                      {"f_Hbeta", part_value(d.f_h_beta)},
+                      {"C_beta", part_value(d.c_beta)}});
+  }
+  Json sides = Json::array();
+  for (const PartSideSummary& s : p.sides) {
+    sides.push_back(
+        {{"flank", s.side == FlankSide::kRight ? "R" : "L"},
+         {"flanks", s.flanks},
+         {"f_Halpha_mean_um", number(s.f_h_alpha_mean_um)},
+         {"f_Halpha_range_um", {number(s.f_h_alpha_min_um), number(s.f_h_alpha_max_um)}},
+         {"C_alpha_mean_um", number(s.c_alpha_mean_um)},
+         {"f_Hbeta_mean_um", number(s.f_h_beta_mean_um)},
+         {"f_Hbeta_range_um", {number(s.f_h_beta_min_um), number(s.f_h_beta_max_um)}},
+         {"C_beta_mean_um", number(s.c_beta_mean_um)},
+         {"position_mean_um", number(s.position_mean_um)},
+         {"position_range_um", number(s.position_range_um)}});
+  }
+  Json confounded = Json::array();
+  for (const PartConfounding& c : p.confounded) {
+    confounded.push_back({{"effect", c.effect},
+                          {"correlation", number(c.correlation)},
+                          {"indistinguishable", c.indistinguishable},
+                          {"separate_by", c.separate_by}});
+  }
+  Json setups = Json::array();
+  for (std::size_t g = 0; g < p.turned_by_teeth.size(); ++g) {
+    setups.push_back({{"gear", g}, {"turned_by_teeth", p.turned_by_teeth[g]}});
+  }
+  return Json{{"columns", p.columns}, {"rank", p.rank},
+              {"setups", setups},     {"fitted_rms_um", number(p.fitted_rms_um)},
+              {"sides", sides},       {"confounded_with_machine", confounded},
+              {"flanks", flanks}};
+}
+
 Json gap_json(const GapStatistics& g) {
   Json j;
   j["rms_um"] = number(g.rms_um);
@@ -152,6 +205,8 @@ std::string diagnosis_json(const Diagnosis& d) {
     effects.push_back(je);
   }
   j["effects"] = effects;
+  j["workpiece"] = d.workpiece == Workpiece::kProduction ? "production" : "master";
+  if (d.part.fitted) j["part"] = part_json(d.part);
   j["gap_before"] = gap_json(d.gap_before);
   Json after = gap_json(d.gap_after);
   after["held_out_rms_um"] = number(d.held_out_rms_um);

@@ -198,11 +198,17 @@ void verdict_section(HtmlReport& report, const ReportContext& ctx) {
   report.heading("Verdict");
   report.paragraph(diagnosis_verdict(ctx.in));
   report.paragraph(
-      "Residual = measured − predicted deviation along the nominal flank normal (µm, + = "
-      "material side outward). \"Before\" is against the model as given; \"after\" with the "
-      "selected effects fitted. The plots show bin means (lines) so a pattern stands out of the "
-      "noise; the held-out RMS fits on odd teeth and evaluates on even ones, and the other way "
-      "round.");
+      std::string("Residual = measured − predicted deviation along the nominal flank normal (µm, + "
+                  "= material side outward). ") +
+      (ctx.d.part.fitted
+           ? "\"Before\" is against the model with the gear's own flank deviations fitted; "
+             "\"after\" with the selected effects fitted as well. The plots show bin means "
+             "(lines) so a pattern stands out of the noise; the held-out RMS fits on one half of "
+             "every flank's points and evaluates on the other, and the other way round."
+           : "\"Before\" is against the model as given; \"after\" with the selected effects "
+             "fitted. The plots show bin means (lines) so a pattern stands out of the noise; the "
+             "held-out RMS fits on odd teeth and evaluates on even ones, and the other way "
+             "round."));
 }
 
 // The verdict when the first effect is the artefact's form (a property of the master gear, told
@@ -257,9 +263,17 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
       << "readings.";
     return s.str();
   }
+  if (d.part.fitted) {
+    s << "A production gear: its own flank deviations (" << d.part.flanks.size()
+      << " flanks: position, profile and helix slope and crowning, RMS "
+      << fixed(d.part.fitted_rms_um) << " µm) are fitted in every model; \"before\" is the model "
+      << "with them, so what follows is the machine's part. ";
+  }
   if (!d.gap_detected) {
-    s << "No gap: the readings agree with the model within the noise floor. " << points_phrase(in)
-      << ": " << gap_phrase(d.gap_before, r.sigma, k) << ". ";
+    s << (d.part.fitted ? "No machine gap: the gear's own deviations and the noise floor explain "
+                          "the readings. "
+                        : "No gap: the readings agree with the model within the noise floor. ")
+      << points_phrase(in) << ": " << gap_phrase(d.gap_before, r.sigma, k) << ". ";
     const CandidateTest* best = nullptr;
     if (!d.selection.steps.empty()) {
       for (const CandidateTest& t : d.selection.steps.front().tests) {
@@ -381,7 +395,9 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
   if (d.status != DiagnosisStatus::kTested) {
     verdict = "no verdict: " + d.status_reason;
   } else if (!d.gap_detected) {
-    verdict = "no gap: the readings agree with the model within the noise floor";
+    verdict = d.part.fitted ? "no machine gap: the gear's own flank deviations and the noise "
+                              "floor explain the readings"
+                            : "no gap: the readings agree with the model within the noise floor";
   } else if (d.finding != DiagnosisFinding::kEffect) {
     verdict = "gap, unexplained structure remains";
     if (!d.unexplained_along.axis.empty()) verdict += " along " + d.unexplained_along.axis;
@@ -402,6 +418,69 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
     if (d.unexplained_structure) verdict += "; unexplained structure remains";
   }
   lines.push_back(verdict);
+  // Every accepted effect after the first (named above) with its values; an effect fitted per
+  // gear with the range of its values over the gears.
+  for (std::size_t k = 0; k < d.effects.size(); ++k) {
+    const FittedEffect& e = d.effects[k];
+    if (k == 0 && d.finding == DiagnosisFinding::kEffect) continue;
+    std::string line =
+        (k == 0 ? "effect: " : "also: ") + e.name + " (" + parameter_list(e, ", ") + ")";
+    if (e.varies_per_gear && !e.per_gear.empty()) {
+      line += "; varies per gear (p " + fixed(e.per_gear_p, 4) + "):";
+      const std::size_t columns = e.per_gear.front().coefficients.size();
+      for (std::size_t c = 0; c < columns; ++c) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (const FittedEffect::GearValues& g : e.per_gear) {
+          if (c >= g.coefficients.size() || !g.coefficients[c].estimable) continue;
+          lo = std::min(lo, g.coefficients[c].value);
+          hi = std::max(hi, g.coefficients[c].value);
+        }
+        if (!(lo <= hi)) continue;
+        const FittedValue& v = e.per_gear.front().coefficients[c];
+        line += " " + v.name + " " + fixed(lo) + " … " + fixed(hi) + " " + v.unit + " over " +
+                std::to_string(e.per_gear.size()) + " gears;";
+      }
+      line.pop_back();
+    }
+    lines.push_back(line);
+  }
+  if (d.part.fitted) {
+    const auto side_text = [](const PartSideSummary& s) {
+      return std::string(s.side == FlankSide::kRight ? "right" : "left") + " f_Hαm " +
+             fixed(s.f_h_alpha_mean_um) + " (" + fixed(s.f_h_alpha_min_um) + " … " +
+             fixed(s.f_h_alpha_max_um) + "), C_α " + fixed(s.c_alpha_mean_um) + ", f_Hβm " +
+             fixed(s.f_h_beta_mean_um) + " (" + fixed(s.f_h_beta_min_um) + " … " +
+             fixed(s.f_h_beta_max_um) + "), C_β " + fixed(s.c_beta_mean_um) + ", position range " +
+             fixed(s.position_range_um) + " µm";
+    };
+    std::string line =
+        "the gear's own deviations on " + std::to_string(d.part.flanks.size()) + " flanks";
+    if (!d.part.turned_by_teeth.empty()) {
+      line +=
+          " measured in " + std::to_string(d.part.turned_by_teeth.size()) + " set-ups (turned by";
+      for (std::size_t g = 0; g < d.part.turned_by_teeth.size(); ++g) {
+        line += (g ? ", " : " ") + std::to_string(d.part.turned_by_teeth[g]);
+      }
+      line += " teeth)";
+    }
+    line += " (µm, in every model):";
+    for (const PartSideSummary& s : d.part.sides) line += " " + side_text(s) + ";";
+    line.pop_back();
+    lines.push_back(line);
+    std::string confounded;
+    for (const PartConfounding& c : d.part.confounded) {
+      confounded += (confounded.empty() ? "" : ", ") + c.effect;
+      if (!c.indistinguishable) confounded += " (ρ " + fixed(c.correlation, 3) + ")";
+    }
+    if (!confounded.empty()) {
+      lines.push_back(
+          std::string("not separable from the gear's own deviations ") +
+          (d.part.turned_by_teeth.size() > 1 ? "in these set-ups: " : "on this set-up: ") +
+          confounded +
+          " (diagnosis.json part.confounded_with_machine says what "
+          "separates them)");
+    }
+  }
   lines.push_back("residual RMS " + fixed(d.gap_before.rms_um) + " µm before, " +
                   fixed(d.gap_after.rms_um) + " µm after (held-out " + fixed(d.held_out_rms_um) +
                   " µm, noise floor " + fixed(d.noise.sigma_um) + " µm" + floor_after_phrase(d) +
@@ -432,6 +511,7 @@ std::string diagnosis_report_html(const DiagnosisReportInput& in) {
   HtmlReport report("gearmc diagnose: " + in.model.name + " vs " + in.readings_path);
   report.contents();
   verdict_section(report, ctx);
+  part_section(report, ctx);
   azimuth_section(report, ctx);
   spectrum_section(report, ctx);
   position_section(report, ctx);

@@ -27,6 +27,10 @@ void position_section(HtmlReport& report, const ReportContext& ctx);
 // interval and energy test, and where the noise floor comes from.
 void gap_section(HtmlReport& report, const ReportContext& ctx);
 
+// A production gear's own flank deviations (part_model.h): per side, the machine effects they
+// hide on this set-up, and per flank (diagnosis_report_part.cpp). Nothing for a master.
+void part_section(HtmlReport& report, const ReportContext& ctx);
+
 // The spread of single readings: the point-law stage's white-variance test and laws.
 void point_law_section(HtmlReport& report, const ReportContext& ctx);
 

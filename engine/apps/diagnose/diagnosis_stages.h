@@ -23,7 +23,11 @@ struct State {
   const NoiseFloor& noise;
   const DiagnoseOptions& options;
   int rows = 0;
-  Eigen::VectorXd r;             // residuals before (measured − predicted)
+  // Residuals before: measured − predicted, and for a production gear less the part's own
+  // deviations fitted alone (the part's columns, part_model.h, in `part`; p_base their rank).
+  Eigen::VectorXd r;
+  PartColumns part;
+  int p_base = 0;
   std::vector<double> azimuths;  // approach azimuth of each residual, rad
   // The candidates with compressed columns (compressed_candidate_designs: R's columns, m + 1
   // rows).
@@ -79,15 +83,18 @@ std::vector<double> to_vector(const Eigen::VectorXd& v);
 // The two folds of the held-out check: the measured teeth alternately (sorted by gear and tooth
 // number, so a plan of only odd teeth still splits), or with a single tooth its two flanks, or
 // alternate face sections, or alternate profile points — the first of these that gives two
-// folds each with more points than `columns` (the fitted parameters). `fold` is empty when none
-// does; `why_none` then says so.
+// folds each with more points than `columns` (the fitted parameters); `within_flanks` (a
+// production gear, whose deviations are fitted per flank) only the splits that keep every flank
+// in both folds (sections, profile points). `fold` is empty when none does; `why_none` then says
+// so.
 struct HeldOutSplit {
   std::string name;       // "alternating_teeth", "flanks", "alternating_sections",
                           // "alternating_profile_points" or "none"
   std::vector<int> fold;  // 0 or 1 per point
   std::string why_none;
 };
-HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns);
+HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int columns,
+                            bool within_flanks = false);
 
 // The axis along which `residual_um` (one per point) varies most (Diagnosis::unexplained_along).
 Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points,

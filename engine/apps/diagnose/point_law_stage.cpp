@@ -308,6 +308,21 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
   };
 
   Projection full(columns_of(all, false), r, /*keep_basis=*/true);
+  // The leverage correction (PointLawOptions::leverage_correction): residuals in the likelihoods
+  // scaled by 1/√(1 − p/n), the white variance divided by its expectation factor.
+  const double residual_scale =
+      options.leverage_correction && n > full.rank()
+          ? std::sqrt(static_cast<double>(n) / static_cast<double>(n - full.rank()))
+          : 1.0;
+  auto log_likelihood_of = [&](const Eigen::VectorXd& e, const ResidualLaw& law) {
+    return residual_scale == 1.0 ? log_likelihood(e, law) : log_likelihood(residual_scale * e, law);
+  };
+  double white_scale = 1.0;
+  if (options.leverage_correction && !triplets.empty()) {
+    const double m = static_cast<double>(triplets.size());
+    const double factor = 1.0 - projected_difference_weight(full.q, triplets) / (6.0 * m);
+    if (factor > 0.0) white_scale = 1.0 / factor;
+  }
   // Model law.
   PointLawHypothesis model;
   model.name = "model";
@@ -315,12 +330,12 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
   model.law = law0;
   model.parameters = full.rank();
   model.residual = full.residual(law0.mean_um());
-  model.log_likelihood = log_likelihood(model.residual, law0);
+  model.log_likelihood = log_likelihood_of(model.residual, law0);
   model.bic = -2.0 * model.log_likelihood + model.parameters * ln_n;
   stage.hypotheses.push_back(model);
 
   // White variance and its null.
-  stage.white_variance_um2 = white_variance(model.residual, triplets);
+  stage.white_variance_um2 = white_scale * white_variance(model.residual, triplets);
   stage.white_excess_rms_um = std::sqrt(std::max(0.0, stage.white_variance_um2 - v0));
   if (options.null_replicates > 0 && !options.white_normal_approximation) {
     // In parallel: replicate k from its own stream into its own slot (any number of threads
@@ -332,16 +347,18 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
                        kWhiteNullSubIndex);
       for (int i = 0; i < n; ++i) e[i] = law0.draw(rng);
       const Eigen::VectorXd e_perp = e - full.q * (full.q.transpose() * e);
-      null_values[static_cast<std::size_t>(k)] = white_variance(e_perp, triplets);
+      null_values[static_cast<std::size_t>(k)] = white_scale * white_variance(e_perp, triplets);
     });
     stage.white_p = empirical_p_value(stage.white_variance_um2, null_values);
   } else {
     const double m = static_cast<double>(triplets.size());
     const double w = law0.width_um;
     const double kappa4 = -w * w * w * w / 120.0;  // a uniform part's; a Gaussian's is 0
-    const double sd =
-        std::sqrt(std::max(0.0, white_sum_variance(triplets, v0, kappa4))) / (6.0 * m);
-    const double mean = v0 * (1.0 - projected_difference_weight(full.q, triplets) / (6.0 * m));
+    const double sd = white_scale *
+                      std::sqrt(std::max(0.0, white_sum_variance(triplets, v0, kappa4))) /
+                      (6.0 * m);
+    const double mean =
+        white_scale * v0 * (1.0 - projected_difference_weight(full.q, triplets) / (6.0 * m));
     stage.white_p = upper_tail((stage.white_variance_um2 - mean) / sd);
   }
   full.release_basis();  // the alternatives need only its projections
@@ -353,13 +370,13 @@ PointLawStage point_law_stage(const Eigen::VectorXd& r, const Eigen::MatrixXd& x
                     double hi) {
     auto profile = [&](double theta) {
       const ResidualLaw law = law_of(theta);
-      return log_likelihood(proj.residual(law.mean_um()), law);
+      return log_likelihood_of(proj.residual(law.mean_um()), law);
     };
     const double theta = maximise(profile, lo, hi);
     h.estimate = theta;
     h.law = law_of(theta);
     h.residual = proj.residual(h.law.mean_um());
-    h.log_likelihood = log_likelihood(h.residual, h.law);
+    h.log_likelihood = log_likelihood_of(h.residual, h.law);
     h.parameters = proj.rank() + 1;
     h.bic = -2.0 * h.log_likelihood + h.parameters * ln_n;
     h.delta_bic = h.bic - model.bic;

@@ -98,6 +98,13 @@ struct PointLawOptions {
   double ambiguity_delta_bic = 6.0;
   double min_effect_rms_fraction = 0.25;
   double white_fraction = 0.5;
+  // A production gear's own deviations among the fitted columns (part_model.h: 5 per flank, a
+  // tenth of the readings or more): the residuals' variance is then (1 − p/n) of a reading's, p
+  // the fit's rank, so the laws are fitted to each residual divided by √(1 − p/n) (the mean
+  // leverage: "standardised residuals", Cook & Weisberg 1982 §2.2) and the white variance, and its
+  // null values, divided by its expectation factor 1 − Σ_a |Qᵀc_a|² / (6 m) (above). Off for a
+  // master, whose few columns change the variance by well under 1 %.
+  bool leverage_correction = false;
 };
 
 struct PointLawHypothesis {
