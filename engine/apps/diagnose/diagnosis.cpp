@@ -192,7 +192,8 @@ void select_and_fit(State& state, Diagnosis& out) {
   // selected on what they leave, and "before" is the part's fit alone.
   const PointContexts contexts(residuals.points, &ResidualPoint::context);
   const bool production = options.workpiece == Workpiece::kProduction;
-  const Eigen::VectorXd r_measured = state.r;
+  state.r_measured = state.r;
+  const Eigen::VectorXd& r_measured = state.r_measured;
   if (production) {
     state.part = part_columns(residuals.points, options.turned_by_teeth);
     const double cells = static_cast<double>(rows) * state.part.columns();

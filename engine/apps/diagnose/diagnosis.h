@@ -238,6 +238,11 @@ struct Diagnosis {
   // fold (diagnosis_stages.h HeldOutSplit; "nothing_fitted": the RMS before).
   double held_out_rms_um = kNotAvailable;
   std::string held_out_split;
+  // The same held-out RMS without the selected effects (a master: the residuals themselves; a
+  // production gear: its own deviations alone, fitted on the other fold). A fit whose held-out RMS
+  // is not below it predicts unseen readings no better than no fit: it is not accepted as an
+  // explanation (make_verdict).
+  double held_out_without_rms_um = kNotAvailable;
   // The readings excluded as gross outliers before the diagnosis (outlier_screen.h); every
   // other field is computed without them.
   OutlierScreen outliers;

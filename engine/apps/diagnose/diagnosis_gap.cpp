@@ -239,8 +239,9 @@ void measure_gap(const State& state, Diagnosis& out) {
     out.notes.push_back("no held-out check: " + split.why_none);
     return;
   }
-  double ss = 0.0;
-  // Fit on one fold, evaluate on the other, and the other way round.
+  double ss = 0.0, ss_without = 0.0;
+  // Fit on one fold, evaluate on the other, and the other way round; the same without the
+  // effects (a production gear's own deviations alone, or nothing).
   for (int half = 0; half < 2; ++half) {
     std::vector<int> train, test;
     for (int k = 0; k < rows; ++k) (split.fold[k] == half ? train : test).push_back(k);
@@ -255,8 +256,25 @@ void measure_gap(const State& state, Diagnosis& out) {
       const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
       ss += e * e;
     }
+    const Eigen::MatrixXd& base = state.part.x;
+    if (state.p_base > 0) {
+      Eigen::MatrixXd bt(static_cast<int>(train.size()), base.cols());
+      Eigen::VectorXd ut(static_cast<int>(train.size()));
+      for (std::size_t k = 0; k < train.size(); ++k) {
+        bt.row(static_cast<int>(k)) = base.row(train[k]);
+        ut[static_cast<int>(k)] = state.r_measured[train[k]];
+      }
+      const LeastSquaresFit base_fit = least_squares(bt, ut);
+      for (int k : test) {
+        const double e = state.r_measured[k] - base.row(k).dot(base_fit.beta);
+        ss_without += e * e;
+      }
+    } else {
+      for (int k : test) ss_without += r[k] * r[k];
+    }
   }
   out.held_out_rms_um = std::sqrt(ss / rows);
+  out.held_out_without_rms_um = std::sqrt(ss_without / rows);
 }
 
 namespace {
@@ -585,10 +603,24 @@ void make_verdict(const State& state, Diagnosis& out) {
   if (!stage.ran && !stage.skipped_because.empty()) {
     out.notes.push_back("the spread of single readings was not tested: " + stage.skipped_because);
   }
+  // A fit with effect columns that predicts the readings it was not fitted on no better than no
+  // fit explains nothing (a noise or step law changes no prediction: not judged so).
+  const bool held_out_worse = state.columns_after().cols() > state.p_base &&
+                              std::isfinite(out.held_out_rms_um) &&
+                              std::isfinite(out.held_out_without_rms_um) &&
+                              out.held_out_rms_um >= out.held_out_without_rms_um;
+  if (held_out_worse && !out.effects.empty()) {
+    std::ostringstream text;
+    text << "the fitted effects predict the readings they were not fitted on no better than no "
+            "fit (held-out RMS "
+         << out.held_out_rms_um << " µm, " << out.held_out_without_rms_um
+         << " µm without them): they are not accepted as the explanation";
+    out.notes.push_back(text.str());
+  }
   if (!out.gap_detected) {
     out.finding = DiagnosisFinding::kNone;
   } else if (!out.effects.empty() && out.explained_fraction >= options.min_explained_fraction &&
-             !out.unexplained_structure) {
+             !out.unexplained_structure && !held_out_worse) {
     out.name_effect(out.effects.front().name);
     for (const Ambiguity& a : out.effects.front().ambiguous) out.ambiguous_with.push_back(a.with);
   } else {

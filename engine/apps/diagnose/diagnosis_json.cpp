@@ -210,6 +210,7 @@ std::string diagnosis_json(const Diagnosis& d) {
   j["gap_before"] = gap_json(d.gap_before);
   Json after = gap_json(d.gap_after);
   after["held_out_rms_um"] = number(d.held_out_rms_um);
+  after["held_out_without_effects_rms_um"] = number(d.held_out_without_rms_um);
   after["held_out_split"] = d.held_out_split;
   j["gap_after"] = after;
   j["noise_floor_um"] = number(d.noise.sigma_um);

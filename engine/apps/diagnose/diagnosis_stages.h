@@ -26,6 +26,7 @@ struct State {
   // Residuals before: measured − predicted, and for a production gear less the part's own
   // deviations fitted alone (the part's columns, part_model.h, in `part`; p_base their rank).
   Eigen::VectorXd r;
+  Eigen::VectorXd r_measured;  // measured − predicted, before the part's fit is taken out
   PartColumns part;
   int p_base = 0;
   std::vector<double> azimuths;  // approach azimuth of each residual, rad
