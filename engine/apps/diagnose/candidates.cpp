@@ -284,6 +284,19 @@ std::vector<CandidateDesign> build_designs(const PointContexts& points,
   return out;
 }
 
+// The compressed designs from R of [X_1 … X_C, y]: each candidate's columns of R (observability
+// decided on them), the residuals R's last column.
+void take_columns(CompressedDesigns& out, const Eigen::MatrixXd& r) {
+  int at = 0;
+  for (CandidateDesign& d : out.candidates) {
+    const int q = static_cast<int>(d.coefficients.size());
+    d.x = r.middleCols(at, q);
+    at += q;
+    mark_observable(d);
+  }
+  out.residual_um = r.col(at);
+}
+
 // artefact_form's ranges when it is asked for and there are points.
 std::optional<FormRanges> ranges_if_asked(const PointContexts& points,
                                           const CandidateOptions& options) {
@@ -337,16 +350,8 @@ CompressedDesigns compressed_candidate_designs(const PointContexts& points,
     at += static_cast<std::size_t>(triangles[k].rows());
     triangles[k].resize(0, 0);
   }
-  Eigen::MatrixXd r =
-      chunks == 0 ? Eigen::MatrixXd::Zero(columns, columns) : upper_triangle(std::move(all));
-  int at = 0;
-  for (CandidateDesign& d : out.candidates) {
-    const int q = static_cast<int>(d.coefficients.size());
-    d.x = r.middleCols(at, q);
-    at += q;
-    mark_observable(d);
-  }
-  out.residual_um = r.col(at);
+  take_columns(out, chunks == 0 ? Eigen::MatrixXd(Eigen::MatrixXd::Zero(columns, columns))
+                                : upper_triangle(std::move(all)));
   return out;
 }
 
@@ -383,15 +388,7 @@ CompressedDesigns compressed_candidate_designs(const PointContexts& points,
     at += static_cast<int>(projected.cols());
   }
   all.col(at) = project(residual_um);
-  const Eigen::MatrixXd r = upper_triangle(std::move(all));
-  at = 0;
-  for (CandidateDesign& d : out.candidates) {
-    const int q = static_cast<int>(d.coefficients.size());
-    d.x = r.middleCols(at, q);
-    at += q;
-    mark_observable(d);
-  }
-  out.residual_um = r.col(at);
+  take_columns(out, upper_triangle(std::move(all)));
   return out;
 }
 

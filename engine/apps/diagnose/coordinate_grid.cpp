@@ -21,15 +21,7 @@ constexpr double kThreshold = 0.5;
 constexpr int kMinPoints = 100;
 
 // R(k · 0.01 µm) of `u` (coordinates in units of 0.01 µm).
-double resultant(const std::vector<double>& u, int k) {
-  std::complex<double> sum = 0.0;
-  for (double v : u) {
-    const double turns = v / k;
-    const double phase = 2.0 * std::numbers::pi * (turns - std::floor(turns));
-    sum += std::complex<double>(std::cos(phase), std::sin(phase));
-  }
-  return std::abs(sum) / static_cast<double>(u.size());
-}
+double resultant(const std::vector<double>& u, int k) { return grid_resultant(u, k); }
 
 // The largest multiple k with R ≥ threshold on `u` and R < threshold on the nominal `nominal`;
 // 0 when there is none (or not even k = 1).
@@ -46,6 +38,16 @@ int largest_grid(const std::vector<double>& u, const std::vector<double>& nomina
 }
 
 }  // namespace
+
+double grid_resultant(const std::vector<double>& values, double step) {
+  std::complex<double> sum = 0.0;
+  for (double v : values) {
+    const double turns = v / step;
+    const double phase = 2.0 * std::numbers::pi * (turns - std::floor(turns));
+    sum += std::complex<double>(std::cos(phase), std::sin(phase));
+  }
+  return std::abs(sum) / static_cast<double>(values.size());
+}
 
 CoordinateGrid detect_coordinate_grid(const Readings& readings, const std::vector<bool>& excluded,
                                       const std::array<double, 3>& model_steps_um,

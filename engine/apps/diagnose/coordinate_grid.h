@@ -83,6 +83,11 @@ struct CoordinateGrid {
   }
 };
 
+// The mean resultant length R = |(1/n) Σ exp(2πi v/step)| of `values` on a grid of `step` (the
+// same unit): 1 when every value is a multiple of the step plus one common offset (the Rayleigh
+// statistic, above). Shared with the readings' own grid (reading_grid.h).
+double grid_resultant(const std::vector<double>& values, double step);
+
 // The stage on `readings` (rows marked in `excluded` left out) with the model's scale_resolution
 // steps (µm per axis, 0 = none) and the noise floor σ (µm).
 CoordinateGrid detect_coordinate_grid(const Readings& readings, const std::vector<bool>& excluded,

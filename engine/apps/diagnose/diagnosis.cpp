@@ -462,7 +462,19 @@ PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readi
   PreparedResiduals out;
   out.outliers = screen_outliers(all);
   out.residuals = without_excluded(std::move(all), out.outliers);
+  // Readings printed on a grid along the normal: dithered back to a continuous law (the floor
+  // estimated from residuals then includes what rounding and dither add).
+  out.reading_grid = detect_reading_grid(out.residuals.points);
+  if (out.reading_grid.found()) {
+    dither_readings(out.residuals.points, out.reading_grid.step_um, options.selection.seed);
+  }
   out.noise = estimate_noise_floor(model, out.residuals);
+  if (out.reading_grid.found() && out.noise.source == NoiseFloorSource::kModel) {
+    const double s = out.reading_grid.step_um;
+    out.noise.law.gaussian_variance_um2 += s * s / 12.0;
+    out.noise.law.uniform_widths_um.push_back(s);
+    out.noise.sigma_um = std::sqrt(out.noise.law.variance_um2());
+  }
   if (options.noise_floor_um) {
     out.noise.sigma_um = *options.noise_floor_um;
     out.noise.source = NoiseFloorSource::kGiven;
@@ -492,6 +504,21 @@ Diagnosis diagnose_prepared(const PreparedResiduals& prepared, const DiagnoseOpt
   Diagnosis d = diagnose_residuals(prepared.residuals, prepared.noise, options);
   d.outliers = prepared.outliers;
   d.coordinate_grid = prepared.grid;
+  d.reading_grid = prepared.reading_grid;
+  if (prepared.reading_grid.found()) {
+    std::ostringstream text;
+    text << "the readings are printed on a grid of " << prepared.reading_grid.step_um
+         << " µm along the normal (Rayleigh resultant " << prepared.reading_grid.resultant
+         << "): each residual was dithered by U(−s/2, s/2) and the model's law widened by the "
+            "rounding (s²/12) and the dither (a uniform part of width s), so that the rounding is "
+            "not taken for structure";
+    if (prepared.reading_grid.step_um > 0.5 * prepared.noise.sigma_um) {
+      text << "; the step is coarse against the noise floor (" << prepared.noise.sigma_um
+           << " µm), where this law is only approximate (it holds to the order of (step/σ)²): a "
+              "gap found may be the rounding's, print the readings with more digits";
+    }
+    d.notes.push_back(text.str());
+  }
   diagnosis_stages::coordinate_grid_verdict(prepared, d);
   const OutlierScreen& screen = d.outliers;
   if (!screen.excluded.empty()) {

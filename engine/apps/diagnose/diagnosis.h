@@ -69,6 +69,7 @@
 #include "engine/apps/diagnose/part_model.h"
 #include "engine/apps/diagnose/point_law_stage.h"
 #include "engine/apps/diagnose/prediction.h"
+#include "engine/apps/diagnose/reading_grid.h"
 #include "engine/apps/diagnose/selection.h"
 
 namespace gearmc {
@@ -255,6 +256,9 @@ struct Diagnosis {
   // the effect scale_resolution is in `effects` (its steps, absolute) and named when nothing else
   // is, and the noise floor includes its spread.
   CoordinateGrid coordinate_grid;
+  // Whether the readings themselves are printed on a grid along the normal (reading_grid.h): then
+  // the residuals were dithered and the law widened by the rounding.
+  ReadingGrid reading_grid;
   Selection selection;
   std::vector<std::string> candidate_names;  // index → name for `selection`
   // Harmonic spectrum against approach azimuth, orders 0..spectrum_max_order (µm).
@@ -284,7 +288,8 @@ struct PreparedResiduals {
   Residuals residuals;  // without the excluded readings
   OutlierScreen outliers;
   NoiseFloor noise;
-  CoordinateGrid grid;  // the coordinate-grid stage on the kept readings
+  CoordinateGrid grid;       // the coordinate-grid stage on the kept readings
+  ReadingGrid reading_grid;  // the readings' own resolution (reading_grid.h); dithered when found
 };
 PreparedResiduals prepare_residuals(const Scenario& model, const Readings& readings,
                                     const std::string& readings_path,

@@ -206,6 +206,11 @@ std::string diagnosis_json(const Diagnosis& d) {
   }
   j["effects"] = effects;
   j["workpiece"] = d.workpiece == Workpiece::kProduction ? "production" : "master";
+  if (d.reading_grid.found()) {
+    j["reading_resolution"] = {{"step_um", number(d.reading_grid.step_um)},
+                               {"resultant", number(d.reading_grid.resultant)},
+                               {"dithered", true}};
+  }
   if (d.part.fitted) j["part"] = part_json(d.part);
   j["gap_before"] = gap_json(d.gap_before);
   Json after = gap_json(d.gap_after);
