@@ -330,6 +330,8 @@ EffectChain parse_effects(const YamlValue& section, InputWarnings* warnings) {
     } else if (name == "eccentricity") {
       effect = std::make_unique<EccentricityEffect>(read_parameter(m, "x_um", warnings),
                                                     read_parameter(m, "y_um", warnings));
+    } else if (name == "clocking") {
+      effect = std::make_unique<ClockingEffect>(read_parameter(m, "angle_urad", warnings));
     } else if (name == "probe_warmup") {
       effect = std::make_unique<ProbeWarmupEffect>(
           read_parameter(m, "change_um", warnings),

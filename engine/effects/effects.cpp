@@ -22,6 +22,20 @@ void EccentricityEffect::signature(const PointContext& point, std::span<const do
   out[1] = point.n.y();
 }
 
+ClockingEffect::ClockingEffect(EffectParameter angle_urad)
+    : MeasurementEffect({named(std::move(angle_urad), "angle_urad", "µrad")}) {}
+void ClockingEffect::apply(const PointContext&, std::span<const double> v, Eigen::Vector3d& c,
+                           RandomStream&) const {
+  const double angle = 1e-6 * v[0];
+  const double cos_a = std::cos(angle), sin_a = std::sin(angle);
+  c = Eigen::Vector3d(cos_a * c.x() - sin_a * c.y(), sin_a * c.x() + cos_a * c.y(), c.z());
+}
+void ClockingEffect::signature(const PointContext& point, std::span<const double>,
+                               std::span<double> out) const {
+  // d(c·n)/dθ at θ = 0 is (ẑ × c)·n = (ẑ × p)·n (ẑ × n ⟂ n), in µm per µrad: mm × 1e-6 × 1e3.
+  out[0] = 1e-3 * (point.p.x() * point.n.y() - point.p.y() * point.n.x());
+}
+
 ThermalExpansionEffect::ThermalExpansionEffect(EffectParameter workpiece_delta_t_k,
                                                EffectParameter scale_delta_t_k,
                                                EffectParameter workpiece_cte_ppm_per_k,

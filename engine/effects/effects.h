@@ -23,6 +23,24 @@ class EccentricityEffect : public MeasurementEffect {
                  std::span<double> out) const override;
 };
 
+// `clocking` (set-up): the gear sits turned about its axis (z, through the origin) by angle_urad
+// (counter-clockwise seen from +z) from where the plan's angular datum puts it — the datum tooth
+// found off, or the gear clamped turned: every point of the real surface, hence the stylus centre
+// at contact, turns by that angle, c ← R_z(θ) c. Along the normal the reading moves by
+// θ (ẑ × p)·n, which on an involute flank is ±r_b θ (the two flanks of a tooth in opposite
+// directions, every tooth alike); a squareness xy error γ contains a rotation −γ/2 besides its
+// shear.
+class ClockingEffect : public MeasurementEffect {
+ public:
+  explicit ClockingEffect(EffectParameter angle_urad);
+  std::string_view name() const override { return "clocking"; }
+  EffectStage stage() const override { return EffectStage::kWorkpiece; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+};
+
 // `thermal_expansion`: the workpiece at 20 °C + workpiece_delta_t_k expands by its CTE, the
 // CMM's scales at 20 °C + scale_delta_t_k by theirs, and the CMM reads positions in scale
 // units: c ← c (1 + α_w ΔT_w − α_s ΔT_s) about the gear centre (ISO 1 reference temperature).

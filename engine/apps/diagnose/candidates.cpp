@@ -121,7 +121,7 @@ const std::vector<std::string>& candidate_effect_names() {
       "probe_lobing", "stylus_radius", "scale",        "thermal_expansion",
       "drift",        "squareness",    "eccentricity", "step_quantization",
       "probe_warmup", "straightness",  "rotary_table", "stylus_bending",
-      "artefact_form"};
+      "clocking",     "artefact_form"};
   return names;
 }
 
@@ -223,6 +223,12 @@ std::vector<CandidateDesign> build_designs(const PointContexts& points,
     CandidateDesign d = start("eccentricity");
     add_columns(d, EccentricityEffect(fixed_parameter(0.0), fixed_parameter(0.0)), {0.0, 0.0},
                 {{0, "x_um", "µm"}, {1, "y_um", "µm"}}, points);
+    out.push_back(std::move(d));
+  }
+  if (wanted("clocking")) {
+    CandidateDesign d = start("clocking");
+    add_columns(d, ClockingEffect(fixed_parameter(0.0)), {0.0}, {{0, "angle_urad", "µrad"}},
+                points);
     out.push_back(std::move(d));
   }
   if (wanted("step_quantization")) {
@@ -447,6 +453,12 @@ std::string separating_measurement(std::string_view a, std::string_view b) {
            "another diameter): a scale or thermal error grows with the distance from the centre, a "
            "radius or pre-travel error does not";
   }
+  if (pair.count("clocking") == 1) {
+    return "align the gear's angular datum again (probe the datum tooth or the reference tooth "
+           "space anew) and remeasure, or measure with the gear turned on the table: a clocking "
+           "moves the two flanks of every tooth by ±r_b θ and changes with the alignment, the "
+           "machine's errors stay fixed in the CMM frame";
+  }
   if (pair.count("rotary_table") == 1) {
     return "remeasure with the gear turned on the rotary table by a few teeth (or measure a "
            "master gear of known pitch and runout): the table's errors stay with the table angle, "
@@ -481,7 +493,7 @@ std::string separating_measurement(std::string_view a, std::string_view b) {
            "axis-parallel lengths";
   }
   const std::set<std::string_view> machine = {"scale", "squareness"};
-  const std::set<std::string_view> workpiece = {"eccentricity", "thermal_expansion"};
+  const std::set<std::string_view> workpiece = {"eccentricity", "thermal_expansion", "clocking"};
   if ((machine.count(a) == 1 && workpiece.count(b) == 1) ||
       (machine.count(b) == 1 && workpiece.count(a) == 1)) {
     return "remeasure with the gear turned on the table (e.g. by 90°): machine errors stay fixed "

@@ -28,6 +28,7 @@
 //                      the table angle θ_k = 2π(k − 1)/z of the point's tooth (rotary_table.h)
 //   stylus_bending     deflection_um (−sin²γ for a vertical stylus: −1 on every spur-gear flank,
 //                      the same column as stylus_radius)
+//   clocking           angle_urad (1e-3 (ẑ × p)·n: ±r_b·1e-3 on an involute flank's two sides)
 //   artefact_form      left_/right_ × profile_2/3, helix_2/3 _um (P_k of the normalised roll length
 //                      or face position on the point's own side, 0 on the other: the artefact's
 //                      form, exact), with the evaluation ranges taken from the measured points
@@ -88,8 +89,8 @@ struct CandidateOptions {
 
 // The library's order of candidates (docs/formats.md): probe_lobing, stylus_radius, scale,
 // thermal_expansion, drift, squareness, eccentricity, step_quantization, probe_warmup,
-// straightness, rotary_table, stylus_bending, artefact_form (ties in the selection are broken in
-// this order).
+// straightness, rotary_table, stylus_bending, clocking, artefact_form (ties in the selection are
+// broken in this order).
 const std::vector<std::string>& candidate_effect_names();
 
 // The measured points' contexts read in place from an array of records that each hold one (a

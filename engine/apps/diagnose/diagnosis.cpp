@@ -2,6 +2,7 @@
 // spectrum, ambiguity and the verdict (see diagnosis.h).
 #include "engine/apps/diagnose/diagnosis.h"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -216,11 +217,43 @@ void select_and_fit(State& state, Diagnosis& out) {
                            " parameters): measure more points per flank");
     }
     state.r -= state.part.q * (state.part.q.transpose() * state.r);
+    state.base_x = state.part.x;
+    state.base_q = state.part.q;
+  }
+  // Several runs of one gear (a master's repeats, or a production gear's turned set-ups): their
+  // set-ups' differences join the base when the readings show them (setup_model.h). A production
+  // gear's gears without --turned-by are separate workpieces, their set-ups in their own part.
+  if (!production || !options.turned_by_teeth.empty()) {
+    state.setup = setup_columns(residuals.points);
+    if (state.setup.x.cols() > 0) {
+      Eigen::MatrixXd xs = state.setup.x, common = state.setup.common;
+      if (state.p_base > 0) {
+        xs -= state.base_q * (state.base_q.transpose() * xs);
+        common -= state.base_q * (state.base_q.transpose() * common);
+      }
+      out.setups = test_setup_differences(xs, common, state.r, rows - state.p_base, so.alpha);
+      if (out.setups.fitted) {
+        const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xs);
+        const int k = static_cast<int>(qr.rank());
+        const Eigen::MatrixXd qs =
+            (qr.householderQ() * Eigen::MatrixXd::Identity(rows, xs.cols())).leftCols(k);
+        state.r -= qs * (qs.transpose() * state.r);
+        const int before = static_cast<int>(state.base_x.cols());
+        state.base_x.conservativeResize(rows, before + state.setup.x.cols());
+        state.base_x.rightCols(state.setup.x.cols()) = state.setup.x;
+        const int q_before = static_cast<int>(state.base_q.cols());
+        state.base_q.conservativeResize(rows, q_before + k);
+        state.base_q.rightCols(k) = qs;
+        state.p_base += k;
+        state.setup_in_base = true;
+      }
+    }
   }
   out.workpiece = options.workpiece;
   CompressedDesigns compressed =
-      production ? compressed_candidate_designs(contexts, state.r, options.candidates, state.part.q)
-                 : compressed_candidate_designs(contexts, state.r, options.candidates);
+      state.p_base > 0
+          ? compressed_candidate_designs(contexts, state.r, options.candidates, state.base_q)
+          : compressed_candidate_designs(contexts, state.r, options.candidates);
   for (const CandidateDesign& c : compressed.candidates) out.candidate_names.push_back(c.name);
 
   // 3. Selection.
@@ -235,9 +268,10 @@ void select_and_fit(State& state, Diagnosis& out) {
   // `fitted` is made the fit of the projected residuals.
   state.x_selected = full_columns(contexts, options.candidates, candidates, selected);
   const int effect_columns = static_cast<int>(state.x_selected.cols());
-  if (production) {
-    state.x_selected.conservativeResize(rows, effect_columns + state.part.columns());
-    state.x_selected.rightCols(state.part.columns()) = state.part.x;
+  if (state.p_base > 0) {
+    const int base_columns = static_cast<int>(state.base_x.cols());
+    state.x_selected.conservativeResize(rows, effect_columns + base_columns);
+    state.x_selected.rightCols(base_columns) = state.base_x;
     state.fit = least_squares(state.x_selected, r_measured);
     state.fit.fitted -= r_measured - state.r;
   } else {
@@ -270,14 +304,72 @@ void select_and_fit(State& state, Diagnosis& out) {
     e.fitted_rms_um = std::sqrt(contribution.squaredNorm() / rows);
     out.effects.push_back(std::move(e));
   }
+  if (state.setup_in_base) {
+    const int k = static_cast<int>(state.setup.x.cols());
+    const int first = static_cast<int>(x_selected.cols()) - k;
+    for (int run = 0; 3 * run < k; ++run) {
+      SetupRun v;
+      v.gear = state.setup.gears[static_cast<std::size_t>(run + 1)];
+      const int at = first + 3 * run;
+      auto value = [&](int c, double& x, double& se) {
+        if (!fit.estimable[at + c]) return;
+        x = fit.beta[at + c];
+        se = std::sqrt(sigma2_hat * fit.cov_unscaled(at + c, at + c));
+      };
+      value(0, v.shift_x_um, v.shift_x_se_um);
+      value(1, v.shift_y_um, v.shift_y_se_um);
+      value(2, v.turn_urad, v.turn_se_urad);
+      out.setups.runs.push_back(v);
+    }
+    out.setups.rms_um =
+        std::sqrt((state.setup.x * fit.beta.tail(k)).squaredNorm() / std::max(1, rows));
+    // A selected eccentricity or clocking is the first run's set-up; each other run's is it plus
+    // that run's difference (variance var a + var b + 2 cov(a, b) from the joint fit).
+    for (std::size_t s = 0; s < selected.size(); ++s) {
+      FittedEffect& e = out.effects[s];
+      const bool turn = e.name == "clocking";
+      if (e.name != "eccentricity" && !turn) continue;
+      e.varies_per_gear = true;
+      e.per_gear_from_setups = true;
+      e.per_gear_p = out.setups.p_value;
+      const CandidateDesign& c = candidates[selected[s]];
+      FittedEffect::GearValues reference;
+      reference.gear = state.setup.gears.front();
+      reference.coefficients = e.coefficients;
+      e.per_gear.push_back(reference);
+      for (std::size_t run = 1; run < state.setup.gears.size(); ++run) {
+        FittedEffect::GearValues values;
+        values.gear = state.setup.gears[run];
+        int column = 0;
+        for (std::size_t v = 0; v < e.coefficients.size(); ++v) {
+          FittedValue value = e.coefficients[v];
+          if (c.observable[v]) {
+            const int a = offsets[s] + column++;
+            // shift_x, shift_y (eccentricity x_um, y_um) or the turn (clocking angle_urad).
+            const int b = first + 3 * static_cast<int>(run - 1) + (turn ? 2 : static_cast<int>(v));
+            value.estimable = fit.estimable[a] && fit.estimable[b];
+            value.value = value.estimable ? fit.beta[a] + fit.beta[b] : kNotAvailable;
+            value.std_error =
+                value.estimable
+                    ? std::sqrt(sigma2_hat * (fit.cov_unscaled(a, a) + fit.cov_unscaled(b, b) +
+                                              2.0 * fit.cov_unscaled(a, b)))
+                    : kNotAvailable;
+          }
+          values.coefficients.push_back(value);
+        }
+        e.per_gear.push_back(std::move(values));
+      }
+    }
+  }
   if (production) {
     const int k = state.part.columns();
-    std::vector<bool> estimable(fit.estimable.end() - k, fit.estimable.end());
-    out.part = part_deviations(state.part, fit.beta.tail(k),
-                               fit.cov_unscaled.bottomRightCorner(k, k), estimable, sigma2_hat);
+    const int first = effect_columns;
+    std::vector<bool> estimable(fit.estimable.begin() + first, fit.estimable.begin() + first + k);
+    out.part = part_deviations(state.part, fit.beta.segment(first, k),
+                               fit.cov_unscaled.block(first, first, k, k), estimable, sigma2_hat);
     out.part.turned_by_teeth = options.turned_by_teeth;
     out.part.fitted_rms_um =
-        std::sqrt((state.part.x * fit.beta.tail(k)).squaredNorm() / std::max(1, rows));
+        std::sqrt((state.part.x * fit.beta.segment(first, k)).squaredNorm() / std::max(1, rows));
     for (std::size_t c = 0; c < compressed.base_correlation.size(); ++c) {
       const double rho = compressed.base_correlation[c];
       if (!(rho >= kPartConfoundedCorrelation)) continue;

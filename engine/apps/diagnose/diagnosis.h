@@ -71,6 +71,7 @@
 #include "engine/apps/diagnose/prediction.h"
 #include "engine/apps/diagnose/reading_grid.h"
 #include "engine/apps/diagnose/selection.h"
+#include "engine/apps/diagnose/setup_model.h"
 
 namespace gearmc {
 
@@ -153,6 +154,9 @@ struct FittedEffect {
     std::vector<FittedValue> coefficients;
   };
   bool varies_per_gear = false;
+  // The per-gear values are the first run's (the effect's) plus each run's set-up difference
+  // (Diagnosis::setups; eccentricity and clocking only), not a per-gear split of the effect.
+  bool per_gear_from_setups = false;
   double per_gear_p = kNotAvailable;  // NaN: one gear only, or not a linear effect
   std::vector<GearValues> per_gear;
 };
@@ -213,11 +217,32 @@ struct Diagnosis {
   // by profile index i, "face_position" by section j, "tooth", "flank", "approach_azimuth" in 24
   // sectors of 15°, "probing_order" in 20 consecutive groups; the smallest F-test p-value), that
   // p-value and the share of the residuals' variance the groups' means carry. Empty otherwise.
+  // The structure is stated only on its own evidence: the gap test after the fit rejects, and
+  // either its χ² part does (an excess variance of at least the practical size that the
+  // point-law stage did not take as white noise) or an axis's group means differ at α after
+  // Bonferroni over the axes tested (p_value · axes_tested < α) and those group means' RMS reaches
+  // the practical size (min_effect_rms_fraction × the noise floor).
   struct StructureAxis {
     std::string axis;
     double p_value = kNotAvailable;
     double variance_share = kNotAvailable;
+    int axes_tested = 0;
   } unexplained_along;
+  // When the residuals after the fit fail the gap test but not by structure (the structure rule
+  // above does not hold: no excess variance of the practical size, no axis whose group means
+  // reach it): the readings' law differs from the model's, nothing is missing from
+  // their mean — no structure, no effect; a statement about the noise law (heavy tails, a
+  // rounding the reading-grid stage did not find). The residuals' excess kurtosis m₄/m₂² − 3
+  // (standard error √(24/n)) against the model law's κ₄/v² (−w⁴/120 / v² for its uniform part).
+  struct LawShape {
+    bool differs = false;
+    double ks_p = kNotAvailable;
+    double excess_kurtosis = kNotAvailable;
+    double model_excess_kurtosis = kNotAvailable;
+    double kurtosis_std_error = kNotAvailable;
+    std::string shape;                    // "heavier tails", "lighter tails" or "another shape"
+    double spread_ratio = kNotAvailable;  // √(χ²/dof) after: the residuals' spread / the model's
+  } law_shape;
   // When structure remains: the empirical term fitted along unexplained_along's axis to the
   // residuals after the library's fit (empirical_term.h), written to fitted.yaml as the
   // `empirical` effect, with the RMS it leaves. `fitted` false: not attempted or not supported.
@@ -234,6 +259,9 @@ struct Diagnosis {
   // model with the part's deviations fitted, so the gap is the machine's (part_model.h).
   Workpiece workpiece = Workpiece::kMaster;
   PartDeviations part;
+  // Several runs (gear indices of the readings): their set-ups' differences from the first run's,
+  // in every model when their F test rejects (setup_model.h).
+  SetupDifferences setups;
   GapStatistics gap_before, gap_after;
   // The RMS of the residuals after, each predicted by the selected effects fitted on the other
   // fold (diagnosis_stages.h HeldOutSplit; "nothing_fitted": the RMS before).

@@ -122,6 +122,7 @@ Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points
        }},
   };
   Diagnosis::StructureAxis best;
+  int tested = 0;
   double total_mean = 0.0;
   for (double r : residual_um) total_mean += r;
   total_mean /= static_cast<double>(std::max<std::size_t>(1, n));
@@ -144,12 +145,14 @@ Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points
     const double within = std::max(total_ss - between, 1e-300);
     const double f = (between / (g - 1.0)) / (within / (static_cast<double>(n) - g));
     const double p = f_distribution_upper_tail(f, g - 1.0, static_cast<double>(n) - g);
+    ++tested;
     if (best.axis.empty() || p < best.p_value) {
       best.axis = axis.name;
       best.p_value = p;
       best.variance_share = between / total_ss;
     }
   }
+  best.axes_tested = tested;
   return best;
 }
 
@@ -231,8 +234,8 @@ void measure_gap(const State& state, Diagnosis& out) {
     out.held_out_split = "nothing_fitted";
     return;
   }
-  const HeldOutSplit split =
-      held_out_split(state.residuals.points, static_cast<int>(x_after.cols()), state.p_base > 0);
+  const HeldOutSplit split = held_out_split(
+      state.residuals.points, static_cast<int>(x_after.cols()), state.part.columns() > 0);
   out.held_out_split = split.name;
   if (split.fold.empty()) {
     out.held_out_rms_um = kNotAvailable;
@@ -256,7 +259,7 @@ void measure_gap(const State& state, Diagnosis& out) {
       const double e = r[k] - mean_after - x_after.row(k).dot(half_fit.beta);
       ss += e * e;
     }
-    const Eigen::MatrixXd& base = state.part.x;
+    const Eigen::MatrixXd& base = state.base_x;
     if (state.p_base > 0) {
       Eigen::MatrixXd bt(static_cast<int>(train.size()), base.cols());
       Eigen::VectorXd ut(static_cast<int>(train.size()));
@@ -335,7 +338,7 @@ void simulate_null(const State& state, Diagnosis& out) {
   // (A production gear's part columns, state.part.q, are projected off whole: no subsample.)
   const bool subsample =
       replicates > 0 && options.null_rows > 0 && rows > 2 * options.null_rows && state.p_base == 0;
-  const Eigen::MatrixXd& q_base = state.part.q;
+  const Eigen::MatrixXd& q_base = state.base_q;
   const std::vector<int> sub_rows =
       subsample ? null_subsample(residuals.points, options.null_rows) : std::vector<int>{};
   const int m = subsample ? static_cast<int>(sub_rows.size()) : rows;
@@ -559,6 +562,38 @@ void refit_with_empirical(const State& state, Diagnosis& out) {
   e.excess_rms_after_um = library.gap_after.excess_rms_um;
 }
 
+namespace {
+
+// The shape of the residuals' law against the model's (Diagnosis::LawShape): sample excess
+// kurtosis m₄/m₂² − 3 (standard error √(24/n) for a normal sample: Kendall & Stuart, The
+// Advanced Theory of Statistics, vol. 1) against the model law's κ₄/v², κ₄ = −w⁴/120 for its
+// uniform part of width w (a Gaussian has none).
+Diagnosis::LawShape law_shape(const Eigen::VectorXd& r, const ResidualLaw& law, double ks_p) {
+  Diagnosis::LawShape s;
+  s.differs = true;
+  s.ks_p = ks_p;
+  const double n = static_cast<double>(r.size());
+  const double mean = r.mean();
+  double m2 = 0.0, m4 = 0.0;
+  for (int k = 0; k < r.size(); ++k) {
+    const double d = r[k] - mean;
+    m2 += d * d;
+    m4 += d * d * d * d;
+  }
+  m2 /= n;
+  m4 /= n;
+  const double v = law.variance_um2();
+  const double w = law.width_um;
+  s.excess_kurtosis = m2 > 0.0 ? m4 / (m2 * m2) - 3.0 : kNotAvailable;
+  s.model_excess_kurtosis = v > 0.0 ? -std::pow(w, 4) / 120.0 / (v * v) : 0.0;
+  s.kurtosis_std_error = std::sqrt(24.0 / n);
+  const double z = (s.excess_kurtosis - s.model_excess_kurtosis) / s.kurtosis_std_error;
+  s.shape = z > 3.0 ? "heavier tails" : z < -3.0 ? "lighter tails" : "another shape";
+  return s;
+}
+
+}  // namespace
+
 void make_verdict(const State& state, Diagnosis& out) {
   const int rows = state.rows;
   const Eigen::VectorXd& r = state.r;
@@ -574,8 +609,27 @@ void make_verdict(const State& state, Diagnosis& out) {
   // KS off the numerical floor — there the floor bounds an exact prediction's rounding, it is not
   // a law of the residuals, so only residuals beyond it make a gap, not their shape).
   auto gap_rejects = [&](const GapStatistics& g) { return g.combined_p < so.alpha; };
-  out.gap_detected = !selected.empty() || stage.chosen > 0 || gap_rejects(out.gap_before);
-  out.unexplained_structure = gap_rejects(out.gap_after);
+  // Structure only on its own evidence (Diagnosis::StructureAxis): the χ² part at the practical
+  // size, or an axis significant after Bonferroni over the axes; else the shape of the law.
+  const bool after_rejects = gap_rejects(out.gap_after);
+  Diagnosis::StructureAxis along;
+  if (after_rejects) along = structure_axis(state.residuals.points, to_vector(r_after_c));
+  const GapStatistics& ga = out.gap_after;
+  const bool excess_variance =
+      ga.chi2_p < so.alpha && ga.chi2_dof >= gap_family(state, law_after).chi2_gate;
+  // … and the axis's group means move the readings by at least the practical size (readings far
+  // less noisy than the model's law have significant axes in their rounding).
+  const double practical = so.min_effect_rms_fraction * noise.sigma_um;
+  const bool along_axis =
+      !along.axis.empty() && along.p_value * std::max(1, along.axes_tested) < so.alpha &&
+      std::sqrt(along.variance_share * r_after_c.squaredNorm() / std::max(1, rows)) >= practical;
+  out.unexplained_structure = after_rejects && (excess_variance || along_axis);
+  if (after_rejects && !out.unexplained_structure) {
+    out.law_shape = law_shape(r_after_c, law_after, ga.ks_p);
+    out.law_shape.spread_ratio = std::sqrt(ga.chi2_dof);
+  }
+  out.gap_detected = !selected.empty() || stage.chosen > 0 ||
+                     (gap_rejects(out.gap_before) && !out.law_shape.differs);
   const double v0 = law_before.variance_um2();
   const double excess = r.squaredNorm() - (rows - state.p_base) * v0;
   const double explained = stage.chosen > 0 ? r.squaredNorm() - r_after_c.squaredNorm() +
@@ -626,8 +680,24 @@ void make_verdict(const State& state, Diagnosis& out) {
   } else {
     out.finding = DiagnosisFinding::kUnexplained;
   }
+  if (out.law_shape.differs) {
+    std::ostringstream text;
+    text << "the residuals' law differs from the model's in its shape (" << out.law_shape.shape
+         << ": excess kurtosis " << out.law_shape.excess_kurtosis << " ± "
+         << out.law_shape.kurtosis_std_error << ", the model's "
+         << out.law_shape.model_excess_kurtosis << "; KS p = " << out.law_shape.ks_p
+         << "; spread √(χ²/dof) = " << out.law_shape.spread_ratio
+         << " × the model's), and no structure of the practical size varies along an axis (the "
+            "smallest F-test p = "
+         << along.p_value << " along " << along.axis << ", " << along.axes_tested
+         << " axes tested): a statement about the readings' noise law, not a missing effect";
+    if (out.law_shape.shape == "heavier tails") {
+      text << "; an uncertainty that assumes the model's law may understate rare large readings";
+    }
+    out.notes.push_back(text.str());
+  }
   if (out.unexplained_structure) {
-    out.unexplained_along = structure_axis(state.residuals.points, to_vector(r_after_c));
+    out.unexplained_along = along;
     if (!out.effects.empty()) out.partially_explained_by = out.effects.front().name;
     std::ostringstream text;
     text << "structure remains after the library's best fit";

@@ -99,6 +99,7 @@ Json test_json(const CandidateTest& t) {
   j["p_null"] = number(t.p_null);
   j["delta_bic"] = number(t.delta_bic);
   j["effect_rms_um"] = number(t.effect_rms_um);
+  j["joint_rms_um"] = number(t.joint_rms_um);
   j["significant"] = t.significant;
   j["bic_support"] = t.bic_support;
   j["practical"] = t.practical;
@@ -212,6 +213,21 @@ std::string diagnosis_json(const Diagnosis& d) {
                                {"dithered", true}};
   }
   if (d.part.fitted) j["part"] = part_json(d.part);
+  if (d.setups.tested) {
+    Json runs = Json::array();
+    for (const SetupRun& r : d.setups.runs) {
+      runs.push_back({{"gear", r.gear},
+                      {"shift_x_um", number(r.shift_x_um)},
+                      {"shift_x_std_error_um", number(r.shift_x_se_um)},
+                      {"shift_y_um", number(r.shift_y_um)},
+                      {"shift_y_std_error_um", number(r.shift_y_se_um)},
+                      {"turn_urad", number(r.turn_urad)},
+                      {"turn_std_error_urad", number(r.turn_se_urad)}});
+    }
+    j["setups"] = {{"fitted", d.setups.fitted},           {"f", number(d.setups.f)},
+                   {"p_value", number(d.setups.p_value)}, {"columns", d.setups.columns},
+                   {"rms_um", number(d.setups.rms_um)},   {"runs", runs}};
+  }
   j["gap_before"] = gap_json(d.gap_before);
   Json after = gap_json(d.gap_after);
   after["held_out_rms_um"] = number(d.held_out_rms_um);
@@ -277,11 +293,21 @@ std::string diagnosis_json(const Diagnosis& d) {
     }
   }
   j["unexplained_structure"] = d.unexplained_structure;
+  if (d.law_shape.differs) {
+    j["law_shape"] = {{"differs", true},
+                      {"shape", d.law_shape.shape},
+                      {"ks_p", number(d.law_shape.ks_p)},
+                      {"excess_kurtosis", number(d.law_shape.excess_kurtosis)},
+                      {"kurtosis_std_error", number(d.law_shape.kurtosis_std_error)},
+                      {"model_excess_kurtosis", number(d.law_shape.model_excess_kurtosis)},
+                      {"spread_ratio", number(d.law_shape.spread_ratio)}};
+  }
   if (d.unexplained_structure) {
     j["partially_explained_by"] = d.partially_explained_by;
     j["unexplained_along"] = {{"axis", d.unexplained_along.axis},
                               {"p_value", number(d.unexplained_along.p_value)},
-                              {"variance_share", number(d.unexplained_along.variance_share)}};
+                              {"variance_share", number(d.unexplained_along.variance_share)},
+                              {"axes_tested", d.unexplained_along.axes_tested}};
     const EmpiricalTerm& e = d.empirical;
     Json empirical = {{"fitted", e.fitted},
                       {"axis", e.axis},

@@ -134,6 +134,10 @@ std::string effect_where(const FittedEffect& e, const Diagnosis& d, const Report
     return "once around the gear: the per-tooth mean follows one sine over the teeth, with "
            "opposite signs on left and right flanks";
   }
+  if (name == "clocking") {
+    return "between the flank sides: left and right flanks moved by the same amount in opposite "
+           "directions on every tooth (a turn of the gear about its axis)";
+  }
   if (name == "squareness") {
     return "with the position along the machine's axes (a shear of the axes)";
   }
@@ -269,11 +273,27 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
       << fixed(d.part.fitted_rms_um) << " µm) are fitted in every model; \"before\" is the model "
       << "with them, so what follows is the machine's part. ";
   }
+  if (d.setups.fitted) {
+    s << "The readings hold " << d.setups.runs.size() + 1
+      << " runs whose set-ups differ (a shift and a turn of the gear per run, F test "
+      << p_text(d.setups.p_value, 0) << ", RMS " << fixed(d.setups.rms_um)
+      << " µm): the differences from the first run's set-up are fitted in every model, so what "
+         "follows is common to the runs or varies within them. ";
+  }
   if (!d.gap_detected) {
     s << (d.part.fitted ? "No machine gap: the gear's own deviations and the noise floor explain "
                           "the readings. "
                         : "No gap: the readings agree with the model within the noise floor. ")
       << points_phrase(in) << ": " << gap_phrase(d.gap_before, r.sigma, k) << ". ";
+    if (d.law_shape.differs) {
+      s << "Their law differs from the model's in its shape (spread "
+        << fixed(d.law_shape.spread_ratio) << " × the model's; " << d.law_shape.shape
+        << ": excess kurtosis " << fixed(d.law_shape.excess_kurtosis) << " ± "
+        << fixed(d.law_shape.kurtosis_std_error) << " against the model's "
+        << fixed(d.law_shape.model_excess_kurtosis) << ", " << p_text(d.law_shape.ks_p, k)
+        << " for the shape) and they vary along no axis: a statement about the readings' noise "
+           "law, not a missing effect. ";
+    }
     const CandidateTest* best = nullptr;
     if (!d.selection.steps.empty()) {
       for (const CandidateTest& t : d.selection.steps.front().tests) {
@@ -398,6 +418,12 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
     verdict = d.part.fitted ? "no machine gap: the gear's own flank deviations and the noise "
                               "floor explain the readings"
                             : "no gap: the readings agree with the model within the noise floor";
+    if (d.law_shape.differs) {
+      verdict = (d.part.fitted ? "no machine gap" : "no gap in the readings' mean") +
+                std::string("; their law differs from the model's in its shape (") +
+                d.law_shape.shape + ", spread " + fixed(d.law_shape.spread_ratio) +
+                " × the model's): a statement about the noise law, not a missing effect";
+    }
   } else if (d.finding != DiagnosisFinding::kEffect) {
     verdict = "gap, unexplained structure remains";
     if (!d.unexplained_along.axis.empty()) verdict += " along " + d.unexplained_along.axis;
@@ -442,6 +468,18 @@ std::vector<std::string> diagnosis_summary_lines(const DiagnosisReportInput& in)
       }
       line.pop_back();
     }
+    lines.push_back(line);
+  }
+  if (d.setups.fitted) {
+    std::string line = "the runs' set-ups differ (F test p " + fixed(d.setups.p_value, 4) +
+                       "; fitted in every model, relative to the first run's):";
+    for (const SetupRun& r : d.setups.runs) {
+      line += " gear " + std::to_string(r.gear) + " shift x " + fixed(r.shift_x_um) + " ± " +
+              fixed(r.shift_x_se_um) + ", y " + fixed(r.shift_y_um) + " ± " +
+              fixed(r.shift_y_se_um) + " µm, turn " + fixed(r.turn_urad) + " ± " +
+              fixed(r.turn_se_urad) + " µrad;";
+    }
+    line.pop_back();
     lines.push_back(line);
   }
   if (d.part.fitted) {

@@ -28,6 +28,12 @@ struct State {
   Eigen::VectorXd r;
   Eigen::VectorXd r_measured;  // measured − predicted, before the part's fit is taken out
   PartColumns part;
+  // The runs' set-up differences (setup_model.h), in the base when their F test rejects.
+  SetupColumns setup;
+  bool setup_in_base = false;
+  // The base of every model: the part's columns, then the set-ups' (base_x), an orthonormal basis
+  // of their span (base_q) and its rank p_base. Empty for a master measured once.
+  Eigen::MatrixXd base_x, base_q;
   int p_base = 0;
   std::vector<double> azimuths;  // approach azimuth of each residual, rad
   // The candidates with compressed columns (compressed_candidate_designs: R's columns, m + 1

@@ -251,6 +251,12 @@ std::string separate_from_part(const std::string& effect) {
            "lobed pre-travel looks like the flank's form: qualify the stylus on a calibrated "
            "sphere over all approach directions, or measure a calibrated master on the same plan";
   }
+  if (effect == "clocking") {
+    return "a turn of the whole gear moves every left flank one way and every right flank the "
+           "other, as a common change of every tooth's position: the part's positions carry it. It "
+           "is the alignment's, not the machine's, and the pitch and runout deviations, which are "
+           "taken about the gear's own datum, do not contain it";
+  }
   if (effect == "rotary_table") {
     return "a pitch pattern is the part's or the table's: measure the gear again turned by k "
            "teeth (closure: the part's pattern moves by k teeth, the table's stays)";

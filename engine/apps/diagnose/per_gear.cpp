@@ -44,7 +44,7 @@ void per_gear_variation(State& state, Diagnosis& out) {
   const int shared_rank = state.fit.rank;
   for (std::size_t s = 0; s < selected.size() && s < out.effects.size(); ++s) {
     FittedEffect& effect = out.effects[s];
-    if (effect.absolute) continue;  // point-law effects: values, not columns
+    if (effect.absolute || effect.per_gear_from_setups) continue;  // values, not columns
     const int q = static_cast<int>(state.candidates[selected[s]].observable_indices().size());
     const int offset = state.offsets[s];
     // [other effects' columns | this effect's columns, one block per gear].
@@ -93,9 +93,13 @@ void per_gear_variation(State& state, Diagnosis& out) {
     out.notes.push_back(text.str());
   }
   // The "after" fit: the varying effects with one value per gear, the others shared.
+  // (An effect whose per-gear values come from the runs' set-up differences, setup_model.h, is
+  // not split again: its per-gear columns are in the base.)
   std::vector<std::size_t> varying;
   for (std::size_t s = 0; s < selected.size() && s < out.effects.size(); ++s) {
-    if (out.effects[s].varies_per_gear) varying.push_back(s);
+    if (out.effects[s].varies_per_gear && !out.effects[s].per_gear_from_setups) {
+      varying.push_back(s);
+    }
   }
   if (varying.empty()) return;
   int columns = 0;
@@ -122,6 +126,30 @@ void per_gear_variation(State& state, Diagnosis& out) {
     at += static_cast<std::size_t>(width[s]);
   }
   const LeastSquaresFit fit = least_squares(x, state.r);
+  // The per-gear values reported are this joint fit's (every varying effect split), not the
+  // test's, where the other effects were shared: two effects that both vary per gear would
+  // otherwise each carry part of the other's variation.
+  const double sigma2 = rows > fit.rank ? fit.rss / (rows - fit.rank) : 0.0;
+  for (std::size_t s = 0, at = 0; s < selected.size(); ++s) {
+    const int q = static_cast<int>(state.candidates[selected[s]].observable_indices().size());
+    if (width[s] != q || std::find(varying.begin(), varying.end(), s) != varying.end()) {
+      FittedEffect& effect = out.effects[s];
+      const CandidateDesign& candidate = state.candidates[selected[s]];
+      for (auto& values : effect.per_gear) {
+        const int g = gear_index.at(values.gear);
+        int column = 0;
+        for (std::size_t c = 0; c < values.coefficients.size(); ++c) {
+          if (!candidate.observable[c] || column >= q) continue;
+          const int k = static_cast<int>(at) + g * q + column++;
+          FittedValue& v = values.coefficients[c];
+          v.estimable = fit.estimable[k];
+          v.value = v.estimable ? fit.beta[k] : kNotAvailable;
+          v.std_error = v.estimable ? std::sqrt(sigma2 * fit.cov_unscaled(k, k)) : kNotAvailable;
+        }
+      }
+    }
+    at += static_cast<std::size_t>(width[s]);
+  }
   state.x_after = std::move(x);
   state.x_after_set = true;
   state.p_after = fit.rank;

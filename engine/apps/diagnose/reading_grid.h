@@ -10,10 +10,10 @@
 // R(s) = |(1/n) Σ exp(2πi m_i / s)|, m the measured deviations (µm) — 1 when every reading is a
 // multiple of s (plus any common offset), whatever the offset; the step is the largest s with
 // R ≥ 0.999 (printed numbers lie on their grid exactly; a looser threshold would take a coarse
-// rounding with few distinct values for another step) and s below the readings' spread (2 × their standard deviation: a grid coarser than
-// the spread is the same as readings that hardly vary), n ≥ 100 readings. Under continuous readings
-// P(n R² ≥ x) ≈ e^(−x): with n ≥ 100 the chance of a false grid over the 1000 steps is below
-// 1000 e^(−25) ≈ 1e-8.
+// rounding with few distinct values for another step) and s below the readings' spread (2 × their
+// standard deviation: a grid coarser than the spread is the same as readings that hardly vary), n ≥
+// 100 readings. Under continuous readings P(n R² ≥ x) ≈ e^(−x): with n ≥ 100 the chance of a false
+// grid over the 1000 steps is below 1000 e^(−25) ≈ 1e-8.
 //
 // What the diagnosis then does (diagnosis.cpp prepare_residuals): each residual is dithered by its
 // own u_i ~ U(−s/2, s/2), drawn in the readings' order from the counter-based stream (seed, 0,

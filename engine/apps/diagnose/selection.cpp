@@ -27,6 +27,10 @@ struct StepDesign {
   std::vector<int> block_start;    // first row of each block of A's Gram: Q_S, then A_1, …, A_E
   std::vector<int> block_columns;  // its columns
   Eigen::MatrixXd gram;            // AᵀA (empty unless asked for)
+  // ‖X_e β_e‖² of each entry in the fit of y on the selected columns and its own: X_e its kept
+  // columns, β_e = R_e⁻¹ A_eᵀy (X_e = Q_S Q_SᵀX_e + A_e R_e, so the fit Q_S Q_Sᵀy + A_e A_eᵀy is
+  // X_S β_S + X_e β_e with that β_e). At least A_eᵀy's own ‖A_eᵀy‖² (the RSS it removes).
+  std::vector<double> joint_reduction;
   int selected_columns() const { return block_columns.front(); }
   int added_columns(std::size_t e) const { return block_columns[e + 1]; }
 };
@@ -49,6 +53,7 @@ StepDesign step_design(const std::vector<CandidateDesign>& candidates,
   }
   const std::size_t entries = d.candidates.size();
   d.added_y.resize(entries);
+  d.joint_reduction.assign(entries, 0.0);
   // Per entry: its kept columns (indices into x), R_e, Q_SᵀA_e, A_eᵀA_e and A_eᵀX_f of every f.
   std::vector<std::vector<int>> kept(entries);
   std::vector<Eigen::MatrixXd> triangle(entries), with_selected(entries), own(entries);
@@ -63,7 +68,16 @@ StepDesign step_design(const std::vector<CandidateDesign>& candidates,
     const Eigen::MatrixXd& a = basis.q;
     d.added_y[u] = a.transpose() * y;
     for (int k : basis.kept) kept[u].push_back(observable[static_cast<std::size_t>(k)]);
-    if (!with_gram || a.cols() == 0) return;
+    if (a.cols() == 0) return;
+    Eigen::MatrixXd r(a.cols(), a.cols()), xk(candidate.x.rows(), a.cols());
+    for (int k = 0; k < static_cast<int>(a.cols()); ++k) {
+      xk.col(k) = candidate.x.col(kept[u][static_cast<std::size_t>(k)]);
+      r.col(k) = a.transpose() * xk.col(k);
+    }
+    const Eigen::VectorXd beta = r.triangularView<Eigen::Upper>().solve(d.added_y[u]);
+    d.joint_reduction[u] = std::max((xk * beta).squaredNorm(), d.added_y[u].squaredNorm());
+    triangle[u] = r;
+    if (!with_gram) return;
     with_selected[u] = q_selected.transpose() * a;
     own[u] = a.transpose() * a;
     with_columns[u].resize(entries);
@@ -71,11 +85,6 @@ StepDesign step_design(const std::vector<CandidateDesign>& candidates,
       if (f == u) continue;
       with_columns[u][f] = a.transpose() * candidates[d.candidates[f]].x;  // q_e × all of f's
     }
-    Eigen::MatrixXd r(a.cols(), a.cols());
-    for (int k = 0; k < static_cast<int>(a.cols()); ++k) {
-      r.col(k) = a.transpose() * candidate.x.col(kept[u][static_cast<std::size_t>(k)]);
-    }
-    triangle[u] = r;
   });
   int total = 0;
   d.block_start.push_back(0);
@@ -281,6 +290,7 @@ void retest_selected(const std::vector<CandidateDesign>& candidates,
                         ? n * std::log(st.rss / rss_others) + st.q * std::log(n)
                         : std::numeric_limits<double>::quiet_NaN();
       t.effect_rms_um = std::sqrt(st.reduction / n);
+      t.joint_rms_um = std::sqrt(d.joint_reduction[entry] / n);
       if (st.q == 0) t.note = "nested in the other selected effects";
       tests.push_back(std::move(t));
       p.push_back(tests.back().p_f);
@@ -293,7 +303,7 @@ void retest_selected(const std::vector<CandidateDesign>& candidates,
       t.significant = t.added_rank > 0 && t.p_holm < options.alpha;
       t.bic_support = t.delta_bic <= -options.min_delta_bic;
       t.practical = !(noise_floor_um > 0.0) ||
-                    t.effect_rms_um >= options.min_effect_rms_fraction * noise_floor_um;
+                    t.joint_rms_um >= options.min_effect_rms_fraction * noise_floor_um;
       t.accepted = t.eligible();
       if (t.accepted) continue;
       const auto worse = [](const CandidateTest& a, const CandidateTest& b) {
@@ -368,6 +378,7 @@ Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::Ve
                           ? n * std::log(st.rss / s.rss_before) + st.q * std::log(n)
                           : std::numeric_limits<double>::quiet_NaN();
         t.effect_rms_um = std::sqrt(st.reduction / n);
+        t.joint_rms_um = std::sqrt(d.joint_reduction[e] / n);
         testable.push_back(s.tests.size());
         p_testable.push_back(st.p);
       }
@@ -391,7 +402,7 @@ Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::Ve
       t.significant = t.p_holm < options.alpha && (null.min_p.empty() || t.p_null < options.alpha);
       t.bic_support = t.delta_bic <= -options.min_delta_bic;
       t.practical = !(noise_floor_um > 0.0) ||
-                    t.effect_rms_um >= options.min_effect_rms_fraction * noise_floor_um;
+                    t.joint_rms_um >= options.min_effect_rms_fraction * noise_floor_um;
     }
     // The eligible candidate with the lowest ΔBIC; ties (within rounding) go to the library order,
     // which is the order of the tests.

@@ -289,6 +289,40 @@ TEST(Effects, EccentricityAndStylusRadiusAreTranslationsAlongTheirVectors) {
   }
 }
 
+TEST(Effects, ClockingTurnsTheGearAndMovesEachFlankByPlusMinusBaseRadiusTimesAngle) {
+  // A turn θ about the gear axis moves a point of an involute flank along the flank's normal by
+  // θ r_b (the involute's normal is tangent to the base circle at distance r_b from the axis),
+  // left and right flanks in opposite directions; r_b = m z cos α / 2 from P1's data (m 5.6,
+  // z 24, α 20°), not from gearmc. The stylus centre turns exactly: |c| and c_z are kept.
+  const double rb = 0.5 * 5.6 * 24.0 * std::cos(20.0 * kPi / 180.0);
+  const double angle_urad = 20.0;
+  ClockingEffect clocking(fixed(angle_urad));
+  for (const PointContext& point : p1_points()) {
+    const double expected = rb * angle_urad * 1e-3;  // mm × µrad → µm
+    const double change = reading_change(clocking, point, {angle_urad});
+    // Beyond first order the turn moves c by (cos θ − 1) c along itself: θ²|c|/2 ≤ 2e-5 µm here.
+    EXPECT_NEAR(std::abs(change), expected, 3e-5) << point.tooth;
+    const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;
+    Eigen::Vector3d c = start;
+    RandomStream rng = point_effect_stream(3, 0, point.order);
+    const std::vector<double> values = {angle_urad};
+    clocking.apply(point, values, c, rng);
+    EXPECT_NEAR(c.norm(), start.norm(), 1e-12);
+    EXPECT_EQ(c.z(), start.z());
+    EXPECT_NEAR(std::atan2(c.y(), c.x()) - std::atan2(start.y(), start.x()), angle_urad * 1e-6,
+                1e-12);
+  }
+  // The two flanks of a tooth move in opposite directions.
+  const std::vector<PointContext> points = p1_points();
+  const auto first = [&](FlankSide side) {
+    return *std::find_if(points.begin(), points.end(),
+                         [&](const PointContext& c) { return c.side == side; });
+  };
+  EXPECT_LT(reading_change(clocking, first(FlankSide::kLeft), {angle_urad}) *
+                reading_change(clocking, first(FlankSide::kRight), {angle_urad}),
+            0.0);
+}
+
 TEST(Effects, ClosedFormSignaturesAgreeWithNumericalDerivatives) {
   // The closed forms overridden by the linear effects against the base class's central
   // differences of apply(); agreement to 1e-6 µm per unit (differences of ~1e-3 µm readings
@@ -299,6 +333,9 @@ TEST(Effects, ClosedFormSignaturesAgreeWithNumericalDerivatives) {
   effects.push_back(std::make_unique<ScaleEffect>(fixed(5.0), fixed(-3.0), fixed(2.0)));
   effects.push_back(std::make_unique<SquarenessEffect>(fixed(20.0), fixed(5.0), fixed(-7.0)));
   effects.push_back(std::make_unique<DriftEffect>(fixed(1.0), fixed(-1.0), fixed(0.5)));
+  // Linear to first order only (a turn): its closed form is the derivative at 0, here at 1 µrad
+  // off by θ (c·n)·1e-3 ≈ 4e-8 µm per µrad.
+  effects.push_back(std::make_unique<ClockingEffect>(fixed(1.0)));
   const std::vector<PointContext> points = p1_points();
   for (const auto& effect : effects) {
     std::vector<double> values;
@@ -360,13 +397,18 @@ probe_lobing:
 scale: {x_ppm: {uniform: [-5, 5]}, y_ppm: {normal: [0, 2]}}
 noise: {sigma_um: 0.3}
 drift: {enabled: false, x_um: 1}
+clocking: {angle_urad: {normal: [0, 10]}}
 )");
-  ASSERT_EQ(chain.size(), 3u);
-  EXPECT_EQ(chain.effect(0).name(), "probe_lobing");
-  EXPECT_EQ(chain.effect(0).parameters().size(), 4u);  // p0, a6, φ6, repeatability
-  EXPECT_EQ(chain.effect(0).parameters()[1].name, "amplitude_6_um");
-  EXPECT_EQ(chain.effect(1).parameters()[0].law, EffectParameter::Law::kUniform);
-  EXPECT_EQ(chain.effect(1).parameters()[1].law, EffectParameter::Law::kNormal);
+  ASSERT_EQ(chain.size(), 4u);
+  // A set-up effect acts first (EffectStage::kWorkpiece), the others in scenario order.
+  EXPECT_EQ(chain.effect(0).name(), "clocking");
+  EXPECT_EQ(chain.effect(0).parameters()[0].name, "angle_urad");
+  EXPECT_EQ(chain.effect(0).parameters()[0].law, EffectParameter::Law::kNormal);
+  EXPECT_EQ(chain.effect(1).name(), "probe_lobing");
+  EXPECT_EQ(chain.effect(1).parameters().size(), 4u);  // p0, a6, φ6, repeatability
+  EXPECT_EQ(chain.effect(1).parameters()[1].name, "amplitude_6_um");
+  EXPECT_EQ(chain.effect(2).parameters()[0].law, EffectParameter::Law::kUniform);
+  EXPECT_EQ(chain.effect(2).parameters()[1].law, EffectParameter::Law::kNormal);
   EXPECT_EQ(chain.find("drift"), -1);
 }
 
@@ -416,7 +458,7 @@ TEST(EffectConfig, BadInputNamesFileLineColumnKeyAndExpectation) {
   expect_error("scael: {x_ppm: 1}\n",
                "e.yaml:1:1: scael: got 'scael', expected a known key (the top level has: "
                "probe_lobing, stylus_radius, tip_form, scale, squareness, thermal_expansion, "
-               "drift, step_quantization, eccentricity, noise, probe_warmup, straightness, "
+               "drift, step_quantization, eccentricity, clocking, noise, probe_warmup, straightness, "
                "artefact_form, scale_resolution, empirical, rotary_table, stylus_bending); did "
                "you mean 'scale'?");
   // A negative σ is no nm slip (that hint is for values above the range): no hint.
