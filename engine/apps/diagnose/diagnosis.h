@@ -227,6 +227,15 @@ struct Diagnosis {
     double p_value = kNotAvailable;
     double variance_share = kNotAvailable;
     int axes_tested = 0;
+    // A machine axis ("x_position", "y_position", "z_position"): the structure is periodic along
+    // that coordinate of the stylus centre, read along the normal's component on it — a scale's
+    // periodic (encoder, interpolation) error e(c_a) = A sin(2π c_a/λ + φ) moves a reading by
+    // e(c_a) n_a. The best period λ of a log grid (2 mm … the measured span, steps of 0.5 %) and
+    // its amplitude A (least squares). Such an axis is tested as a second family beside the
+    // gear's six axes, each family at α/2 (Bonferroni within it: the periods × axes); p_value
+    // and axes_tested are then the winning family's.
+    double period_mm = kNotAvailable;
+    double amplitude_um = kNotAvailable;
   } unexplained_along;
   // When the residuals after the fit fail the gap test but not by structure (the structure rule
   // above does not hold: no excess variance of the practical size, no axis whose group means

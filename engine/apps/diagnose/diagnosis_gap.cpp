@@ -90,6 +90,68 @@ HeldOutSplit held_out_split(const std::vector<ResidualPoint>& points, int column
   return out;
 }
 
+// The periodic family of structure_axis: for each machine axis a whose normals have a part on it
+// (max |n_a| ≥ 0.1) and each period λ of the log grid 2 mm · 1.005^k up to the span of the
+// stylus centres' c_a, the F test of the two columns n_a cos(2π c_a/λ), n_a sin(2π c_a/λ) on the
+// residuals (no intercept: the gear's axes and the library carry constants). The smallest p, with
+// axes_tested the number of (axis, period) pairs tried.
+Diagnosis::StructureAxis periodic_machine_axis(const std::vector<ResidualPoint>& points,
+                                               const std::vector<double>& residual_um) {
+  Diagnosis::StructureAxis best;
+  const std::size_t n = points.size();
+  if (n < 8) return best;
+  double ss = 0.0;
+  for (double r : residual_um) ss += r * r;
+  if (!(ss > 0.0)) return best;
+  int tried = 0;
+  double best_f = -1.0;  // by F, not p: p underflows to 0 over a range of periods near the truth
+  const char* names[3] = {"x_position", "y_position", "z_position"};
+  for (int a = 0; a < 3; ++a) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo, largest = 0.0;
+    std::vector<double> c(n), w(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const PointContext& p = points[k].context;
+      c[k] = p.p[a] + p.stylus_radius_mm * p.n[a];
+      w[k] = p.n[a];
+      lo = std::min(lo, c[k]);
+      hi = std::max(hi, c[k]);
+      largest = std::max(largest, std::abs(w[k]));
+    }
+    if (largest < 0.1 || !(hi - lo > 4.0)) continue;
+    for (double period = 2.0; period <= hi - lo; period *= 1.005) {
+      ++tried;
+      // Normal equations of the two columns (2 × 2), solved in closed form.
+      double cc = 0.0, cs = 0.0, s2 = 0.0, cr = 0.0, sr = 0.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double phase = 2.0 * std::numbers::pi * c[k] / period;
+        const double u = w[k] * std::cos(phase), v = w[k] * std::sin(phase);
+        cc += u * u;
+        cs += u * v;
+        s2 += v * v;
+        cr += u * residual_um[k];
+        sr += v * residual_um[k];
+      }
+      const double det = cc * s2 - cs * cs;
+      if (!(det > 1e-12 * cc * s2)) continue;
+      const double ca = (s2 * cr - cs * sr) / det, sa = (cc * sr - cs * cr) / det;
+      const double reduction = ca * cr + sa * sr;
+      const double rest = std::max(ss - reduction, 1e-300);
+      const double f = (reduction / 2.0) / (rest / (static_cast<double>(n) - 2.0));
+      if (f > best_f) {
+        best_f = f;
+        best.axis = names[a];
+        best.p_value =
+            f_distribution_upper_tail(std::max(f, 0.0), 2.0, static_cast<double>(n) - 2.0);
+        best.variance_share = reduction / ss;
+        best.period_mm = period;
+        best.amplitude_um = std::hypot(ca, sa);
+      }
+    }
+  }
+  best.axes_tested = tried;
+  return best;
+}
+
 Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points,
                                         const std::vector<double>& residual_um) {
   struct Axis {
@@ -146,13 +208,31 @@ Diagnosis::StructureAxis structure_axis(const std::vector<ResidualPoint>& points
     const double f = (between / (g - 1.0)) / (within / (static_cast<double>(n) - g));
     const double p = f_distribution_upper_tail(f, g - 1.0, static_cast<double>(n) - g);
     ++tested;
-    if (best.axis.empty() || p < best.p_value) {
+    // Ties (p underflowing to 0 on several axes) go to the larger share of the variance.
+    if (best.axis.empty() || p < best.p_value ||
+        (p == best.p_value && between / total_ss > best.variance_share)) {
       best.axis = axis.name;
       best.p_value = p;
       best.variance_share = between / total_ss;
     }
   }
   best.axes_tested = tested;
+  // The second family: a periodic error along a machine axis (Diagnosis::StructureAxis). Both
+  // families at α/2: the winner is the one of smaller p · (family size) · 2, reported as
+  // p_value · axes_tested with axes_tested = 2 × its family's size.
+  Diagnosis::StructureAxis periodic = periodic_machine_axis(points, residual_um);
+  const double periodic_p = periodic.p_value * periodic.axes_tested;
+  const double gear_p = best.p_value * std::max(1, tested);
+  if (best.axis.empty() ||
+      (!periodic.axis.empty() &&
+       (periodic_p < gear_p ||
+        (periodic_p == gear_p && periodic.variance_share > best.variance_share)))) {
+    if (!periodic.axis.empty()) {
+      periodic.axes_tested *= 2;
+      return periodic;
+    }
+  }
+  best.axes_tested = 2 * tested;
   return best;
 }
 
@@ -706,9 +786,20 @@ void make_verdict(const State& state, Diagnosis& out) {
            << std::lround(100.0 * out.explained_fraction) << " % of the excess variance)";
     }
     if (!out.unexplained_along.axis.empty()) {
-      text << "; it varies most along " << out.unexplained_along.axis << " (its group means carry "
-           << std::lround(100.0 * out.unexplained_along.variance_share)
-           << " % of the remaining variance, F-test p = " << out.unexplained_along.p_value << ")";
+      if (std::isfinite(out.unexplained_along.period_mm)) {
+        text << "; it varies most along " << out.unexplained_along.axis << ", periodically (period "
+             << out.unexplained_along.period_mm << " mm, amplitude "
+             << out.unexplained_along.amplitude_um << " µm along the axis, "
+             << std::lround(100.0 * out.unexplained_along.variance_share)
+             << " % of the remaining variance, F-test p = " << out.unexplained_along.p_value
+             << " of " << out.unexplained_along.axes_tested / 2
+             << " axis × period pairs): a periodic error of that axis's scale or encoder";
+      } else {
+        text << "; it varies most along " << out.unexplained_along.axis
+             << " (its group means carry "
+             << std::lround(100.0 * out.unexplained_along.variance_share)
+             << " % of the remaining variance, F-test p = " << out.unexplained_along.p_value << ")";
+      }
     }
     if (!out.unexplained_along.axis.empty() && options.fit_empirical) {
       out.empirical = fit_empirical_term(state.residuals.points, r_after_c, state.p_after,

@@ -52,13 +52,20 @@ void coordinate_grid_verdict(const PreparedResiduals& prepared, Diagnosis& d) {
   // lumpy one the gap's KS test rejects, coordinate_grid.h)? Only when nothing else was found.
   const bool nothing_else = d.effects.empty() && !d.empirical.fitted;
   bool explained = false;
-  if (d.status == DiagnosisStatus::kTested && grid.found() && (grid.named || grid.in_model)) {
+  // A grid found below the practical size (not named, not the model's) is checked too: its spread
+  // is not in the noise floor, so the noise before latching is the floor itself.
+  const bool below_practical = grid.found() && !grid.named && !grid.in_model;
+  if (d.status == DiagnosisStatus::kTested && grid.found() &&
+      (grid.named || grid.in_model ||
+       (below_practical && nothing_else && d.finding == DiagnosisFinding::kUnexplained))) {
     std::array<double, 3> steps = {0.0, 0.0, 0.0};
     for (int a = 0; a < 3; ++a) {
       if (grid.axes[a].observable) steps[a] = grid.axes[a].step_um;
     }
-    const double sigma_before =
-        std::sqrt(std::max(0.0, d.noise.sigma_um * d.noise.sigma_um - grid.rms_um * grid.rms_um));
+    const double sigma_before = below_practical
+                                    ? d.noise.sigma_um
+                                    : std::sqrt(std::max(0.0, d.noise.sigma_um * d.noise.sigma_um -
+                                                                  grid.rms_um * grid.rms_um));
     grid.check = latched_model_check(prepared.residuals.points, steps, sigma_before,
                                      d.noise.sigma_um, std::max(d.null_replicates, 199), d.seed);
     explained = nothing_else && grid.check.p >= d.alpha;
@@ -95,6 +102,14 @@ void coordinate_grid_verdict(const PreparedResiduals& prepared, Diagnosis& d) {
     leave_unexplained(
         "no gap: the residuals' shape that the gap tests reject is the latching's "
         "the model has");
+    d.finding = DiagnosisFinding::kNone;
+    d.gap_detected = false;
+  } else if (d.status == DiagnosisStatus::kTested && below_practical &&
+             d.finding == DiagnosisFinding::kUnexplained && explained) {
+    leave_unexplained(
+        "no gap: the residuals' spread that the gap tests reject is the rounding of the "
+        "coordinates to their grid (" +
+        grid.note + "), which the readings carry beside the model's noise");
     d.finding = DiagnosisFinding::kNone;
     d.gap_detected = false;
   } else if (grid.found()) {

@@ -308,6 +308,10 @@ std::string diagnosis_json(const Diagnosis& d) {
                               {"p_value", number(d.unexplained_along.p_value)},
                               {"variance_share", number(d.unexplained_along.variance_share)},
                               {"axes_tested", d.unexplained_along.axes_tested}};
+    if (std::isfinite(d.unexplained_along.period_mm)) {
+      j["unexplained_along"]["period_mm"] = number(d.unexplained_along.period_mm);
+      j["unexplained_along"]["amplitude_um"] = number(d.unexplained_along.amplitude_um);
+    }
     const EmpiricalTerm& e = d.empirical;
     Json empirical = {{"fitted", e.fitted},
                       {"axis", e.axis},

@@ -53,6 +53,12 @@ std::string empirical_identify_by(const std::string& axis) {
     return "qualify the probe over many approach directions on a calibrated reference sphere (a "
            "per-direction map): structure that follows the approach direction there is the probe's";
   }
+  if (axis == "x_position" || axis == "y_position" || axis == "z_position") {
+    return "measure a calibrated length along the " + axis.substr(0, 1) +
+           " axis at a pitch finer than a third of the period (a step gauge or a laser "
+           "interferometer): a periodic error there is the scale's or its encoder's interpolation "
+           "error, for the machine's error map";
+  }
   if (axis == "probing_order") {
     return "re-probe the first points at the end of the run and repeat in reverse probing order, "
            "logging the machine and probe temperatures: structure that follows time is a warm-up "
@@ -80,7 +86,11 @@ EmpiricalTerm fit_empirical_term(const std::vector<ResidualPoint>& points,
   try {
     axis = parse_empirical_axis(axis_name);
   } catch (const std::invalid_argument&) {
-    out.why_not = "no axis to fit a term along";
+    out.why_not = axis_name.size() > 9 && axis_name.substr(1) == "_position"
+                      ? "a periodic error along a machine axis is not among the empirical terms "
+                        "(they follow the gear's own axes): fitted.yaml keeps the library's "
+                        "effects only"
+                      : "no axis to fit a term along";
     return out;
   }
   const EmpiricalBasis basis = natural_basis(axis);

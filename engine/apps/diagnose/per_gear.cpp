@@ -110,7 +110,11 @@ void per_gear_variation(State& state, Diagnosis& out) {
     width[s] = split ? G * q : q;
     columns += width[s];
   }
-  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(rows, columns);
+  // The base of every model (a production gear's part, the runs' set-ups) is in this fit too, as
+  // in the shared one: state.r is projected off it, the effects' columns are not (Frisch–Waugh).
+  const int base_columns = static_cast<int>(state.base_x.cols());
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(rows, columns + base_columns);
+  if (base_columns > 0) x.rightCols(base_columns) = state.base_x;
   for (std::size_t s = 0, at = 0; s < selected.size(); ++s) {
     const int q = static_cast<int>(state.candidates[selected[s]].observable_indices().size());
     const int offset = state.offsets[s];
