@@ -283,7 +283,9 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
   if (!d.gap_detected) {
     s << (d.part.fitted ? "No machine gap: the gear's own deviations and the noise floor explain "
                           "the readings. "
-                        : "No gap: the readings agree with the model within the noise floor. ")
+          : d.law_shape.differs
+              ? "No gap in the readings' mean: nothing is missing from the model's prediction. "
+              : "No gap: the readings agree with the model within the noise floor. ")
       << points_phrase(in) << ": " << gap_phrase(d.gap_before, r.sigma, k) << ". ";
     if (d.law_shape.differs) {
       s << "Their law differs from the model's in its shape (spread "
@@ -326,9 +328,19 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
       if (d.unexplained_structure) s << ", and structure remains after them";
     }
     if (!d.unexplained_along.axis.empty()) {
-      s << ". The remaining structure varies most along " << d.unexplained_along.axis
-        << " (its group means carry " << fixed(100.0 * d.unexplained_along.variance_share, 0)
-        << " % of the remaining variance)";
+      if (std::isfinite(d.unexplained_along.period_mm)) {
+        s << ". The remaining structure varies most along " << d.unexplained_along.axis
+          << ", periodically: period " << fixed(d.unexplained_along.period_mm, 2)
+          << " mm, amplitude " << fixed(d.unexplained_along.amplitude_um) << " µm along the axis ("
+          << fixed(100.0 * d.unexplained_along.variance_share, 0)
+          << " % of the remaining variance) — a periodic error of that axis's scale or its "
+             "encoder; to map it, "
+          << d.empirical.identify_by;
+      } else {
+        s << ". The remaining structure varies most along " << d.unexplained_along.axis
+          << " (its group means carry " << fixed(100.0 * d.unexplained_along.variance_share, 0)
+          << " % of the remaining variance)";
+      }
     }
     const EmpiricalTerm& em = d.empirical;
     if (em.fitted) {
