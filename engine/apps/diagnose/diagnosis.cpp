@@ -296,8 +296,17 @@ void select_and_fit(State& state, Diagnosis& out) {
     e.parameters = c.name == "probe_lobing"
                        ? lobing_parameters(c, e.coefficients, fit, offsets[s], sigma2_hat)
                        : e.coefficients;
-    const SelectionStep& step = out.selection.steps[s];
-    e.evidence = step.tests[step.accepted];
+    // The forward step that accepted this candidate (the re-test may reorder the kept effects,
+    // or put a smaller one in place of one: then its drop-one test in the final model).
+    const auto step = std::find_if(
+        out.selection.steps.begin(), out.selection.steps.end(), [&](const SelectionStep& st) {
+          return st.accepted >= 0 && st.tests[st.accepted].candidate == selected[s];
+        });
+    if (step != out.selection.steps.end()) {
+      e.evidence = step->tests[step->accepted];
+    } else if (s < out.selection.retest.size()) {
+      e.evidence = out.selection.retest[s];
+    }
     const int q = static_cast<int>(c.observable_indices().size());
     const Eigen::VectorXd contribution =
         x_selected.middleCols(offsets[s], q) * fit.beta.segment(offsets[s], q);

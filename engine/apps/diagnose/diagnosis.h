@@ -261,6 +261,9 @@ struct Diagnosis {
   std::vector<FittedEffect> effects_with_empirical;
   // The library effect that explains part of an unexplained gap (the first selected), or "".
   std::string partially_explained_by;
+  // The held-out rule refused the fitted effects (their held-out RMS not below the one without
+  // them): fitted.yaml does not write them.
+  bool fit_refused = false;
   double explained_fraction = kNotAvailable;  // of the excess variance
   std::vector<FittedEffect> effects;          // selected effects, in selection order
   // A production gear (DiagnoseOptions::workpiece): its own flank deviations, fitted jointly with

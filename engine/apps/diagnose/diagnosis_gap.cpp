@@ -743,6 +743,7 @@ void make_verdict(const State& state, Diagnosis& out) {
                               std::isfinite(out.held_out_rms_um) &&
                               std::isfinite(out.held_out_without_rms_um) &&
                               out.held_out_rms_um >= out.held_out_without_rms_um;
+  out.fit_refused = held_out_worse && !out.effects.empty();
   if (held_out_worse && !out.effects.empty()) {
     std::ostringstream text;
     text << "the fitted effects predict the readings they were not fitted on no better than no "

@@ -362,8 +362,11 @@ std::string diagnosis_verdict(const DiagnosisReportInput& in) {
         << em.identify_by << ".";
     } else {
       if (!em.why_not.empty()) s << "; no empirical term was fitted (" << em.why_not << ")";
-      s << ". fitted.yaml is the model unchanged; the plots below show the structure to look for "
-           "outside the library (the artefact itself, a form or fixture effect).";
+      s << (!d.effects.empty() && !d.fit_refused
+                ? ". fitted.yaml holds the library's effects fitted, which explain part of it"
+                : ". fitted.yaml is the model unchanged")
+        << "; the plots below show the structure to look for outside the library (the artefact "
+           "itself, a form or fixture effect).";
     }
     return s.str();
   }

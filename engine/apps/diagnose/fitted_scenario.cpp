@@ -274,7 +274,11 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
 
   const bool named = d.finding == DiagnosisFinding::kEffect;
   const bool with_empirical = d.finding == DiagnosisFinding::kUnexplained && d.empirical.fitted;
-  if (named || with_empirical) {
+  // Structure remains and no empirical term describes it: the accepted fit (the library's effects
+  // that passed the selection and the held-out rule) is still written, as part of the answer.
+  const bool partial = d.finding == DiagnosisFinding::kUnexplained && !d.empirical.fitted &&
+                       !d.effects.empty() && !d.fit_refused;
+  if (named || with_empirical || partial) {
     YAML::Node effects = root["effects"];
     if (!effects.IsMap()) {
       root["effects"] = YAML::Node(YAML::NodeType::Map);
@@ -430,12 +434,17 @@ FittedScenario fitted_scenario(const Scenario& model, const Diagnosis& d,
             "unexplained)");
       }
     }
-  } else if (d.finding == DiagnosisFinding::kUnexplained) {
+  }
+  if (partial) {
     result.notes.push_back(
-        "the gap is not explained by the effect library; no effect was added (the model is "
-        "unchanged)");
-  } else {
-    result.notes.push_back("no gap: no effect was added (the model is unchanged)");
+        "the library effects written explain only part of the gap (the verdict is unexplained: "
+        "structure remains that no effect or empirical term describes)");
+  } else if (!named && !with_empirical) {
+    result.notes.push_back(
+        d.finding == DiagnosisFinding::kUnexplained
+            ? "the gap is not explained by the effect library; no effect was added (the model is "
+              "unchanged)"
+            : "no gap: no effect was added (the model is unchanged)");
   }
 
   // The model's name stays the scenario's name (without `name:` it would become "fitted").

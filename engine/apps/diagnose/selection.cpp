@@ -346,6 +346,60 @@ void retest_selected(const std::vector<CandidateDesign>& candidates,
   }
 }
 
+// After the re-test: a kept effect that a smaller candidate (fewer observable columns) replaces
+// with no loss, given the other kept effects, is replaced by it — BIC = n ln RSS + rank · ln n of
+// the others with the smaller one at most that of the others with the kept one (Schwarz 1978; the
+// two models need not be nested). An effect chosen early because its extra columns carried part
+// of an effect selected later (a rotary table's harmonics taking a drift's once-around part, then
+// kept for the eccentricity its first harmonics also span) gives way to what the others leave it
+// to explain. The replaced effect is listed in `dropped` with the reason; the re-test runs again.
+void replace_by_smaller(const std::vector<CandidateDesign>& candidates,
+                        const Eigen::VectorXd& residual_um, int rows, double noise_floor_um,
+                        const SelectionOptions& options, Selection& out) {
+  const double n = static_cast<double>(rows);
+  auto bic_of = [&](const std::vector<int>& set) {
+    const StepDesign d = step_design(candidates, set, residual_um, false, rows);
+    const double rss = rss_after_selected(d, residual_um);
+    const int rank = static_cast<int>(d.selected_y.size());
+    return std::pair<double, double>{n * std::log(std::max(rss, 1e-300)) + rank * std::log(n), rss};
+  };
+  for (std::size_t round = 0; round < candidates.size(); ++round) {
+    bool replaced = false;
+    for (std::size_t k = 0; k < out.selected.size() && !replaced; ++k) {
+      const int e = out.selected[k];
+      const std::size_t width = candidates[e].observable_indices().size();
+      const auto [bic_kept, rss_kept] = bic_of(out.selected);
+      int best = -1;
+      double best_bic = bic_kept;
+      for (int a = 0; a < static_cast<int>(candidates.size()); ++a) {
+        if (std::find(out.selected.begin(), out.selected.end(), a) != out.selected.end()) continue;
+        if (candidates[a].observable_indices().size() >= width) continue;
+        std::vector<int> swapped = out.selected;
+        swapped[k] = a;
+        const double bic = bic_of(swapped).first;
+        if (bic <= best_bic) {
+          best = a;
+          best_bic = bic;
+        }
+      }
+      if (best < 0) continue;
+      CandidateTest note;
+      note.candidate = e;
+      note.name = candidates[e].name;
+      note.delta_bic = best_bic - bic_kept;
+      note.note = "replaced by " + candidates[best].name +
+                  ": with the other kept effects it explains the readings as well with fewer "
+                  "columns (BIC lower by " +
+                  std::to_string(bic_kept - best_bic) + ")";
+      out.dropped.push_back(std::move(note));
+      out.selected[k] = best;
+      retest_selected(candidates, residual_um, rows, noise_floor_um, options, out);
+      replaced = true;
+    }
+    if (!replaced) break;
+  }
+}
+
 Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::VectorXd& residual_um,
                  int rows, double noise_floor_um, const SelectionOptions& options) {
   Selection out;
@@ -426,6 +480,7 @@ Selection select(const std::vector<CandidateDesign>& candidates, const Eigen::Ve
     if (best < 0) break;
   }
   retest_selected(candidates, residual_um, rows, noise_floor_um, options, out);
+  replace_by_smaller(candidates, residual_um, rows, noise_floor_um, options, out);
   return out;
 }
 
