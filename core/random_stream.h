@@ -45,6 +45,7 @@ enum class TrialPurpose : std::uint32_t {
   kRTestVerification = 0x5254'0005,    // the simulated verification's repetitions
   kRTestPositions = 0x5254'0006,       // the positions' draws
   kSweepBootstrap = 0x5357'0001,       // a sweep point's bootstrap resamples of its gears
+  kMachineDraw = 0x434D'0001,          // a drawn CMM (trial = the machine's index, cmm.md)
 };
 
 // How many random bits one uniform takes.
