@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -11,19 +10,55 @@
 
 namespace gearmc {
 
+namespace {
+
+// A non-negative decimal number "d+[.d*]" of at most 30 characters at `at` (advanced past it);
+// false if none.
+bool read_number(const std::string& text, std::size_t& at, double& value) {
+  const std::size_t start = at;
+  while (at < text.size() && text[at] >= '0' && text[at] <= '9') ++at;
+  if (at == start) return false;
+  if (at < text.size() && text[at] == '.') {
+    ++at;
+    while (at < text.size() && text[at] >= '0' && text[at] <= '9') ++at;
+  }
+  if (at - start > 30) return false;  // no MPE has 30 digits; std::stod would overflow
+  value = std::stod(text.substr(start, at - start));
+  return true;
+}
+
+void skip_spaces(const std::string& text, std::size_t& at) {
+  while (at < text.size() && (text[at] == ' ' || text[at] == '\t')) ++at;
+}
+
+}  // namespace
+
 LengthMpe parse_length_mpe(const std::string& text) {
-  static const std::regex form(
-      R"(^\s*([0-9]+(?:\.[0-9]*)?)\s*\+\s*L\s*/\s*([0-9]+(?:\.[0-9]*)?)\s*$)");
-  std::smatch m;
-  if (!std::regex_match(text, m, form)) {
-    throw std::invalid_argument("got '" + text +
-                                "', expected MPE_E as \"A + L/K\" in µm with L in mm, e.g. "
-                                "\"1.8 + L/300\"");
-  }
-  LengthMpe mpe{std::stod(m[1].str()), std::stod(m[2].str())};
-  if (!(mpe.k_mm_per_um > 0.0)) {
-    throw std::invalid_argument("got '" + text + "', expected K > 0 in \"A + L/K\"");
-  }
+  // Scanned by hand in one bounded pass (no std::regex: its recursion overflowed the stack on
+  // long inputs elsewhere in gearmc).
+  const auto refuse = [&](const std::string& what) {
+    const std::string shown = text.size() > 60 ? text.substr(0, 60) + "…" : text;
+    return std::invalid_argument("got '" + shown + "', expected " + what);
+  };
+  const std::string form = "MPE_E as \"A + L/K\" in µm with L in mm, e.g. \"1.8 + L/300\"";
+  LengthMpe mpe;
+  std::size_t at = 0;
+  skip_spaces(text, at);
+  if (!read_number(text, at, mpe.a_um)) throw refuse(form);
+  skip_spaces(text, at);
+  if (at >= text.size() || text[at] != '+') throw refuse(form);
+  ++at;
+  skip_spaces(text, at);
+  if (at >= text.size() || text[at] != 'L') throw refuse(form);
+  ++at;
+  skip_spaces(text, at);
+  if (at >= text.size() || text[at] != '/') throw refuse(form);
+  ++at;
+  skip_spaces(text, at);
+  if (!read_number(text, at, mpe.k_mm_per_um)) throw refuse(form);
+  skip_spaces(text, at);
+  if (at != text.size()) throw refuse(form);
+  if (!(mpe.k_mm_per_um > 0.0)) throw refuse("K > 0 in \"A + L/K\"");
   return mpe;
 }
 

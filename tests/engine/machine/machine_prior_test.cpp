@@ -17,7 +17,16 @@ TEST(MachinePrior, ReadsMpeEAsAPlusLOverK) {
   EXPECT_DOUBLE_EQ(m.k_mm_per_um, 300.0);
   EXPECT_DOUBLE_EQ(m.at(600.0), 3.8);  // 1.8 + 600/300
   EXPECT_DOUBLE_EQ(parse_length_mpe(" 2.5+L / 250 ").at(500.0), 4.5);
-  for (const char* bad : {"1.8 + L*300", "L/300", "abc", "1.8 + L/0", "-1 + L/300"}) {
+  // A long input is refused in one bounded pass (no regex recursion), its echo shortened.
+  const std::string long_input(100000, '1');
+  try {
+    parse_length_mpe(long_input + " + L/");
+    ADD_FAILURE() << "long input accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_LT(std::string(e.what()).size(), 300u);
+  }
+  for (const char* bad :
+       {"1.8 + L*300", "L/300", "abc", "1.8 + L/0", "-1 + L/300", "1.8 + L/300x"}) {
     try {
       parse_length_mpe(bad);
       ADD_FAILURE() << bad;
