@@ -28,7 +28,8 @@ enum class StreamPurpose : std::uint32_t {
   kProfile = 4,  // sub-index: flank index
   kHelix = 5,    // sub-index: flank index
   // 16: reserved (was planned for probing noise, never used).
-  kEffectParameters = 17,  // sub-index: effect index in the chain (per-gear parameter draws)
+  kEffectParameters = 17,  // sub-index: effect index in the chain (per-gear parameter draws),
+                           // or a shared stream (EffectParameter::shared_stream)
   kEffectNoise = 18,       // sub-index: point order (random parts of effects at one point)
   kDiagnoseNull = 19,      // gear index = null replicate; sub-index: selection step (diagnosis)
 };
@@ -46,6 +47,8 @@ enum class TrialPurpose : std::uint32_t {
   kRTestPositions = 0x5254'0006,       // the positions' draws
   kSweepBootstrap = 0x5357'0001,       // a sweep point's bootstrap resamples of its gears
   kMachineDraw = 0x434D'0001,          // a drawn CMM (trial = the machine's index, cmm.md)
+  kProbeDraw = 0x434D'0002,            // a drawn CMM's probe (trial = the machine's index)
+  kProbingTest = 0x434D'0003,          // its ISO 10360-5 test's touches (trial = the index)
 };
 
 // How many random bits one uniform takes.

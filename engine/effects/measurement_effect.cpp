@@ -97,7 +97,13 @@ EffectValues EffectChain::draw(std::uint64_t seed, int gear) const {
     RandomStream rng(seed, static_cast<std::uint32_t>(gear), StreamPurpose::kEffectParameters,
                      static_cast<std::uint32_t>(e));
     for (const EffectParameter& parameter : effects_[e]->parameters()) {
-      values[e].push_back(parameter.draw(rng));
+      if (parameter.shared_stream != 0) {
+        RandomStream shared(seed, static_cast<std::uint32_t>(gear),
+                            StreamPurpose::kEffectParameters, parameter.shared_stream);
+        values[e].push_back(parameter.draw(shared));
+      } else {
+        values[e].push_back(parameter.draw(rng));
+      }
     }
   }
   return values;

@@ -61,6 +61,13 @@ struct EffectParameter {
   double value = 0.0;         // kFixed: the value; kNormal: the mean
   double spread = 0.0;        // kNormal: standard deviation
   double lo = 0.0, hi = 0.0;  // kUniform: [lo, hi]
+  // 0: drawn from its effect's stream with the effect's other parameters. Otherwise drawn alone
+  // from the stream (seed, gear, kEffectParameters, shared_stream): parameters of several effects
+  // with the same shared_stream and law take the same value in every gear (the `cmm:` section's
+  // geometry and probing parts name the same drawn machine). Values ≥ kSharedStreamBase keep
+  // these streams apart from the effects' own (indexed 0, 1, … by their place in the chain).
+  std::uint32_t shared_stream = 0;
+  static constexpr std::uint32_t kSharedStreamBase = 0x5348'0000;
   // This parameter for one gear (fixed parameters consume no random numbers).
   double draw(RandomStream& rng) const;
   // The central value: value for kFixed and kNormal, the midpoint for kUniform.

@@ -34,7 +34,8 @@ double legendre_series(const std::vector<double>& c, double u) {
     }
     if (k >= 2) {
       // (k) P_k = (2k − 1) u P_{k−1} − (k − 1) P_{k−2}
-      const double next = ((2.0 * k - 1.0) * u * p - (k - 1.0) * p_prev) / static_cast<double>(k);
+      const auto kd = static_cast<double>(k);
+      const double next = ((2.0 * kd - 1.0) * u * p - (kd - 1.0) * p_prev) / kd;
       p_prev = p;
       p = next;
     }

@@ -59,8 +59,8 @@ struct KinematicMachine {
   // stylus offset `stylus_mm` (from the ram's reference point to the tip).
   Eigen::Vector3d axis_positions_mm(const Eigen::Vector3d& tip_mm,
                                     const Eigen::Vector3d& stylus_mm) const;
-  // The error of the tip (µm, machine = gear axes): where the machine puts it minus where it says
-  // it is, to first order.
+  // The error of the tip (µm, machine = gear axes): the position the machine reports minus where
+  // the tip is, to first order (a positive scale error reports lengths too long).
   Eigen::Vector3d tip_error_um(const Eigen::Vector3d& tip_mm,
                                const Eigen::Vector3d& stylus_mm) const;
 };

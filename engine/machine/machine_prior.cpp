@@ -97,20 +97,66 @@ KinematicMachine draw_machine(const MachinePrior& prior, std::uint64_t seed, std
   return m;
 }
 
+ProbePrior probe_prior_for(double mpe_p_um) {
+  ProbePrior p;
+  p.mpe_p_um = mpe_p_um;
+  p.component_um = mpe_p_um / 6.0;
+  p.noise_max_um = mpe_p_um / 4.0;
+  return p;
+}
+
+CmmProbe draw_probe(const ProbePrior& prior, std::uint64_t seed, std::uint64_t index) {
+  CmmProbe probe;
+  if (!(prior.mpe_p_um > 0.0)) return probe;
+  TrialStream rng(seed, index, TrialPurpose::kProbeDraw);
+  for (std::size_t k = 0; k < 3; ++k) {
+    probe.cos_um[k] = prior.component_um * rng.normal();
+    probe.sin_um[k] = prior.component_um * rng.normal();
+  }
+  probe.noise_um = prior.noise_max_um * rng.uniform();
+  return probe;
+}
+
+std::vector<LengthError> length_test_with_probe(const KinematicMachine& machine,
+                                                const CmmProbe& probe,
+                                                const LengthTestOptions& test) {
+  std::vector<LengthError> errors = length_test(machine, test);
+  const std::vector<LengthTestPosition> positions = length_test_positions(machine.travel_mm);
+  for (LengthError& e : errors) {
+    const Eigen::Vector3d& u = positions[static_cast<std::size_t>(e.position)].direction;
+    // End A touched along +û moves its recorded centre +p(û) û, end B along −û by −p(−û) û.
+    e.error_um -= probe.pretravel_um(u) + probe.pretravel_um(-u);
+  }
+  return errors;
+}
+
 ConstrainedMachines draw_constrained(const MachinePrior& prior, const LengthMpe& mpe, int wanted,
                                      int max_draws, std::uint64_t seed,
-                                     const LengthTestOptions& test) {
+                                     const LengthTestOptions& test, const ProbePrior& probe,
+                                     double min_acceptance) {
   ConstrainedMachines out;
+  const bool probing = probe.mpe_p_um > 0.0;
   for (int i = 0; i < max_draws && static_cast<int>(out.kept.size()) < wanted; ++i) {
-    KinematicMachine m = draw_machine(prior, seed, static_cast<std::uint64_t>(i));
+    if (i >= 2000 && static_cast<double>(out.kept.size()) < min_acceptance * i) break;
+    const auto index = static_cast<std::uint64_t>(i);
+    KinematicMachine m = draw_machine(prior, seed, index);
+    const CmmProbe p = draw_probe(probe, seed, index);
     ++out.drawn;
-    double ratio = 0.0;
-    for (const LengthError& e : length_test(m, test)) {
+    double ratio = 0.0, largest = 0.0;
+    for (const LengthError& e : length_test_with_probe(m, p, test)) {
       ratio = std::max(ratio, std::abs(e.error_um) / mpe.at(e.length_mm));
+      largest = std::max(largest, std::abs(e.error_um));
     }
-    if (ratio <= 1.0) {
+    const double form = probing ? probing_test_form_um(p, seed, index) : 0.0;
+    if (ratio > 1.0) ++out.failed_length;
+    if (probing && form > probe.mpe_p_um) ++out.failed_probing;
+    if (ratio <= 1.0 && (!probing || form <= probe.mpe_p_um)) {
       out.kept.push_back(std::move(m));
+      out.probes.push_back(p);
+      out.length_ratio.push_back(ratio);
+      out.probing_form_um.push_back(form);
       out.largest_ratio = std::max(out.largest_ratio, ratio);
+      out.largest_error_um = std::max(out.largest_error_um, largest);
     }
   }
   out.acceptance_rate =
@@ -119,9 +165,16 @@ ConstrainedMachines draw_constrained(const MachinePrior& prior, const LengthMpe&
     out.refused = true;
     std::ostringstream why;
     why << "the machine prior cannot meet MPE_E = " << mpe.a_um << " + L/" << mpe.k_mm_per_um
-        << " µm: " << out.kept.size() << " of " << out.drawn
-        << " drawn machines passed the ISO 10360-2 length test, " << wanted
-        << " wanted (give the prior smaller scales, or check the MPE)";
+        << " µm";
+    if (probing) why << " and MPE_P = " << probe.mpe_p_um << " µm";
+    why << ": " << out.kept.size() << " of " << out.drawn << " drawn machines passed ("
+        << out.failed_length << " failed the ISO 10360-2 length test";
+    if (probing) why << ", " << out.failed_probing << " the ISO 10360-5 probing test";
+    why << "), an acceptance rate of " << 100.0 * out.acceptance_rate << " %";
+    if (min_acceptance > 0.0) why << " (at least " << 100.0 * min_acceptance << " % is needed)";
+    why << ", " << wanted
+        << " wanted; the prior's scales follow A and K together, so a data sheet with a small A "
+           "for its K (or a tight MPE_P) is beyond it — check the MPEs";
     out.why = why.str();
   }
   return out;

@@ -22,6 +22,7 @@
 
 #include "engine/machine/kinematic_machine.h"
 #include "engine/machine/length_test.h"
+#include "engine/machine/probing_test.h"
 
 namespace gearmc {
 
@@ -52,19 +53,47 @@ MachinePrior prior_for(const LengthMpe& mpe, MachineLayout layout,
 // Machine `index` of the draw with `seed` (TrialStream(seed, index, kMachineDraw)).
 KinematicMachine draw_machine(const MachinePrior& prior, std::uint64_t seed, std::uint64_t index);
 
+// The probe's prior (an assumption, docs/cmm.md), scaled by ISO 10360-5's MPE_P: each lobing
+// component c_k, s_k (k = 2, 3, 4) N(0, (MPE_P/6)²), the touch scatter σ ~ U(0, MPE_P/4).
+// mpe_p_um 0: the machines have no probing part (a perfect, qualified probe).
+struct ProbePrior {
+  double mpe_p_um = 0.0;
+  double component_um = 0.0;
+  double noise_max_um = 0.0;
+};
+ProbePrior probe_prior_for(double mpe_p_um);
+// Machine `index`'s probe (TrialStream(seed, index, kProbeDraw): a geometry draw does not move
+// when a probe is added).
+CmmProbe draw_probe(const ProbePrior& prior, std::uint64_t seed, std::uint64_t index);
+
 struct ConstrainedMachines {
   std::vector<KinematicMachine> kept;
+  std::vector<CmmProbe> probes;  // the kept machines' probes (all zero without MPE_P)
+  // Per kept machine: max over its length test of |E| / MPE_E(L), and its P_FTU (µm).
+  std::vector<double> length_ratio, probing_form_um;
   int drawn = 0;
+  int failed_length = 0, failed_probing = 0;  // drawn machines refused by each test
   double acceptance_rate = 0.0;
-  double largest_ratio = 0.0;  // max over the kept machines' tests of |E| / MPE_E(L)
-  bool refused = false;        // fewer than wanted kept within max_draws
-  std::string why;             // when refused
+  double largest_ratio = 0.0;     // max over the kept machines' tests of |E| / MPE_E(L)
+  double largest_error_um = 0.0;  // max over the kept machines' tests of |E|
+  bool refused = false;           // fewer than wanted kept within max_draws
+  std::string why;                // when refused
 };
 
+// The length errors of `machine` with `probe` (length_test plus, at the gauge's two ends, the
+// probe's pre-travel along the two approaches: E −= p(û) + p(−û); a bidirectional measurement
+// sees the probe's even lobes, not its odd ones).
+std::vector<LengthError> length_test_with_probe(const KinematicMachine& machine,
+                                                const CmmProbe& probe,
+                                                const LengthTestOptions& test = {});
+
 // Draws machines 0, 1, … until `wanted` pass (every |E| ≤ MPE_E(L) in the length test with
-// `test`) or `max_draws` were drawn.
+// `test`, and with a probe prior P_FTU ≤ MPE_P) or `max_draws` were drawn — or, with
+// `min_acceptance` > 0, once 2000 were drawn with fewer than that fraction kept (refused early:
+// the rate would not reach it).
 ConstrainedMachines draw_constrained(const MachinePrior& prior, const LengthMpe& mpe, int wanted,
                                      int max_draws, std::uint64_t seed,
-                                     const LengthTestOptions& test = {});
+                                     const LengthTestOptions& test = {},
+                                     const ProbePrior& probe = {}, double min_acceptance = 0.0);
 
 }  // namespace gearmc

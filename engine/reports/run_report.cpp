@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "engine/effects/measurement_effect.h"
+#include "engine/reports/cmm_summary.h"
 #include "engine/reports/run_report_cells.h"
 #include "engine/statistics/stats_json.h"
 
@@ -222,6 +223,7 @@ nlohmann::ordered_json run_summary_json(const Scenario& scenario, const MonteCar
     }
     summary["error_budget_um"] = budget;
   }
+  if (scenario.cmm) summary["cmm"] = cmm_summary_json(*scenario.cmm);
   // Laws fitted to the per-flank maximum (P1 names a law for its per-flank values).
   summary["flank_max_best_law"] = {{"left", law_json(view.laws[0])},
                                    {"right", law_json(view.laws[1])}};

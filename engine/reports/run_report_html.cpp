@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "engine/reports/cmm_summary.h"
 #include "engine/reports/html_report.h"
 #include "engine/reports/run_report.h"
 #include "engine/reports/run_report_cells.h"
@@ -115,6 +116,7 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
             format_stat(100.0 * l.share) + " %", l.alone ? format_stat(l.alone->stddev()) : ""}});
     }
     report.table(budget);
+    if (scenario.cmm) report.paragraph(cmm_summary_sentence(*scenario.cmm));
   }
   if (is_p1_setup(scenario)) {
     const double worst = std::max(r.flank_max[0].moments.max(), r.flank_max[1].moments.max());

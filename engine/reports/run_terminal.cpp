@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/reports/cmm_summary.h"
 #include "engine/reports/run_report_cells.h"
 #include "surfaces/triangle_mesh_fwd.h"
 
@@ -114,6 +115,7 @@ void print_run_tables(std::ostream& out, const Scenario& scenario, const RunResu
          format_stat(100.0 * l.share) + " %", l.alone ? format_stat(l.alone->stddev()) : ""},
         20, 9, 11);
   }
+  if (scenario.cmm) out << cmm_summary_sentence(*scenario.cmm) << "\n";
 }
 
 void print_run_summary(std::ostream& out, const Scenario& scenario, const RunResults& r,

@@ -19,6 +19,7 @@
 #include "core/input_error.h"
 #include "core/input_file.h"
 #include "core/yaml_reader.h"
+#include "engine/effects/cmm_effects.h"
 #include "engine/effects/effect_config.h"
 #include "engine/effects/measurement_effect.h"
 #include "engine/scenario/claims.h"
@@ -122,8 +123,19 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source_
   if (const auto surfaces = top.find("surfaces")) {
     scenario.surfaces = read_surfaces(*surfaces, scenario.gear, scenario.probing, source_name);
   }
-  if (const auto effects = top.find("effects")) {
-    scenario.effects = std::make_shared<const EffectChain>(parse_effects(*effects, warnings));
+  {
+    EffectChain chain;
+    if (const auto effects = top.find("effects")) chain = parse_effects(*effects, warnings);
+    if (const auto cmm = top.find("cmm")) {
+      const InvoluteGear nominal(scenario.gear);
+      const double radius = 0.5 * std::max(nominal.tip_diameter_mm(), nominal.root_diameter_mm()) +
+                            scenario.stylus_radius_mm;
+      const bool radial = scenario.stylus_shaft_axis == ShaftAxis::kRadial;
+      scenario.cmm = read_cmm(*cmm, scenario.seed, radius, scenario.gear.face_width_mm, radial,
+                              scenario.gear.internal, warnings);
+      add_cmm_effects(scenario.cmm, radial, scenario.gear.internal, chain);
+    }
+    scenario.effects = std::make_shared<const EffectChain>(std::move(chain));
   }
   if (const auto claims = top.find("claims")) {
     scenario.claims = read_claims(*claims, !scenario.effects->empty(), warnings);

@@ -24,6 +24,7 @@
 namespace gearmc {
 
 class EffectChain;  // engine/effects/measurement_effect.h
+struct CmmModel;    // engine/effects/cmm_effects.h
 
 // A flank whose real surface is a triangle mesh file (`surfaces:`, e.g. a scanned or CAD flank):
 // in every gear of a run it is probed instead of the analytic perturbed flank, so that flank's
@@ -65,6 +66,10 @@ struct Scenario {
   // never null (a default Scenario holds an empty chain). Code that uses the chain includes
   // engine/effects/measurement_effect.h.
   std::shared_ptr<const EffectChain> effects;
+  // `cmm:` — a CMM from its data sheet (docs/cmm.md): the section as read and the machines kept
+  // by its acceptance tests; null without the section. Its effects (`cmm_geometry`,
+  // `cmm_probing`) are in `effects`, after the section's own.
+  std::shared_ptr<const CmmModel> cmm;
   // `claims:` — accuracy claims `gearmc check` decides (claims.h); empty: none. Other commands
   // read and validate them but do not use them.
   std::vector<ClaimSpec> claims;

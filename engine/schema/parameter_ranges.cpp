@@ -397,9 +397,32 @@ const RangeTable& readings_ranges() {
   return table;
 }
 
+const RangeTable& machine_ranges() {
+  static const RangeTable table{
+      "cmm",
+      {{"cmm.mpe_e_um.A", "µm", closed(0, 1000), 0.3, 20,
+        "A of MPE_E = A + L/K: 0.3 µm (best CMMs) … 20 µm (shop-floor arms)", "nm?"},
+       {"cmm.mpe_e_um.K", "mm/µm", above(0, 1e6), 50, 2000,
+        "K of MPE_E = A + L/K: L/1000 (best CMMs) … L/50 (shop-floor arms)", "", false},
+       {"cmm.mpe_p_um", "µm", above(0, 1000), 0.3, 20,
+        "ISO 10360-5 MPE_P (P_FTU) of 0.3 µm … 20 µm", "nm?"},
+       {"cmm.travel_mm", "mm", above(0, 100000), 100, 10000,
+        "CMM travels of 100 mm … 10 m per axis", "m?"},
+       {"cmm.placement_mm", "mm", closed(-50000, 50000), -5000, 5000,
+        "within the travel (checked against it)", "µm?"},
+       {"cmm.stylus_length_mm", "mm", closed(0, 1000), 10, 300, "styli of 10 … 300 mm from the ram",
+        "µm?"},
+       {"cmm.machines", "", closed(10, 20000), 50, 5000,
+        "a U from fewer than 50 machines moves by more than 10 % between seeds", "", true},
+       {"cmm.order", "", closed(1, 8), 1, 5,
+        "smooth error functions over the travel; a high order is not what a data sheet says", "",
+        true}}};
+  return table;
+}
+
 std::vector<const RangeTable*> all_range_tables() {
   return {&gear_ranges(),   &tolerance_ranges(), &deviation_ranges(), &probing_ranges(),
-          &effect_ranges(), &claim_ranges(),     &readings_ranges()};
+          &effect_ranges(), &machine_ranges(),   &claim_ranges(),     &readings_ranges()};
 }
 
 std::string describe_range(const ParameterRange& range) {

@@ -54,6 +54,7 @@ const RangeTable& tolerance_ranges();  // overrides_um: "tolerance" (any symbol)
 const RangeTable& deviation_ranges();
 const RangeTable& probing_ranges();  // probing, stylus, run
 const RangeTable& effect_ranges();   // "effects.<effect>.<parameter>"
+const RangeTable& machine_ranges();  // "cmm.<key>" (a CMM from its data sheet)
 const RangeTable& claim_ranges();    // "claims.<key>" (gearmc check)
 const RangeTable& readings_ranges();
 std::vector<const RangeTable*> all_range_tables();

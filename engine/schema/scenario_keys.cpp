@@ -90,6 +90,9 @@ std::vector<ScenarioKey> make_table() {
       map_key("run", "50 gears", "the Monte-Carlo run"),
       list_key("surfaces", "none (analytic flanks)", "flanks whose real surface is a mesh file"),
       map_key("effects", "none", "measurement effects, in chain order"),
+      map_key("cmm", "none (the effects' own machine errors)",
+              "a CMM from its data sheet: machines drawn and kept by their acceptance tests, "
+              "each gear measured on one (docs/cmm.md)"),
       list_key("claims", "none", "accuracy claims that `gearmc check` decides"),
       map_key("evaluation", "none (no gear parameters)",
               "ISO 1328-1 gear parameters of every simulated measurement"),
@@ -183,6 +186,23 @@ std::vector<ScenarioKey> make_table() {
       number_key("stylus.shaft_diameter_mm", kNum, std::nullopt, "the shaft is not checked",
                  "the stylus shaft's (stem's) diameter, less than the ball's: the shaft (along "
                  "`shaft_axis`) is checked for collisions with the tooth space"),
+      choice_key("cmm.layout", {"bridge", "gantry", "horizontal_arm"}, "bridge",
+                 "the axes' stacking: bridge and gantry Y carries X carries Z, horizontal arm X "
+                 "carries Z carries Y"),
+      text_key("cmm.mpe_e_um", "required",
+               "ISO 10360-2's MPE_E as \"A + L/K\" (µm, L in mm), e.g. \"1.8 + L/300\""),
+      number_key("cmm.mpe_p_um", kNum, std::nullopt, "no probing part",
+                 "ISO 10360-5's MPE_P (P_FTU), µm: the kept machines' probes pass it"),
+      make_key("cmm.travel_mm", KeyType::kVector3, std::nullopt, "[700, 1000, 600]", {},
+               "the travel of x, y, z"),
+      make_key("cmm.placement_mm", KeyType::kVector3, std::nullopt, "[0, 0, 0]", {},
+               "where the gear's centre (on its lower face) stands, from the middle of the "
+               "travel"),
+      number_key("cmm.stylus_length_mm", kNum, 50, "",
+                 "the stylus's length from the ram's reference point (the Abbe arm)"),
+      bounded_integer("cmm.machines", 200, "", 10, 20000, "kept machines to draw"),
+      bounded_integer("cmm.order", 3, "", 1, 8,
+                      "highest Legendre order of the error functions over the travel"),
       choice_key("stylus.shaft_axis", {"z", "radial"}, "z",
                  "where the shaft points from the ball: z, parallel to the gear axis up past the "
                  "top face (probing from above); radial, horizontal along the radius out of the "
@@ -614,6 +634,9 @@ std::string scenario_keys_markdown() {
       case KeyType::kTeeth:
         type = "`all` or list of integers";
         allowed = "`all`, or tooth numbers 1 … z, each once";
+        break;
+      case KeyType::kVector3:
+        type = "three numbers [x, y, z]";
         break;
       case KeyType::kSymbols:
         type = "`all` or list of names";

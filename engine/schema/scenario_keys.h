@@ -28,6 +28,7 @@ enum class KeyType {
   kSymbolMap,  // a map from names (the symbols listed in `allowed`) to numbers
   kTeeth,      // `all` or a list of tooth numbers
   kSymbols,    // `all` or a list of names among `allowed`, each once
+  kVector3,    // three numbers [x, y, z] (range: parameter_ranges.h, for each)
 };
 
 struct ScenarioKey {

@@ -95,7 +95,7 @@ TEST(ScenarioErrorTest, UnknownTopLevelKeyWithHint) {
   EXPECT_EQ(e.key(), "sed");
   EXPECT_EQ(std::string(e.what()),
             "t.yaml:2:1: sed: got 'sed', expected a known key (the top level has: name, seed, "
-            "gear, tolerances, deviations, probing, stylus, run, surfaces, effects, claims, "
+            "gear, tolerances, deviations, probing, stylus, run, surfaces, effects, cmm, claims, "
             "evaluation); did you mean 'seed'?");
 }
 

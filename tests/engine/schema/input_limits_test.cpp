@@ -267,6 +267,21 @@ std::string with_value(const std::string& key, const std::string& value) {
     root["effects"]["empirical"]["axis"] = "face_position";
     root["effects"]["empirical"]["basis"] = "harmonic";
   }
+  if (parts[0] == "cmm") {  // its required MPE_E first; A and K are parts of its text
+    root["cmm"]["mpe_e_um"] = "1.8 + L/300";
+    if (parts.size() > 2 && parts[1] == "mpe_e_um") {
+      root["cmm"]["mpe_e_um"] = parts[2] == "A" ? value + " + L/300" : "1.8 + L/" + value;
+      YAML::Emitter out;
+      out << root;
+      return out.c_str();
+    }
+    if (parts[1] == "travel_mm" || parts[1] == "placement_mm") {  // three numbers, the first bad
+      root["cmm"][parts[1]] = YAML::Load("[" + value + ", 0, 0]");
+      YAML::Emitter out;
+      out << root;
+      return out.c_str();
+    }
+  }
   if (parts[0] == "claims") {  // a list of maps: one valid claim with the key set
     YAML::Node claim = YAML::Load(
         "{name: c, quantity: delta_rcomp.point, statistic: {quantile: 0.9}, at_most_um: 1}");
@@ -337,6 +352,10 @@ TEST(ParameterRangesTest, EveryScenarioNumberBeyondItsRangeIsAnInputErrorAtItsKe
         if (path == "tolerances.overrides_um.tolerance") path = "tolerances.overrides_um.F_r";
         if (path == "deviations.control_points") path = "deviations.profile.control_points";
         if (path.rfind("claims.", 0) == 0) path.replace(0, 7, "claims[0].");
+        if (path == "cmm.travel_mm" || path == "cmm.placement_mm") path += "[0]";
+        // A or K of MPE_E: the key the user wrote (a number too large to read is its form's
+        // error, a readable one its range's).
+        if (path == "cmm.mpe_e_um.A" || path == "cmm.mpe_e_um.K") path = "cmm.mpe_e_um";
         EXPECT_THAT(e.what(), HasSubstr(path + ": got '")) << r.key;
         EXPECT_GT(e.where().line, 0) << r.key;
         ++checked;
@@ -378,7 +397,9 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
                                           "normal_um",
                                           "axis",
                                           "basis",
-                                          "terms"};
+                                          "terms",
+                                          "layout",
+                                          "mpe_e_um"};
   std::set<std::string> keys;
   for (const RangeTable* table : all_range_tables()) {
     for (const ParameterRange& r : table->entries) keys.insert(r.key);
@@ -403,6 +424,7 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
   listed(kBase + "deviations: {bogus: 1}\n", "deviations");
   listed(kBase + "stylus: {bogus: 1}\n", "stylus");
   listed(kBase + "run: {bogus: 1}\n", "run");
+  listed(kBase + "cmm: {mpe_e_um: \"1.8 + L/300\", bogus: 1}\n", "cmm");
   for (const std::string& effect : effect_names()) {
     listed(kBase + "effects: {" + effect + ": {bogus: 1}}\n", "effects." + effect);
   }

@@ -1,0 +1,100 @@
+// A CMM from its data sheet (`cmm:`, docs/cmm.md): the constrained Monte Carlo of virtual CMMs
+// put into the effect chain. The section's MPE_E (ISO 10360-2), MPE_P (ISO 10360-5), layout and
+// travel are read, machines are drawn from the prior they scale and kept when they pass both
+// acceptance tests (engine/machine/machine_prior.h), and two effects measure every gear on one
+// kept machine, drawn per gear (uniformly among the kept ones, the same machine for both):
+//  * `cmm_geometry` (machine stage): the kept machine's 21 error functions move the recorded
+//    stylus centre by its tip error, the stylus offset's Abbe arms included;
+//  * `cmm_probing` (probe stage, only with MPE_P): its probe's pre-travel left after
+//    qualification, along the approach −n, and its touch scatter.
+// Their one parameter, `machine`, is the kept machine's index (uniform over [0, N), the machine
+// floor(value)); it is not a physical quantity, so their first-order signatures are zero (the
+// diagnosis does not fit it). Frames: gear frame = machine axes, mm; errors µm.
+// Engine-internal (exposes the YAML reader).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/yaml_reader.h"
+#include "engine/effects/measurement_effect.h"
+#include "engine/machine/machine_prior.h"
+
+namespace gearmc {
+
+// The `cmm:` section as read, and the machines it gave.
+struct CmmModel {
+  MachineLayout layout = MachineLayout::kBridge;
+  std::string mpe_e_text;  // as written, e.g. "1.8 + L/300"
+  LengthMpe mpe_e;
+  std::optional<double> mpe_p_um;
+  Eigen::Vector3d travel_mm = Eigen::Vector3d(700.0, 1000.0, 600.0);
+  Eigen::Vector3d placement_mm = Eigen::Vector3d::Zero();
+  double stylus_length_mm = 50.0;
+  int machines_wanted = 200;
+  int order = 3;
+  std::uint64_t seed = 1;  // the scenario's
+  ConstrainedMachines kept;
+};
+
+// Reads `cmm:` and draws its machines (seed: the scenario's). `gear_radius_mm`, `face_width_mm`
+// and the stylus (`radial_shaft`: along the radius, else along z) place the gear in the travel (a
+// gear that leaves it is an InputError). Throws
+// InputError with file:line:column for bad keys and values, and at `mpe_e_um` when the prior
+// cannot meet the data sheet (the acceptance rate in the message).
+std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t seed,
+                                         double gear_radius_mm, double face_width_mm,
+                                         bool radial_shaft, bool internal,
+                                         std::vector<std::string>* warnings);
+
+// Adds `cmm_geometry` (and `cmm_probing` with MPE_P) for `model` to `chain`.
+void add_cmm_effects(const std::shared_ptr<const CmmModel>& model, bool radial_shaft, bool internal,
+                     EffectChain& chain);
+
+// The stylus offset (mm, from the ram's reference point to the ball centre) for a ball centre at
+// `centre_mm`: −ℓ ẑ for a shaft along z (the scenario's `stylus.shaft_axis: z`); for a radial
+// shaft −ℓ r̂ on an external gear (the ram outside) and +ℓ r̂ on a ring gear (the ram towards the
+// axis), r̂ the radial unit vector.
+Eigen::Vector3d stylus_offset_mm(const Eigen::Vector3d& centre_mm, double length_mm,
+                                 bool radial_shaft, bool internal);
+
+class CmmGeometryEffect : public MeasurementEffect {
+ public:
+  CmmGeometryEffect(std::shared_ptr<const CmmModel> model, bool radial_shaft, bool internal);
+  std::string_view name() const override { return "cmm_geometry"; }
+  EffectStage stage() const override { return EffectStage::kMachine; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+  const CmmModel& model() const { return *model_; }
+
+ private:
+  std::shared_ptr<const CmmModel> model_;
+  bool radial_;
+  bool internal_;
+};
+
+class CmmProbingEffect : public MeasurementEffect {
+ public:
+  explicit CmmProbingEffect(std::shared_ptr<const CmmModel> model);
+  std::string_view name() const override { return "cmm_probing"; }
+  EffectStage stage() const override { return EffectStage::kProbe; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void apply_mean(const PointContext& point, std::span<const double> values,
+                  Eigen::Vector3d& centre_mm) const override;
+  PointLaw point_law(std::span<const double> values) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+
+ private:
+  std::shared_ptr<const CmmModel> model_;
+};
+
+// The kept machine a `machine` value names: floor(value) within [0, N).
+std::size_t cmm_machine_index(const CmmModel& model, double value);
+
+}  // namespace gearmc

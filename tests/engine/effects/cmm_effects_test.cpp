@@ -1,0 +1,206 @@
+// The `cmm:` section and its effects (engine/effects/cmm_effects.h): the section's keys and its
+// bad input (one InputError at the key, with file:line:column), the refusal when the prior cannot
+// meet the data sheet, one kept machine per gear named alike by both effects, and the effects'
+// displacement on hand-made machines against hand-computed values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "engine/effects/cmm_effects.h"
+#include "engine/scenario/scenario.h"
+#include "tests/support/run_gearmc.h"
+#include "tests/support/scenario_input.h"
+#include "tests/support/temp_paths.h"
+
+namespace gearmc {
+namespace {
+
+using testing_support::expect_at;
+using testing_support::kGear;
+using testing_support::parse_error;
+
+const std::string kCmm =
+    "cmm:\n"
+    "  mpe_e_um: \"1.8 + L/300\"\n"
+    "  mpe_p_um: 1.7\n"
+    "  machines: 20\n";
+
+TEST(CmmSection, ReadsTheDataSheetAndPutsTwoEffectsInTheChain) {
+  const Scenario s = parse_scenario(kGear + kCmm, "t.yaml");
+  ASSERT_TRUE(s.cmm);
+  EXPECT_EQ(s.cmm->kept.kept.size(), 20u);
+  EXPECT_DOUBLE_EQ(s.cmm->mpe_e.at(300.0), 2.8);
+  EXPECT_EQ(s.cmm->layout, MachineLayout::kBridge);
+  EXPECT_DOUBLE_EQ(s.cmm->stylus_length_mm, 50.0);  // the key table's default
+  ASSERT_EQ(s.effects->size(), 2u);
+  EXPECT_GE(s.effects->find("cmm_geometry"), 0);
+  EXPECT_GE(s.effects->find("cmm_probing"), 0);
+  // Without MPE_P: no probing part.
+  const Scenario g =
+      parse_scenario(kGear + "cmm: {mpe_e_um: \"2.5 + L/250\", machines: 10}\n", "t.yaml");
+  EXPECT_EQ(g.effects->size(), 1u);
+  EXPECT_LT(g.effects->find("cmm_probing"), 0);
+  // The scenario's seed draws the machines.
+  const Scenario other = parse_scenario("seed: 2\n" + kGear + kCmm, "t.yaml");
+  EXPECT_NE(other.cmm->kept.kept[0].squareness_xy_urad, s.cmm->kept.kept[0].squareness_xy_urad);
+}
+
+TEST(CmmSection, BothEffectsMeasureAGearOnTheSameMachineAndEveryMachineIsUsed) {
+  const Scenario s = parse_scenario(kGear + kCmm, "t.yaml");
+  const int geometry = s.effects->find("cmm_geometry");
+  const int probing = s.effects->find("cmm_probing");
+  std::vector<int> used(20, 0);
+  for (int gear = 0; gear < 1000; ++gear) {
+    const EffectValues v = s.effects->draw(s.seed, gear);
+    const std::size_t a = cmm_machine_index(*s.cmm, v[static_cast<std::size_t>(geometry)][0]);
+    const std::size_t b = cmm_machine_index(*s.cmm, v[static_cast<std::size_t>(probing)][0]);
+    ASSERT_EQ(a, b) << gear;
+    ++used[a];
+  }
+  // Uniform over 20 machines: 50 each expected, σ = √(1000 · 0.05 · 0.95) = 6.9; every count
+  // within ±4.5 σ (a false alarm for any of the 20 below 1e-4).
+  for (int count : used) {
+    EXPECT_GT(count, 19);
+    EXPECT_LT(count, 81);
+  }
+}
+
+// A model holding one hand-made machine (and its probe).
+std::shared_ptr<CmmModel> one_machine(const KinematicMachine& m, const CmmProbe& probe = {}) {
+  auto model = std::make_shared<CmmModel>();
+  model->kept.kept = {m};
+  model->kept.probes = {probe};
+  model->mpe_p_um = 1.0;
+  return model;
+}
+
+TEST(CmmGeometry, MovesTheCentreByTheHandComputedTipError) {
+  // Bridge, travel 700 × 1000 × 600 mm. The x axis: positioning δ_x = c₁ P₁(u) with c₁ = 2 µm,
+  // u = q_x / 350 mm, and a constant pitch ε_y = 10 µrad of the x carriage. The stylus 50 mm
+  // along −z; the ball centre at (60, 10, 5) mm gives q = (60, 10, 55) mm. The x carriage
+  // carries z, so its Abbe arm is t + q_z ẑ = (0, 0, 5) mm: ε × arm = (10 · 5, 0, 0) µrad·mm =
+  // 0.05 µm along x. Tip error: (2 · 60/350 + 0.05, 0, 0) µm.
+  KinematicMachine m;
+  m.axes[0].translation_um[0] = {0.0, 2.0};
+  m.axes[0].rotation_urad[1] = {10.0};
+  const CmmGeometryEffect effect(one_machine(m), false, false);
+  PointContext point;
+  point.p = Eigen::Vector3d(59.5, 10.0, 5.0);
+  point.n = Eigen::Vector3d(1.0, 0.0, 0.0);
+  Eigen::Vector3d centre(60.0, 10.0, 5.0);
+  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
+  const std::vector<double> values = {0.4};
+  effect.apply(point, values, centre, rng);
+  EXPECT_NEAR((centre.x() - 60.0) * 1e3, 2.0 * 60.0 / 350.0 + 0.05, 1e-9);
+  EXPECT_NEAR(centre.y(), 10.0, 1e-15);
+  EXPECT_NEAR(centre.z(), 5.0, 1e-15);
+  // The index is not a physical quantity: no signature.
+  double out[1] = {1.0};
+  effect.signature(point, values, out);
+  EXPECT_EQ(out[0], 0.0);
+}
+
+TEST(CmmGeometry, TheStylusOffsetFollowsTheShaft) {
+  const Eigen::Vector3d c(30.0, 40.0, 7.0);  // radius 50 mm, r̂ = (0.6, 0.8, 0)
+  EXPECT_TRUE(stylus_offset_mm(c, 50.0, false, false).isApprox(Eigen::Vector3d(0, 0, -50)));
+  EXPECT_TRUE(stylus_offset_mm(c, 50.0, true, false).isApprox(Eigen::Vector3d(-30, -40, 0)));
+  EXPECT_TRUE(stylus_offset_mm(c, 50.0, true, true).isApprox(Eigen::Vector3d(30, 40, 0)));
+}
+
+TEST(CmmProbing, PretravelAlongTheApproachAndTheTouchScatterAsItsLaw) {
+  // Two lobes a = 0.5 µm, maximum along x. A flank point with n = −x̂ is approached along +x̂
+  // (φ = 0, horizontal): p = 0.5 µm further along the approach, the reading 0.5 µm smaller.
+  CmmProbe probe;
+  probe.cos_um[0] = 0.5;
+  probe.noise_um = 0.3;
+  const CmmProbingEffect effect(one_machine(KinematicMachine{}, probe));
+  PointContext point;
+  point.n = Eigen::Vector3d(-1.0, 0.0, 0.0);
+  point.p = Eigen::Vector3d(80.0, 0.0, 10.0);
+  point.stylus_radius_mm = 0.5;
+  const Eigen::Vector3d start = point.p + point.stylus_radius_mm * point.n;
+  Eigen::Vector3d centre = start;
+  const std::vector<double> values = {0.0};
+  effect.apply_mean(point, values, centre);
+  EXPECT_NEAR(reading_um(point, centre), -0.5, 1e-9);
+  // Approached along +ŷ (φ = 90°): cos 180° = −1, the reading 0.5 µm larger.
+  point.n = Eigen::Vector3d(0.0, -1.0, 0.0);
+  centre = point.p + point.stylus_radius_mm * point.n;
+  effect.apply_mean(point, values, centre);
+  EXPECT_NEAR(reading_um(point, centre), 0.5, 1e-9);
+  EXPECT_DOUBLE_EQ(effect.point_law(values).gaussian_variance_um2, 0.09);
+}
+
+// ---- bad input ----------------------------------------------------------------------------
+
+TEST(CmmSection, BadInputIsOneErrorAtTheKey) {
+  // kGear is lines 1–4, `cmm:` line 5, its first key line 6.
+  {
+    const InputError e = parse_error(kGear + "cmm:\n  mpe_e_um: \"1.8 + L\"\n");
+    expect_at(e, 6, 13);
+    EXPECT_NE(std::string(e.what()).find("cmm.mpe_e_um: got '1.8 + L', expected MPE_E as"),
+              std::string::npos)
+        << e.what();
+  }
+  {
+    const InputError e = parse_error(kGear + "cmm:\n  mpe_e: \"1.8 + L/300\"\n");
+    expect_at(e, 6, 3);
+    EXPECT_NE(std::string(e.what()).find("mpe_e_um"), std::string::npos) << e.what();  // hint
+  }
+  {
+    const InputError e = parse_error(kGear + "cmm:\n  machines: 20\n");
+    EXPECT_NE(std::string(e.what()).find("mpe_e_um"), std::string::npos) << e.what();
+  }
+  {
+    const InputError e =
+        parse_error(kGear + "cmm:\n  mpe_e_um: \"1.8 + L/300\"\n  travel_mm: [700, 1000]\n");
+    expect_at(e, 7, 14);
+    EXPECT_NE(std::string(e.what()).find("three numbers"), std::string::npos) << e.what();
+  }
+  {
+    const InputError e =
+        parse_error(kGear + "cmm:\n  mpe_e_um: \"1.8 + L/300\"\n  layout: portal\n");
+    expect_at(e, 7, 11);
+  }
+  {
+    const InputError e = parse_error(kGear + "cmm:\n  mpe_e_um: \"1.8 + L/300\"\n  machines: 5\n");
+    expect_at(e, 7, 13);
+  }
+  {
+    // P1's gear (tip radius 77.8 mm) placed at x = 300 mm on a 700 mm travel leaves it.
+    const InputError e = parse_error(kGear +
+                                     "cmm:\n  mpe_e_um: \"1.8 + L/300\"\n  placement_mm: [300, "
+                                     "0, 0]\n");
+    expect_at(e, 7, 17);
+    EXPECT_NE(std::string(e.what()).find("inside the travel"), std::string::npos) << e.what();
+  }
+  {
+    // A data sheet the prior cannot meet: refused at the MPE with the counts.
+    // (A = 0 leaves nothing for the probe's even lobes and the short lengths.)
+    const InputError e = parse_error(kGear + "cmm:\n  mpe_e_um: \"0 + L/300\"\n  mpe_p_um: 0.3\n");
+    expect_at(e, 6, 13);
+    EXPECT_NE(std::string(e.what()).find("of 2000 drawn machines passed"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(CmmSection, TheCommandExitsWithTwoAndWritesNothing) {
+  const std::string dir = testing_support::fresh_temp_path("cmm_bad");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir + "/s.yaml");
+    f << kGear << "cmm:\n  mpe_e_um: \"0 + L/300\"\n  mpe_p_um: 0.3\n";
+  }
+  const auto r = testing_support::run_gearmc("run " + dir + "/s.yaml --out " + dir + "/out");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("s.yaml:6:13: cmm.mpe_e_um"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+}
+
+}  // namespace
+}  // namespace gearmc

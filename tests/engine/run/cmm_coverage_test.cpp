@@ -1,0 +1,144 @@
+// The validation of a CMM from its data sheet (docs/cmm.md, "Validation"), in the spirit of
+// ISO/TS 15530-4: "true" machines are drawn independently of the method (their own seed) from the
+// same prior and kept by the same acceptance tests — real CMMs that passed their verification —
+// and hidden from it; the method sees only the data sheet, draws its own machines and states each
+// gear parameter's U. Each hidden machine then measures one gear the method never saw, and the
+// test counts how often the error of the gear's parameters (measured − true, dense trace) lies
+// within the stated U. Coverage is reported with its 95 % Wilson interval.
+//
+// What ±U promises is the fraction of the method's own errors within ±U (U = 2√(u² + bias²) is
+// not an exact 95 % bound for a skewed or heavy-tailed law: 0.93 … 0.96 here). The test checks
+// that the hidden machines' coverage agrees with that promise: per parameter, |hidden − own| ≤
+// 3.29 binomial standard errors (two-sided α = 0.001 per parameter, 0.007 for the seven; the own
+// fraction, from 9 600 or 400 items, is taken as exact — it adds at most 5 % to the variance for
+// the profile and helix parameters, and F_p, F_r's 400 give α ≈ 0.002), and pooled over the
+// parameters the coverage of ±U lies in [0.93, 0.97]. A method whose machines are not
+// constrained, or that leaves the probe out, fails it (docs/cmm.md gives the numbers).
+// Seeds: the method's machines and gears come from the scenario's seed 1; the hidden machines
+// from seed 0x5EC2E7 (their TrialStreams); the hidden machines' gears are gears 400 … 799.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/effects/cmm_effects.h"
+#include "engine/reports/parameter_report.h"
+#include "engine/run/monte_carlo.h"
+#include "engine/scenario/scenario.h"
+#include "tests/support/scenario_input.h"
+
+namespace gearmc {
+namespace {
+
+constexpr int kMethodGears = 400;
+constexpr int kHidden = 400;
+constexpr std::uint64_t kHiddenSeed = 0x5EC2E7;
+
+const std::string kScenario = testing_support::kGear +
+                              "run: {gears: 400}\n"
+                              "evaluation: {parameters: [F_alpha, f_Halpha, F_beta, f_Hbeta, "
+                              "f_pt, F_p, F_r]}\n"
+                              "cmm:\n"
+                              "  mpe_e_um: \"1.8 + L/300\"\n"
+                              "  mpe_p_um: 1.7\n"
+                              "  machines: 200\n";
+
+// Wilson's 95 % interval for k successes in n.
+std::pair<double, double> wilson(int k, int n) {
+  const double z = 1.959964, p = static_cast<double>(k) / n, nn = n;
+  const double centre = (p + z * z / (2 * nn)) / (1 + z * z / nn);
+  const double half = z * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn)) / (1 + z * z / nn);
+  return {centre - half, centre + half};
+}
+
+struct Coverage {
+  std::vector<int> covered;      // per parameter of the presentation: |error| ≤ U
+  std::vector<int> in_interval;  // the error within the stated symmetric 95 % interval
+  int cases = 0;
+};
+
+// Measures gear kMethodGears + i on each hidden machine i and counts, per parameter, how often
+// the error of one of its items (left flank or side; F_r: the gear's) lies within the stated U.
+Coverage hidden_coverage(const Scenario& method, const ParameterPresentation& stated,
+                         const ConstrainedMachines& hidden) {
+  Coverage c;
+  c.covered.assign(stated.parameters.size(), 0);
+  c.in_interval.assign(stated.parameters.size(), 0);
+  for (std::size_t i = 0; i < hidden.kept.size(); ++i) {
+    auto model = std::make_shared<CmmModel>(*method.cmm);
+    model->kept.kept = {hidden.kept[i]};
+    model->kept.probes = {hidden.probes[i]};
+    EffectChain chain;
+    add_cmm_effects(model, method.stylus_shaft_axis == ShaftAxis::kRadial, method.gear.internal,
+                    chain);
+    Scenario truth = method;
+    truth.cmm = model;
+    truth.effects = std::make_shared<const EffectChain>(std::move(chain));
+    const MonteCarloRun run(truth);
+    const GearOutcome g = run.measure_gear(kMethodGears + static_cast<int>(i), false);
+    for (std::size_t p = 0; p < stated.parameters.size(); ++p) {
+      const ParameterSummary& s = stated.parameters[p];
+      // The stated U is every flank's (tooth's, gear's): case i takes item i mod the items.
+      const auto& items = g.parameters->values[static_cast<int>(s.parameter)][0];
+      const ParameterValue& v = items.at(i % items.size());
+      const double error = v.measured - v.true_dense;
+      if (std::abs(error) <= s.sides.at(0).U95_um) ++c.covered[p];
+      const auto& interval = s.sides.at(0).symmetric95;
+      if (interval && error >= interval->lo && error <= interval->hi) ++c.in_interval[p];
+    }
+    ++c.cases;
+  }
+  return c;
+}
+
+TEST(CmmCoverage, StatedUCoversHiddenMachinesErrors) {
+  const Scenario method = parse_scenario(kScenario, "coverage.yaml");
+  const MonteCarloRun mc(method);
+  RunOptions options;
+  const RunResults results = mc.run(options);
+  const std::optional<ParameterPresentation> stated = present_parameters(mc, results);
+  ASSERT_TRUE(stated);
+
+  const MachinePrior prior = [&] {
+    MachinePrior p = prior_for(method.cmm->mpe_e, method.cmm->layout, method.cmm->travel_mm);
+    p.order = method.cmm->order;
+    return p;
+  }();
+  LengthTestOptions test;
+  test.stylus_mm = Eigen::Vector3d(0.0, 0.0, -method.cmm->stylus_length_mm);
+  ConstrainedMachines hidden =
+      draw_constrained(prior, method.cmm->mpe_e, kHidden, 40000, kHiddenSeed, test,
+                       probe_prior_for(*method.cmm->mpe_p_um));
+  ASSERT_FALSE(hidden.refused) << hidden.why;
+  const Coverage c = hidden_coverage(method, *stated, hidden);
+  int pooled = 0;
+  for (std::size_t p = 0; p < stated->parameters.size(); ++p) {
+    const auto [lo, hi] = wilson(c.covered[p], c.cases);
+    const ParameterSideSummary& side = stated->parameters[p].sides.at(0);
+    // The method's own errors within ±U: what ±U promises for this law.
+    const double own =
+        static_cast<double>(std::count_if(side.errors.begin(), side.errors.end(),
+                                          [&](double e) { return std::abs(e) <= side.U95_um; })) /
+        static_cast<double>(side.errors.size());
+    std::printf(
+        "coverage %-9s %3d of %d = %.3f  [%.3f, %.3f]  (U %.3f µm, own %.3f)  interval %.3f\n",
+        parameter_symbol(stated->parameters[p].parameter).c_str(), c.covered[p], c.cases,
+        static_cast<double>(c.covered[p]) / c.cases, lo, hi, side.U95_um, own,
+        static_cast<double>(c.in_interval[p]) / c.cases);
+    const double hidden_fraction = static_cast<double>(c.covered[p]) / c.cases;
+    const double se = std::sqrt(own * (1.0 - own) / c.cases);
+    EXPECT_LE(std::abs(hidden_fraction - own), 3.29 * se)
+        << parameter_symbol(stated->parameters[p].parameter);
+    pooled += c.covered[p];
+  }
+  const int cases = c.cases * static_cast<int>(stated->parameters.size());
+  const auto [lo, hi] = wilson(pooled, cases);
+  std::printf("coverage pooled    %4d of %d = %.3f  [%.3f, %.3f]\n", pooled, cases,
+              static_cast<double>(pooled) / cases, lo, hi);
+  EXPECT_GE(static_cast<double>(pooled) / cases, 0.93);
+  EXPECT_LE(static_cast<double>(pooled) / cases, 0.97);
+}
+
+}  // namespace
+}  // namespace gearmc
