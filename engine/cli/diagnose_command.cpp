@@ -23,6 +23,7 @@
 #include "engine/apps/diagnose/diagnosis_report.h"
 #include "engine/apps/diagnose/fitted_scenario.h"
 #include "engine/apps/diagnose/readings_check.h"
+#include "engine/effects/cmm_effects.h"
 #include "engine/readings/dmis_results.h"
 #include "engine/readings/point_matching.h"
 #include "engine/readings/point_table.h"
@@ -84,6 +85,15 @@ void append_readings(Readings& all, Readings&& more, const std::vector<std::stri
 int diagnose_command(const DiagnoseCommandOptions& o, std::ostream& out, std::ostream& err) {
   // Inputs first: nothing is created or written unless both are good.
   const Scenario model = load_scenario_file(o.model_path);
+  if (model.cmm) {
+    // A `cmm:` section is a population of machines that pass a data sheet, not one machine: the
+    // model would predict the readings of whichever kept machine the nominal draw names.
+    throw InputError(model.cmm->where, "cmm", "",
+                     "a model with definite machine effects: diagnose compares readings with one "
+                     "machine, and a `cmm:` section describes every machine that passes the data "
+                     "sheet (docs/cmm.md) — give the machine's effects under `effects:`, or leave "
+                     "the section out to diagnose against the gear and probe alone");
+  }
   // A DMIS output file (the results of `gearmc export-plan`'s program): its points were
   // compensated with the ball the model names. With --columns, a CMM's point table, likewise.
   // Each --measured file: a label-free table (columns x, y, z) is matched to the model's flanks

@@ -73,6 +73,7 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
   const RangeTable& ranges = machine_ranges();
   auto model = std::make_shared<CmmModel>();
   model->seed = seed;
+  model->where = section.key_location();
   if (const auto layout = map.get_choice("layout", key_choices("cmm.layout"))) {
     model->layout = parse_machine_layout(*layout);
   }

@@ -36,6 +36,7 @@ struct CmmModel {
   int machines_wanted = 200;
   int order = 3;
   std::uint64_t seed = 1;  // the scenario's
+  InputLocation where;     // the `cmm:` key (for messages of commands that refuse the section)
   ConstrainedMachines kept;
 };
 

@@ -64,6 +64,8 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
         << scenario.stylus_radius_mm << " mm, seed " << scenario.seed << ". δRcomp = |C − E|: "
         << "distance between the true contact point and the point the CMM reports.";
   report.paragraph(intro.str());
+  // The machine the gears were measured on comes before what they gave (docs/cmm.md).
+  if (scenario.cmm) report.paragraph(cmm_summary_sentence(*scenario.cmm));
   for (const FlankMeshSurface& surface : scenario.surfaces) {
     std::ostringstream mesh;
     mesh << "Flank " << surface.tooth << side_letter(surface.side) << " is the mesh "
@@ -116,7 +118,6 @@ std::string run_report_html(const Scenario& scenario, const RunResults& r,
             format_stat(100.0 * l.share) + " %", l.alone ? format_stat(l.alone->stddev()) : ""}});
     }
     report.table(budget);
-    if (scenario.cmm) report.paragraph(cmm_summary_sentence(*scenario.cmm));
   }
   if (is_p1_setup(scenario)) {
     const double worst = std::max(r.flank_max[0].moments.max(), r.flank_max[1].moments.max());

@@ -202,5 +202,24 @@ TEST(CmmSection, TheCommandExitsWithTwoAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
 }
 
+TEST(CmmSection, DiagnoseRefusesAPopulationOfMachinesAsItsModel) {
+  // diagnose compares readings with one machine; a `cmm:` section is every machine that passes
+  // the data sheet — refused at the section's key, before anything is read or written.
+  const std::string dir = testing_support::fresh_temp_path("cmm_diagnose");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir + "/m.yaml");
+    f << kGear << kCmm;
+  }
+  const auto r = testing_support::run_gearmc("diagnose --model " + dir + "/m.yaml --measured " +
+                                             dir + "/none.csv --out " + dir + "/out");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("m.yaml:5:1: cmm: expected a model with definite machine effects"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+}
+
 }  // namespace
 }  // namespace gearmc
