@@ -402,7 +402,7 @@ const RangeTable& machine_ranges() {
       "cmm",
       {{"cmm.mpe_e_um.A", "µm", closed(0, 1000), 0.3, 20,
         "A of MPE_E = A + L/K: 0.3 µm (best CMMs) … 20 µm (shop-floor arms)", "nm?"},
-       {"cmm.mpe_e_um.K", "mm/µm", above(0, 1e6), 50, 2000,
+       {"cmm.mpe_e_um.K", "mm/µm", closed(1, 100000), 50, 2000,
         "K of MPE_E = A + L/K: L/1000 (best CMMs) … L/50 (shop-floor arms)", "", false},
        {"cmm.mpe_p_um", "µm", above(0, 1000), 0.3, 20,
         "ISO 10360-5 MPE_P (P_FTU) of 0.3 µm … 20 µm", "nm?"},
