@@ -3,10 +3,16 @@
 #include "engine/effects/cmm_effects.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/input_file.h"
+#include "core/number_text.h"
+#include "core/text_lines.h"
 #include "engine/schema/parameter_ranges.h"
 #include "engine/schema/scenario_keys.h"
 
@@ -48,6 +54,35 @@ std::string mm_text(double v) {
 
 }  // namespace
 
+namespace {
+
+// The machine's error on the gear's axis at z = 0 and z = b (the datum's two ends).
+std::array<Eigen::Vector3d, 2> axis_errors_um(const KinematicMachine& machine,
+                                              const Eigen::Vector3d& stylus_mm,
+                                              double face_width_mm) {
+  return {machine.tip_error_um(Eigen::Vector3d::Zero(), stylus_mm),
+          machine.tip_error_um(Eigen::Vector3d(0.0, 0.0, face_width_mm), stylus_mm)};
+}
+
+Eigen::Vector3d relative_to_datum(const Eigen::Vector3d& error_um,
+                                  const std::array<Eigen::Vector3d, 2>& axis, double z_mm,
+                                  double face_width_mm) {
+  const double f = face_width_mm > 0.0 ? z_mm / face_width_mm : 0.0;
+  Eigen::Vector3d datum = axis[0] + f * (axis[1] - axis[0]);
+  datum.z() = axis[0].z();  // the lower face is the z datum
+  return error_um - datum;
+}
+
+}  // namespace
+
+Eigen::Vector3d datum_relative_error_um(const KinematicMachine& machine,
+                                        const Eigen::Vector3d& centre_mm,
+                                        const Eigen::Vector3d& stylus_mm, double face_width_mm) {
+  return relative_to_datum(machine.tip_error_um(centre_mm, stylus_mm),
+                           axis_errors_um(machine, stylus_mm, face_width_mm), centre_mm.z(),
+                           face_width_mm);
+}
+
 std::size_t cmm_machine_index(const CmmModel& model, double value) {
   const std::size_t n = model.kept.kept.size();
   if (n == 0) throw std::logic_error("cmm: no kept machine");
@@ -65,6 +100,111 @@ Eigen::Vector3d stylus_offset_mm(const Eigen::Vector3d& centre_mm, double length
   return (internal ? length_mm : -length_mm) * radial;
 }
 
+std::vector<VerificationRow> read_verification_table(const std::string& text,
+                                                     const std::string& source,
+                                                     const Eigen::Vector3d& travel_mm,
+                                                     std::optional<double> default_u_um) {
+  const std::vector<LengthTestPosition> positions = length_test_positions(travel_mm);
+  std::string names;
+  for (const LengthTestPosition& p : positions) names += (names.empty() ? "" : ", ") + p.name;
+  TextLines lines(text, source, 4096, "a verification table");
+  TextLine line;
+  // The fields of a line with the column where each starts (1-based).
+  const auto split = [](const std::string& t) {
+    std::vector<std::pair<std::string, int>> out;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = t.find(',', start);
+      const std::size_t end = comma == std::string::npos ? t.size() : comma;
+      std::size_t a = start, b = end;
+      while (a < b && (t[a] == ' ' || t[a] == '\t')) ++a;
+      while (b > a && (t[b - 1] == ' ' || t[b - 1] == '\t')) --b;
+      out.emplace_back(t.substr(a, b - a), static_cast<int>(a) + 1);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    return out;
+  };
+  int col_position = -1, col_length = -1, col_error = -1, col_u = -1;
+  bool header = false;
+  std::vector<VerificationRow> rows;
+  const std::string header_text = "a header position,length_mm,error_um[,u_um]";
+  while (lines.next(&line)) {
+    const std::string& t = line.text;
+    const std::size_t first = t.find_first_not_of(" \t");
+    if (first == std::string::npos || t[first] == '#') continue;
+    const auto fields = split(t);
+    if (!header) {
+      for (std::size_t c = 0; c < fields.size(); ++c) {
+        const std::string& f = fields[c].first;
+        int* slot = f == "position"    ? &col_position
+                    : f == "length_mm" ? &col_length
+                    : f == "error_um"  ? &col_error
+                    : f == "u_um"      ? &col_u
+                                       : nullptr;
+        if (slot == nullptr || *slot >= 0) {
+          throw InputError({source, line.number, fields[c].second}, "header", f,
+                           slot ? header_text + ", each column once" : header_text);
+        }
+        *slot = static_cast<int>(c);
+      }
+      if (col_position < 0 || col_length < 0 || col_error < 0) {
+        throw InputError({source, line.number, 1}, "header", t, header_text);
+      }
+      if (col_u < 0 && !default_u_um) {
+        throw InputError({source, line.number, 1}, "header", t,
+                         "a u_um column (the measured errors' standard uncertainty, µm), or "
+                         "cmm.verification_u_um in the scenario");
+      }
+      header = true;
+      continue;
+    }
+    const std::size_t needed =
+        static_cast<std::size_t>(std::max({col_position, col_length, col_error, col_u})) + 1;
+    if (fields.size() != needed) {
+      throw InputError({source, line.number, 1}, "row", t,
+                       std::to_string(needed) + " fields, as the header has");
+    }
+    const auto number = [&](int column, const char* key, double lo, double hi,
+                            const std::string& expected) {
+      const auto& [f, at] = fields[static_cast<std::size_t>(column)];
+      char* end = nullptr;
+      const double v = f.empty() ? 0.0 : std::strtod(f.c_str(), &end);
+      if (f.empty() || end != f.c_str() + f.size() || !std::isfinite(v) || v < lo || v > hi) {
+        throw InputError({source, line.number, at}, key, f, expected);
+      }
+      return v;
+    };
+    VerificationRow row;
+    const auto& [name, name_at] = fields[static_cast<std::size_t>(col_position)];
+    row.position = -1;
+    for (std::size_t p = 0; p < positions.size(); ++p) {
+      if (positions[p].name == name) row.position = static_cast<int>(p);
+    }
+    if (row.position < 0) {
+      throw InputError({source, line.number, name_at}, "position", name,
+                       "an ISO 10360-2 position: " + names);
+    }
+    const double line_mm = positions[static_cast<std::size_t>(row.position)].line_mm;
+    row.length_mm = number(col_length, "length_mm", 1e-3, line_mm,
+                           "a length > 0 within the " + name + " line through the travel (" +
+                               shortest_text(line_mm) + " mm)");
+    row.error_um =
+        number(col_error, "error_um", -1000.0, 1000.0, "an error in µm from -1000 to 1000");
+    row.u_um = col_u >= 0 ? number(col_u, "u_um", 1e-6, 100.0,
+                                   "a standard uncertainty in µm > 0 and <= 100")
+                          : *default_u_um;
+    rows.push_back(row);
+  }
+  if (rows.empty()) {
+    throw InputError({source, std::max(1, line.number), 1},
+                     header ? source + ": no measured length error after the header"
+                            : source + ": expected a verification table: " + header_text +
+                                  ", then one row per measured length");
+  }
+  return rows;
+}
+
 std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t seed,
                                          double gear_radius_mm, double face_width_mm,
                                          bool radial_shaft, bool internal,
@@ -73,6 +213,7 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
   const RangeTable& ranges = machine_ranges();
   auto model = std::make_shared<CmmModel>();
   model->seed = seed;
+  model->face_width_mm = face_width_mm;
   model->where = section.key_location();
   if (const auto layout = map.get_choice("layout", key_choices("cmm.layout"))) {
     model->layout = parse_machine_layout(*layout);
@@ -108,6 +249,30 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
   model->order =
       static_cast<int>(get_ranged_int(map, "order", ranges.at("cmm.order"), warnings)
                            .value_or(static_cast<std::int64_t>(number_default("cmm.order"))));
+
+  // The user's verification results (docs/cmm.md): read, and the prior conditioned on them.
+  const std::optional<double> default_u =
+      get_ranged(map, "verification_u_um", ranges.at("cmm.verification_u_um"), warnings);
+  if (const auto table = map.find("verification")) {
+    const std::string written = table->as_string();
+    if (written.empty()) throw table->error("a verification table (a CSV file)");
+    model->verification_written = written;
+    const std::filesystem::path file(written);
+    const std::filesystem::path folder = std::filesystem::path(section.file()).parent_path();
+    model->verification_path =
+        file.is_absolute() || folder.empty() ? file.string() : (folder / file).string();
+    if (const auto why =
+            unreadable_input_reason(model->verification_path, "verification table", 16u << 20)) {
+      throw table->error("a readable verification table (" + *why + ")");
+    }
+    const std::string text =
+        read_input_file(model->verification_path, "verification table", 16u << 20);
+    model->verification =
+        read_verification_table(text, model->verification_path, model->travel_mm, default_u);
+  } else if (default_u) {
+    throw map.find("verification_u_um")
+        ->error("no value without `verification:` (it is that table's u)");
+  }
 
   // The gear must lie inside the travel: outside it the error functions (Legendre series over
   // the travel) would be extrapolated.
@@ -151,8 +316,23 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
   const ProbePrior probe = model->mpe_p_um ? probe_prior_for(*model->mpe_p_um) : ProbePrior{};
   // An acceptance rate below 1 % is refused: the prior would then say more than the data sheet.
   const int max_draws = std::max(2000, 100 * model->machines_wanted);
+  if (!model->verification.empty()) {
+    model->posterior = std::make_shared<const MachinePosterior>(
+        verification_posterior(prior, probe, model->verification, test));
+    if (model->posterior->p_value < 1e-3 && warnings != nullptr) {
+      std::ostringstream w;
+      w.precision(3);
+      w << "the measured length errors are unlike those of the prior's machines (χ² = "
+        << model->posterior->chi_square << " for " << model->verification.size()
+        << " rows, p = " << model->posterior->p_value
+        << "): the machines follow them only as far as the prior lets them — check the table's "
+           "sign (measured − calibrated length), its units (µm) and u_um";
+      warnings->push_back(
+          InputError(map.find("verification")->location(), "cmm.verification: " + w.str()).what());
+    }
+  }
   model->kept = draw_constrained(prior, model->mpe_e, model->machines_wanted, max_draws, seed, test,
-                                 probe, 0.01);
+                                 probe, 0.01, model->posterior.get());
   if (model->kept.refused) {
     throw InputError(mpe.location(), mpe.path(), model->mpe_e_text,
                      "a data sheet the machine prior can meet; " + model->kept.why);
@@ -173,14 +353,26 @@ CmmGeometryEffect::CmmGeometryEffect(std::shared_ptr<const CmmModel> model, bool
     : MeasurementEffect({machine_parameter(static_cast<int>(model->kept.kept.size()))}),
       model_(std::move(model)),
       radial_(radial_shaft),
-      internal_(internal) {}
+      internal_(internal) {
+  if (!radial_) {
+    const Eigen::Vector3d t(0.0, 0.0, -model_->stylus_length_mm);
+    for (const KinematicMachine& m : model_->kept.kept) {
+      axis_errors_.push_back(axis_errors_um(m, t, model_->face_width_mm));
+    }
+  }
+}
 
 void CmmGeometryEffect::apply(const PointContext&, std::span<const double> values,
                               Eigen::Vector3d& centre_mm, RandomStream&) const {
-  const KinematicMachine& m = model_->kept.kept[cmm_machine_index(*model_, values[0])];
+  const std::size_t i = cmm_machine_index(*model_, values[0]);
+  const KinematicMachine& m = model_->kept.kept[i];
   const Eigen::Vector3d t =
       stylus_offset_mm(centre_mm, model_->stylus_length_mm, radial_, internal_);
-  centre_mm += 1e-3 * m.tip_error_um(centre_mm, t);
+  // A stylus along z is the same at every point: its datum errors were computed once.
+  const std::array<Eigen::Vector3d, 2> axis =
+      radial_ ? axis_errors_um(m, t, model_->face_width_mm) : axis_errors_[i];
+  centre_mm += 1e-3 * relative_to_datum(m.tip_error_um(centre_mm, t), axis, centre_mm.z(),
+                                        model_->face_width_mm);
 }
 
 void CmmGeometryEffect::signature(const PointContext&, std::span<const double>,

@@ -4,7 +4,8 @@
 // acceptance tests (engine/machine/machine_prior.h), and two effects measure every gear on one
 // kept machine, drawn per gear (uniformly among the kept ones, the same machine for both):
 //  * `cmm_geometry` (machine stage): the kept machine's 21 error functions move the recorded
-//    stylus centre by its tip error, the stylus offset's Abbe arms included;
+//    stylus centre by its tip error, the stylus offset's Abbe arms included, relative to the
+//    gear's datums (the axis and the lower face, measured on the same machine);
 //  * `cmm_probing` (probe stage, only with MPE_P): its probe's pre-travel left after
 //    qualification, along the approach −n, and its touch scatter.
 // Their one parameter, `machine`, is the kept machine's index (uniform over [0, N), the machine
@@ -13,6 +14,7 @@
 // Engine-internal (exposes the YAML reader).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,6 +23,7 @@
 #include "core/yaml_reader.h"
 #include "engine/effects/measurement_effect.h"
 #include "engine/machine/machine_prior.h"
+#include "engine/machine/verification.h"
 
 namespace gearmc {
 
@@ -35,8 +38,15 @@ struct CmmModel {
   double stylus_length_mm = 50.0;
   int machines_wanted = 200;
   int order = 3;
-  std::uint64_t seed = 1;  // the scenario's
-  InputLocation where;     // the `cmm:` key (for messages of commands that refuse the section)
+  std::uint64_t seed = 1;      // the scenario's
+  double face_width_mm = 0.0;  // the gear's: where its axis datum is measured (below)
+  // `verification:` — the user's measured length errors (as opened: relative to the scenario's
+  // folder) and the posterior they give; empty and null without it.
+  std::string verification_path;
+  std::string verification_written;  // as the scenario writes it (outputs show this)
+  std::vector<VerificationRow> verification;
+  std::shared_ptr<const MachinePosterior> posterior;
+  InputLocation where;  // the `cmm:` key (for messages of commands that refuse the section)
   ConstrainedMachines kept;
 };
 
@@ -49,6 +59,16 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
                                          double gear_radius_mm, double face_width_mm,
                                          bool radial_shaft, bool internal,
                                          std::vector<std::string>* warnings);
+
+// Reads a verification table (docs/cmm.md, "Your verification results"): a CSV with the header
+// `position,length_mm,error_um[,u_um]` (any order; lines starting with # are comments), one
+// measured length error per line — position one of length_test_positions()'s names, the length
+// within the position's line through the travel, the error in µm, its standard uncertainty u_um
+// (else `default_u_um`; neither: an error). Throws InputError at file:line:column.
+std::vector<VerificationRow> read_verification_table(const std::string& text,
+                                                     const std::string& source,
+                                                     const Eigen::Vector3d& travel_mm,
+                                                     std::optional<double> default_u_um);
 
 // Adds `cmm_geometry` (and `cmm_probing` with MPE_P) for `model` to `chain`.
 void add_cmm_effects(const std::shared_ptr<const CmmModel>& model, bool radial_shaft, bool internal,
@@ -76,6 +96,7 @@ class CmmGeometryEffect : public MeasurementEffect {
   std::shared_ptr<const CmmModel> model_;
   bool radial_;
   bool internal_;
+  std::vector<std::array<Eigen::Vector3d, 2>> axis_errors_;  // per kept machine (shaft along z)
 };
 
 class CmmProbingEffect : public MeasurementEffect {
@@ -94,6 +115,16 @@ class CmmProbingEffect : public MeasurementEffect {
  private:
   std::shared_ptr<const CmmModel> model_;
 };
+
+// The machine's error at a ball centre (µm) relative to the gear's datums, as a gear measurement
+// sees it: the gear's axis and its lower face are measured on the same machine before the
+// flanks, so the error the machine makes there is part of the datum, not of the flanks. The axis
+// is the line through the machine's errors (x, y) on the axis at z = 0 and z = b (a bore or
+// journals probed at both ends: its offset and tilt), the z datum the error's z on the axis at
+// z = 0. Without this, a machine's local offset would read as the gear's eccentricity.
+Eigen::Vector3d datum_relative_error_um(const KinematicMachine& machine,
+                                        const Eigen::Vector3d& centre_mm,
+                                        const Eigen::Vector3d& stylus_mm, double face_width_mm);
 
 // The kept machine a `machine` value names: floor(value) within [0, N).
 std::size_t cmm_machine_index(const CmmModel& model, double value);

@@ -33,23 +33,26 @@ std::vector<LengthTestPosition> length_test_positions(const Eigen::Vector3d& tra
   return out;
 }
 
+double kinematic_length_error_um(const KinematicMachine& machine, const Eigen::Vector3d& u,
+                                 double length_mm, const LengthTestOptions& options) {
+  // The gauge centred where the ram stands at the reference point (the middle of the travel):
+  // the tip there is the stylus offset, in gear coordinates less the placement.
+  const Eigen::Vector3d centre = options.stylus_mm - machine.placement_mm;
+  const Eigen::Vector3d a = centre - (0.5 * length_mm + options.ball_radius_mm) * u;
+  const Eigen::Vector3d b = centre + (0.5 * length_mm + options.ball_radius_mm) * u;
+  return (machine.tip_error_um(b, options.stylus_mm) - machine.tip_error_um(a, options.stylus_mm))
+      .dot(u);
+}
+
 std::vector<LengthError> length_test(const KinematicMachine& machine,
                                      const LengthTestOptions& options) {
   std::vector<LengthError> out;
   const std::vector<LengthTestPosition> positions = length_test_positions(machine.travel_mm);
   for (std::size_t p = 0; p < positions.size(); ++p) {
-    const Eigen::Vector3d& u = positions[p].direction;
     for (double f : options.fractions) {
       const double length = f * positions[p].line_mm;
-      // The gauge centred where the ram stands at the reference point (the middle of the travel):
-      // the tip there is the stylus offset, in gear coordinates less the placement.
-      const Eigen::Vector3d centre = options.stylus_mm - machine.placement_mm;
-      const Eigen::Vector3d a = centre - (0.5 * length + options.ball_radius_mm) * u;
-      const Eigen::Vector3d b = centre + (0.5 * length + options.ball_radius_mm) * u;
-      const double error =
-          (machine.tip_error_um(b, options.stylus_mm) - machine.tip_error_um(a, options.stylus_mm))
-              .dot(u);
-      out.push_back({static_cast<int>(p), length, error});
+      out.push_back({static_cast<int>(p), length,
+                     kinematic_length_error_um(machine, positions[p].direction, length, options)});
     }
   }
   return out;

@@ -36,6 +36,11 @@ struct LengthError {
   double error_um = 0.0;
 };
 
+// The kinematic error (µm) of one gauge of `length_mm` along the unit `direction`, centred where
+// the ram stands at the reference point, touched bidirectionally (the file comment's E).
+double kinematic_length_error_um(const KinematicMachine& machine, const Eigen::Vector3d& direction,
+                                 double length_mm, const LengthTestOptions& options = {});
+
 // The seven positions for a machine with travel `travel_mm` (centred on the reference point).
 std::vector<LengthTestPosition> length_test_positions(const Eigen::Vector3d& travel_mm);
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/random_stream.h"
+#include "engine/machine/verification.h"
 
 namespace gearmc {
 
@@ -133,14 +134,20 @@ std::vector<LengthError> length_test_with_probe(const KinematicMachine& machine,
 ConstrainedMachines draw_constrained(const MachinePrior& prior, const LengthMpe& mpe, int wanted,
                                      int max_draws, std::uint64_t seed,
                                      const LengthTestOptions& test, const ProbePrior& probe,
-                                     double min_acceptance) {
+                                     double min_acceptance, const MachinePosterior* posterior) {
   ConstrainedMachines out;
   const bool probing = probe.mpe_p_um > 0.0;
   for (int i = 0; i < max_draws && static_cast<int>(out.kept.size()) < wanted; ++i) {
     if (i >= 2000 && static_cast<double>(out.kept.size()) < min_acceptance * i) break;
     const auto index = static_cast<std::uint64_t>(i);
-    KinematicMachine m = draw_machine(prior, seed, index);
-    const CmmProbe p = draw_probe(probe, seed, index);
+    KinematicMachine m;
+    CmmProbe p;
+    if (posterior != nullptr) {
+      draw_from_posterior(prior, probe, *posterior, seed, index, m, p);
+    } else {
+      m = draw_machine(prior, seed, index);
+      p = draw_probe(probe, seed, index);
+    }
     ++out.drawn;
     double ratio = 0.0, largest = 0.0;
     for (const LengthError& e : length_test_with_probe(m, p, test)) {

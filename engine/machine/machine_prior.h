@@ -26,6 +26,8 @@
 
 namespace gearmc {
 
+struct MachinePosterior;  // verification.h
+
 // ISO 10360-2's MPE_E = A + L/K (µm, L in mm).
 struct LengthMpe {
   double a_um = 0.0;
@@ -90,10 +92,12 @@ std::vector<LengthError> length_test_with_probe(const KinematicMachine& machine,
 // Draws machines 0, 1, … until `wanted` pass (every |E| ≤ MPE_E(L) in the length test with
 // `test`, and with a probe prior P_FTU ≤ MPE_P) or `max_draws` were drawn — or, with
 // `min_acceptance` > 0, once 2000 were drawn with fewer than that fraction kept (refused early:
-// the rate would not reach it).
+// the rate would not reach it). With `posterior` (the user's verification results,
+// verification.h) the machines are drawn from it instead of the prior.
 ConstrainedMachines draw_constrained(const MachinePrior& prior, const LengthMpe& mpe, int wanted,
                                      int max_draws, std::uint64_t seed,
                                      const LengthTestOptions& test = {},
-                                     const ProbePrior& probe = {}, double min_acceptance = 0.0);
+                                     const ProbePrior& probe = {}, double min_acceptance = 0.0,
+                                     const MachinePosterior* posterior = nullptr);
 
 }  // namespace gearmc

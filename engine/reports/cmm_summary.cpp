@@ -2,6 +2,7 @@
 #include "engine/reports/cmm_summary.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "engine/effects/cmm_effects.h"
@@ -45,6 +46,19 @@ nlohmann::ordered_json cmm_summary_json(const CmmModel& cmm) {
   // Per kept machine: its largest |E| / MPE_E(L) over the 35 lengths, and its P_FTU.
   j["length_test_ratio"] = spread(k.length_ratio);
   j["probing_form_um"] = cmm.mpe_p_um ? spread(k.probing_form_um) : nlohmann::ordered_json();
+  if (cmm.posterior) {
+    const MachinePosterior& post = *cmm.posterior;
+    double largest = 0.0, widest = 0.0;
+    for (std::size_t i = 0; i < cmm.verification.size(); ++i) {
+      largest = std::max(largest, std::abs(cmm.verification[i].error_um - post.predicted_um[i]));
+      widest = std::max(widest, post.predicted_sd_um[i]);
+    }
+    j["verification"] = {{"file", cmm.verification_written}, {"rows", cmm.verification.size()},
+                         {"largest_residual_um", largest},   {"predicted_sd_max_um", widest},
+                         {"chi_square", post.chi_square},    {"p_value", post.p_value}};
+  } else {
+    j["verification"] = nullptr;
+  }
   j["coverage"] = {
       {"computed_in_this_run", false},
       {"validation",
@@ -65,6 +79,10 @@ std::string cmm_summary_sentence(const CmmModel& cmm) {
        fixed(100.0 * quantile(k.length_ratio, 0.5), 0) + " %)";
   if (cmm.mpe_p_um) {
     s += ", their probing form " + fixed(quantile(k.probing_form_um, 1.0), 2) + " µm at most";
+  }
+  if (cmm.posterior) {
+    s += "; drawn to agree with the " + std::to_string(cmm.verification.size()) +
+         " measured length errors of " + cmm.verification_written;
   }
   return s + "; each gear is measured on one of them.";
 }

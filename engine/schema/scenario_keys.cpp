@@ -200,7 +200,14 @@ std::vector<ScenarioKey> make_table() {
                "travel"),
       number_key("cmm.stylus_length_mm", kNum, 50, "",
                  "the stylus's length from the ram's reference point (the Abbe arm)"),
-      bounded_integer("cmm.machines", 200, "", 10, 20000, "kept machines to draw"),
+      text_key("cmm.verification", "none",
+               "the machine's own ISO 10360-2 results: a CSV position,length_mm,error_um[,u_um] "
+               "(relative to the scenario's folder); the machines drawn agree with them"),
+      number_key("cmm.verification_u_um", kNum, std::nullopt, "a u_um column is required",
+                 "the measured errors' standard uncertainty when the table has no u_um column"),
+      bounded_integer(
+          "cmm.machines", 1000, "", 10, 20000,
+          "kept machines to draw (at least the run's gears: each gear another machine)"),
       bounded_integer("cmm.order", 3, "", 1, 8,
                       "highest Legendre order of the error functions over the travel"),
       choice_key("stylus.shaft_axis", {"z", "radial"}, "z",

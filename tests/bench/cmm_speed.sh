@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Cost of measuring on machines drawn for a data sheet (`cmm:`, docs/cmm.md) against the same run
 # with today's per-effect machine errors: scenarios/p1_cmm_mpe.yaml (thermal expansion, servo step,
-# cmm_geometry and cmm_probing on 200 kept machines) and the same scenario with its `cmm:` section
+# cmm_geometry and cmm_probing on 1 000 kept machines) and the same scenario with its `cmm:` section
 # replaced by the effects of scenarios/cmm_iso10360_typical.yaml (scale, squareness, drift,
 # noise). Whole-process runs (the machines' draw at start-up and the output files included), the
 # two interleaved, medians of N; the ratio is of CPU time (user + system).
@@ -32,5 +32,5 @@ done
 tc=$(median "${today_cpu[@]}") cc=$(median "${cmm_cpu[@]}")
 printf '%-44s %8s %8s\n' "$gears gears, $threads thread(s), median of $n" "wall s" "CPU s"
 printf '%-44s %8s %8s\n' "today's effects (scale, squareness, drift, noise)" "$(median "${today_wall[@]}")" "$tc"
-printf '%-44s %8s %8s\n' "cmm: 200 kept machines (geometry, probing)" "$(median "${cmm_wall[@]}")" "$cc"
+printf '%-44s %8s %8s\n' "cmm: kept machines (geometry, probing)" "$(median "${cmm_wall[@]}")" "$cc"
 echo "CPU ratio cmm / today: $(ratio "$cc" "$tc")  (runs: today ${today_cpu[*]}; cmm ${cmm_cpu[*]})"

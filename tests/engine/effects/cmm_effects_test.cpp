@@ -11,6 +11,7 @@
 #include <string>
 
 #include "engine/effects/cmm_effects.h"
+#include "engine/machine/verification.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
 #include "tests/support/scenario_input.h"
@@ -83,7 +84,8 @@ TEST(CmmGeometry, MovesTheCentreByTheHandComputedTipError) {
   // u = q_x / 350 mm, and a constant pitch ε_y = 10 µrad of the x carriage. The stylus 50 mm
   // along −z; the ball centre at (60, 10, 5) mm gives q = (60, 10, 55) mm. The x carriage
   // carries z, so its Abbe arm is t + q_z ẑ = (0, 0, 5) mm: ε × arm = (10 · 5, 0, 0) µrad·mm =
-  // 0.05 µm along x. Tip error: (2 · 60/350 + 0.05, 0, 0) µm.
+  // 0.05 µm along x. Tip error: (2 · 60/350 + 0.05, 0, 0) µm; on the axis at z = 0 it is zero
+  // (the model's face width 0: the datum is the axis's point at z = 0 alone).
   KinematicMachine m;
   m.axes[0].translation_um[0] = {0.0, 2.0};
   m.axes[0].rotation_urad[1] = {10.0};
@@ -102,6 +104,35 @@ TEST(CmmGeometry, MovesTheCentreByTheHandComputedTipError) {
   double out[1] = {1.0};
   effect.signature(point, values, out);
   EXPECT_EQ(out[0], 0.0);
+}
+
+TEST(CmmGeometry, TheGearsDatumsTakeTheMachinesErrorOnTheAxis) {
+  // The gear's axis and lower face are measured on the same machine: what the machine does on
+  // the axis is the datum's. x positioning δ_x = c₂ P₂(u), c₂ = 3 µm, u = q_x/350 mm, reads −1.5 µm
+  // on the axis (P₂(0) = −1/2) — a shift of the whole gear, not of its flanks; and a constant
+  // pitch ε_y = 10 µrad of the x carriage tilts the measured axis as much as the flanks (the axis
+  // seen at z = 0 and z = b = 20 mm). At the ball centre (60, 10, 5) mm: δ_x − datum =
+  // 3 (P₂(60/350) − P₂(0)) = 3 · 1.5 · (60/350)² µm, the tilt's 10 · 5 µrad·mm cancelled.
+  KinematicMachine m;
+  m.axes[0].translation_um[0] = {0.0, 0.0, 3.0};
+  m.axes[0].rotation_urad[1] = {10.0};
+  const Eigen::Vector3d centre(60.0, 10.0, 5.0), stylus(0.0, 0.0, -50.0);
+  const Eigen::Vector3d e = datum_relative_error_um(m, centre, stylus, 20.0);
+  const double u = 60.0 / 350.0;
+  EXPECT_NEAR(e.x(), 3.0 * 1.5 * u * u, 1e-12);
+  EXPECT_NEAR(e.y(), 0.0, 1e-12);
+  // The raw tip error has the shift and the tilt's Abbe term.
+  EXPECT_NEAR(m.tip_error_um(centre, stylus).x(), 3.0 * (1.5 * u * u - 0.5) + 0.05, 1e-12);
+  // The effect applies the datum-relative error.
+  auto model = one_machine(m);
+  model->face_width_mm = 20.0;
+  const CmmGeometryEffect effect(model, false, false);
+  PointContext point;
+  Eigen::Vector3d moved = centre;
+  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
+  const std::vector<double> values = {0.0};
+  effect.apply(point, values, moved, rng);
+  EXPECT_NEAR((moved.x() - centre.x()) * 1e3, 3.0 * 1.5 * u * u, 1e-9);
 }
 
 TEST(CmmGeometry, TheStylusOffsetFollowsTheShaft) {
@@ -133,6 +164,147 @@ TEST(CmmProbing, PretravelAlongTheApproachAndTheTouchScatterAsItsLaw) {
   effect.apply_mean(point, values, centre);
   EXPECT_NEAR(reading_um(point, centre), 0.5, 1e-9);
   EXPECT_DOUBLE_EQ(effect.point_law(values).gaussian_variance_um2, 0.09);
+}
+
+// ---- the commands take the section as any other part of the scenario ------------------------
+
+TEST(CmmCommands, CheckDecidesAClaimOnUAndSweepSeesTheProbe) {
+  const std::string dir = testing_support::fresh_temp_path("cmm_commands");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string base = kGear +
+                           "evaluation: {parameters: [f_pt]}\n"
+                           "cmm: {mpe_e_um: \"1.8 + L/300\", mpe_p_um: 1.7, machines: 200}\n";
+  {
+    // f_pt's U on this machine is about 0.9 µm (docs/cmm.md): "U ≤ 3 µm" holds, "U ≤ 0.3 µm"
+    // fails — with the machine in the gears, not without it.
+    std::ofstream f(dir + "/c.yaml");
+    f << base
+      << "claims:\n"
+         "  - {name: holds, quantity: parameters.f_pt.error, statistic: U, at_most_um: 3.0}\n"
+         "  - {name: fails, quantity: parameters.f_pt.error, statistic: U, at_most_um: 0.3}\n";
+  }
+  const auto check = testing_support::run_gearmc(
+      "check " + dir + "/c.yaml --max-gears 256 --quiet --out " + dir + "/check");
+  EXPECT_EQ(check.exit_code, 1) << check.err;  // a claim fails
+  std::ifstream j(dir + "/check/check.json");
+  const std::string json((std::istreambuf_iterator<char>(j)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"holds\""), std::string::npos);
+  // sweep over MPE_P: f_pt's U grows with the probe the data sheet allows (MPE_P 0.5 → 3 µm).
+  {
+    std::ofstream f(dir + "/s.yaml");
+    f << base;
+  }
+  const auto sweep = testing_support::run_gearmc(
+      "sweep " + dir +
+      "/s.yaml --vary cmm.mpe_p_um=0.5,3 --statistic parameters.f_pt.U --gears 100 "
+      "--quiet --out " +
+      dir + "/sweep");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  const auto u_at = [&](const std::string& mpe) {
+    const std::string marker = "cmm.mpe_p_um=" + mpe + "  parameters.f_pt.U (larger side) = ";
+    const auto at = sweep.out.find(marker);
+    EXPECT_NE(at, std::string::npos) << sweep.out;
+    return at == std::string::npos ? 0.0 : std::stod(sweep.out.substr(at + marker.size()));
+  };
+  EXPECT_GT(u_at("3"), 1.5 * u_at("0.5"));
+}
+
+// ---- the user's verification results --------------------------------------------------------
+
+TEST(CmmVerification, ReadsTheTableAndDrawsMachinesThatAgreeWithIt) {
+  const std::string dir = testing_support::fresh_temp_path("cmm_verification");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    // A machine with a +2 ppm x scale error only: E = 2e-3 (L + 2R) û_x² µm (the length test's
+    // gauge is touched from outside, R = 1.5 mm), on the x axis and one diagonal, u = 0.1 µm.
+    std::ofstream f(dir + "/v.csv");
+    f << "# measured length errors\n\nposition, length_mm, error_um\n";
+    const double ux2 = 700.0 * 700.0 / (700.0 * 700.0 + 1000.0 * 1000.0 + 600.0 * 600.0);
+    for (double l : {100.0, 300.0, 500.0}) f << "x," << l << "," << 2e-3 * (l + 3.0) << "\n";
+    for (double l : {200.0, 600.0, 1000.0}) {
+      f << "diagonal_ppp," << l << "," << 2e-3 * (l + 3.0) * ux2 << "\n";
+    }
+  }
+  {
+    std::ofstream f(dir + "/s.yaml");
+    f << kGear
+      << "cmm:\n  mpe_e_um: \"1.8 + L/300\"\n  machines: 200\n  verification: v.csv\n"
+         "  verification_u_um: 0.1\n";
+  }
+  const Scenario s = load_scenario_file(dir + "/s.yaml");
+  ASSERT_TRUE(s.cmm->posterior);
+  EXPECT_EQ(s.cmm->verification.size(), 6u);
+  EXPECT_EQ(s.cmm->verification_path, dir + "/v.csv");
+  EXPECT_GT(s.cmm->posterior->p_value, 1e-3);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  // The kept machines make the measured x errors within a few u (the prior alone: up to MPE_E,
+  // 2.1 … 3.5 µm at these lengths) and a 2 ppm x scale on a length they were not told (600 mm).
+  LengthTestOptions test;
+  test.stylus_mm = Eigen::Vector3d(0, 0, -50);
+  double mean = 0.0;
+  for (std::size_t m = 0; m < s.cmm->kept.kept.size(); ++m) {
+    const KinematicMachine& k = s.cmm->kept.kept[m];
+    for (const VerificationRow& r : s.cmm->verification) {
+      EXPECT_NEAR(length_error_um(k, s.cmm->kept.probes[m], r.position, r.length_mm, test),
+                  r.error_um, 0.5);
+    }
+    mean += length_error_um(k, s.cmm->kept.probes[m], 4, 600.0, test);
+  }
+  mean /= static_cast<double>(s.cmm->kept.kept.size());
+  EXPECT_NEAR(mean, 2e-3 * 603.0, 0.15);
+  // A table no machine can make — the same length measured +1 µm and −1 µm with u = 0.01 µm:
+  // the machines are drawn (they meet the MPE) but a warning names the χ².
+  {
+    std::ofstream f(dir + "/bad.csv");
+    f << "position,length_mm,error_um,u_um\nx,300,1.0,0.01\nx,300,-1.0,0.01\n";
+  }
+  {
+    std::ofstream f(dir + "/bad.yaml");
+    f << kGear << "cmm:\n  mpe_e_um: \"1.8 + L/300\"\n  machines: 200\n  verification: bad.csv\n";
+  }
+  const Scenario bad = load_scenario_file(dir + "/bad.yaml");
+  ASSERT_FALSE(bad.warnings.empty());
+  EXPECT_NE(bad.warnings.back().find(
+                "bad.yaml:8:17: cmm.verification: the measured length errors are unlike"),
+            std::string::npos)
+      << bad.warnings.back();
+  EXPECT_LT(bad.cmm->posterior->p_value, 1e-6);
+}
+
+TEST(CmmVerification, BadTablesAreOneErrorAtTheirLineAndColumn) {
+  const Eigen::Vector3d travel(700, 1000, 600);
+  const auto error = [&](const std::string& text, std::optional<double> u = std::nullopt) {
+    try {
+      read_verification_table(text, "v.csv", travel, u);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("position,length_mm,error_um,u_um\nw,100,0.5,0.1\n"),
+            "v.csv:2:1: position: got 'w', expected an ISO 10360-2 position: diagonal_ppp, "
+            "diagonal_npp, diagonal_pnp, diagonal_ppn, x, y, z");
+  EXPECT_NE(error("position,length_mm,error_um,u_um\nx,800,0.5,0.1\n")
+                .find("v.csv:2:3: length_mm: got '800', expected a length > 0 within the x line "
+                      "through the travel (700 mm)"),
+            std::string::npos);
+  EXPECT_NE(error("position,length_mm,error_um\nx,100,0.5\n").find("v.csv:1:1: header"),
+            std::string::npos);  // no u anywhere
+  EXPECT_EQ(error("position,length_mm,error_um\nx,100,0.5\n", 0.2), "no error");
+  EXPECT_NE(error("position,length,error_um,u_um\n").find("v.csv:1:10: header: got 'length'"),
+            std::string::npos);
+  EXPECT_NE(error("position,length_mm,error_um,u_um\nx,100,abc,0.1\n")
+                .find("v.csv:2:7: error_um: got 'abc'"),
+            std::string::npos);
+  EXPECT_NE(error("position,length_mm,error_um,u_um\nx,100,0.5\n").find("v.csv:2:1: row"),
+            std::string::npos);
+  EXPECT_NE(error("position,length_mm,error_um,u_um\nx,100,0.5,0\n").find("v.csv:2:11: u_um"),
+            std::string::npos);
+  EXPECT_NE(error("# nothing\n").find("expected a verification table"), std::string::npos);
+  EXPECT_NE(error("position,length_mm,error_um,u_um\n").find("no measured length error"),
+            std::string::npos);
 }
 
 // ---- bad input ----------------------------------------------------------------------------

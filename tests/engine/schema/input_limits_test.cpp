@@ -399,7 +399,8 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
                                           "basis",
                                           "terms",
                                           "layout",
-                                          "mpe_e_um"};
+                                          "mpe_e_um",
+                                          "verification"};
   std::set<std::string> keys;
   for (const RangeTable* table : all_range_tables()) {
     for (const ParameterRange& r : table->entries) keys.insert(r.key);

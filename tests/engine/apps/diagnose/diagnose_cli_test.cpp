@@ -543,6 +543,8 @@ TEST(FittedScenario, EveryRepositoryScenarioRoundTripsUnchangedWhenNothingIsName
   for (const auto& f : fs::directory_iterator(fs::path(GEARMC_SOURCE_DIR) / "scenarios")) {
     if (f.path().extension() != ".yaml") continue;
     const Scenario model = load_scenario_file(f.path().string());
+    // diagnose refuses a model with a `cmm:` section (docs/cmm.md): it writes no fitted.yaml.
+    if (model.cmm) continue;
     Diagnosis none;
     const FittedScenario fitted = fitted_scenario(model, none, f.path().string(), "r.csv");
     const Scenario again = parse_scenario(fitted.yaml, "fitted.yaml");
