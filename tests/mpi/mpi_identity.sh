@@ -41,6 +41,7 @@ grep -q "teeth: \[1, 13\]" small.yaml
 run_case() {  # DIR RANKS THREADS ARGS…: the command in its own folder with --out out
   local dir=$1 ranks=$2 threads=$3; shift 3
   mkdir -p "$dir" && cp ./*.yaml "$dir/"
+  if compgen -G "./*.csv" >/dev/null; then cp ./*.csv "$dir/"; fi  # a scenario's tables
   if [[ $ranks == 0 ]]; then
     (cd "$dir" && "$gearmc" "$@" --threads "$threads" --quiet --out out >log.txt 2>&1)
   else
@@ -68,6 +69,16 @@ for case in "2 1" "3 1"; do
   grep -q '"F_alpha"' "params_n$1_t$2/out/summary.json" || { echo "summary.json lacks F_alpha"; fail=1; }
   $compare params_single/out "params_n$1_t$2/out" || fail=1
 done
+
+echo "== run on machines drawn for a data sheet and its verification table (cmm:): 300 gears"
+cp "$src/scenarios/p1_cmm_verified.yaml" cmm.yaml
+cp "$src/scenarios/cmm_verification_example.csv" .
+sed -i -e 's/points_along_profile: 10/points_along_profile: 3/' \
+  -e 's/sections_across_face: 5/sections_across_face: 2/' cmm.yaml
+run_case cmm_single 0 1 run cmm.yaml --gears 300
+run_case cmm_n2_t1 2 1 run cmm.yaml --gears 300
+grep -q '"machines_kept"' cmm_n2_t1/out/summary.json || { echo "summary.json lacks cmm"; fail=1; }
+$compare cmm_single/out cmm_n2_t1/out || fail=1
 
 echo "== uncertainty: adaptive (mass calibration) and a fixed M"
 model=$src/scenarios/uncertainty/mass_calibration.yaml
