@@ -49,6 +49,7 @@ enum class TrialPurpose : std::uint32_t {
   kMachineDraw = 0x434D'0001,          // a drawn CMM (trial = the machine's index, cmm.md)
   kProbeDraw = 0x434D'0002,            // a drawn CMM's probe (trial = the machine's index)
   kProbingTest = 0x434D'0003,          // its ISO 10360-5 test's touches (trial = the index)
+  kTableDraw = 0x434D'0004,            // a drawn CMM's rotary table (trial = its index)
 };
 
 // How many random bits one uniform takes.

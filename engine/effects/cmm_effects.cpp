@@ -2,6 +2,7 @@
 // machines (cmm_effects.h).
 #include "engine/effects/cmm_effects.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "core/input_file.h"
 #include "core/number_text.h"
 #include "core/text_lines.h"
+#include "engine/effects/rotary_table.h"
 #include "engine/schema/parameter_ranges.h"
 #include "engine/schema/scenario_keys.h"
 
@@ -274,6 +276,19 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
         ->error("no value without `verification:` (it is that table's u)");
   }
 
+  if (const auto table = map.get_map("rotary_table", child_keys("cmm.rotary_table"))) {
+    RotaryTableSpec spec;
+    spec.radial_um =
+        get_ranged(*table, "radial_um", ranges.at("cmm.rotary_table.radial_um"), warnings)
+            .value_or(0.0);
+    spec.axial_um = get_ranged(*table, "axial_um", ranges.at("cmm.rotary_table.axial_um"), warnings)
+                        .value_or(0.0);
+    spec.angular_arcsec =
+        get_ranged(*table, "angular_arcsec", ranges.at("cmm.rotary_table.angular_arcsec"), warnings)
+            .value_or(0.0);
+    model->table = spec;
+  }
+
   // The gear must lie inside the travel: outside it the error functions (Legendre series over
   // the travel) would be extrapolated.
   {
@@ -337,6 +352,21 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
     throw InputError(mpe.location(), mpe.path(), model->mpe_e_text,
                      "a data sheet the machine prior can meet; " + model->kept.why);
   }
+  if (model->table) {
+    // One kept table per kept machine (their own draws, index by index; a perfect data sheet
+    // value keeps that motion at zero).
+    for (std::uint64_t i = 0; model->tables.size() < model->kept.kept.size(); ++i) {
+      if (i >= static_cast<std::uint64_t>(max_draws)) {
+        throw map.find("rotary_table")
+            ->error("a table data sheet the prior can meet (" +
+                    std::to_string(model->tables.size()) + " of " + std::to_string(i) +
+                    " drawn tables passed)");
+      }
+      ++model->tables_drawn;
+      const RotaryTableErrors t = draw_rotary_table(*model->table, seed, i);
+      if (meets(t, *model->table)) model->tables.push_back(t);
+    }
+  }
   // The length test does not depend on where the gear stands; the gear's points do.
   for (KinematicMachine& m : model->kept.kept) m.placement_mm = model->placement_mm;
   return model;
@@ -345,6 +375,7 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
 void add_cmm_effects(const std::shared_ptr<const CmmModel>& model, bool radial_shaft, bool internal,
                      EffectChain& chain) {
   chain.add(std::make_unique<CmmGeometryEffect>(model, radial_shaft, internal));
+  if (model->table) chain.add(std::make_unique<CmmRotaryTableEffect>(model));
   if (model->mpe_p_um) chain.add(std::make_unique<CmmProbingEffect>(model));
 }
 
@@ -362,17 +393,38 @@ CmmGeometryEffect::CmmGeometryEffect(std::shared_ptr<const CmmModel> model, bool
   }
 }
 
-void CmmGeometryEffect::apply(const PointContext&, std::span<const double> values,
+void CmmGeometryEffect::apply(const PointContext& point, std::span<const double> values,
                               Eigen::Vector3d& centre_mm, RandomStream&) const {
   const std::size_t i = cmm_machine_index(*model_, values[0]);
   const KinematicMachine& m = model_->kept.kept[i];
-  const Eigen::Vector3d t =
-      stylus_offset_mm(centre_mm, model_->stylus_length_mm, radial_, internal_);
-  // A stylus along z is the same at every point: its datum errors were computed once.
+  // With a rotary table the tooth is probed where the table turned it (θ back to +X): the
+  // machine's error is taken there and turned with the gear.
+  const double turn = model_->table ? table_angle_rad(point) : 0.0;
+  const Eigen::Matrix3d to_machine =
+      Eigen::AngleAxisd(-turn, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d c = to_machine * centre_mm;
+  const Eigen::Vector3d t = stylus_offset_mm(c, model_->stylus_length_mm, radial_, internal_);
+  // A stylus along z is the same at every point: its datum errors were computed once (the axis
+  // is the table's, the same in every turn).
   const std::array<Eigen::Vector3d, 2> axis =
       radial_ ? axis_errors_um(m, t, model_->face_width_mm) : axis_errors_[i];
-  centre_mm += 1e-3 * relative_to_datum(m.tip_error_um(centre_mm, t), axis, centre_mm.z(),
-                                        model_->face_width_mm);
+  centre_mm += 1e-3 * (to_machine.transpose() *
+                       relative_to_datum(m.tip_error_um(c, t), axis, c.z(), model_->face_width_mm));
+}
+
+CmmRotaryTableEffect::CmmRotaryTableEffect(std::shared_ptr<const CmmModel> model)
+    : MeasurementEffect({machine_parameter(static_cast<int>(model->kept.kept.size()))}),
+      model_(std::move(model)) {}
+
+void CmmRotaryTableEffect::apply(const PointContext& point, std::span<const double> values,
+                                 Eigen::Vector3d& centre_mm, RandomStream&) const {
+  const RotaryTableErrors& table = model_->tables[cmm_machine_index(*model_, values[0])];
+  centre_mm += table.displacement_mm(table_angle_rad(point), centre_mm);
+}
+
+void CmmRotaryTableEffect::signature(const PointContext&, std::span<const double>,
+                                     std::span<double> out) const {
+  std::fill(out.begin(), out.end(), 0.0);
 }
 
 void CmmGeometryEffect::signature(const PointContext&, std::span<const double>,

@@ -7,7 +7,11 @@
 //    stylus centre by its tip error, the stylus offset's Abbe arms included, relative to the
 //    gear's datums (the axis and the lower face, measured on the same machine);
 //  * `cmm_probing` (probe stage, only with MPE_P): its probe's pre-travel left after
-//    qualification, along the approach −n, and its touch scatter.
+//    qualification, along the approach −n, and its touch scatter;
+//  * `cmm_rotary_table` (workpiece stage, only with `rotary_table:`): the gear turned on the
+//    machine's table, each tooth brought to the probing region (+X) — the table's own error
+//    motions move it, and `cmm_geometry` then takes the machine's error where the tooth is
+//    probed, not where it lies on the gear.
 // Their one parameter, `machine`, is the kept machine's index (uniform over [0, N), the machine
 // floor(value)); it is not a physical quantity, so their first-order signatures are zero (the
 // diagnosis does not fit it). Frames: gear frame = machine axes, mm; errors µm.
@@ -23,6 +27,7 @@
 #include "core/yaml_reader.h"
 #include "engine/effects/measurement_effect.h"
 #include "engine/machine/machine_prior.h"
+#include "engine/machine/rotary_axis.h"
 #include "engine/machine/verification.h"
 
 namespace gearmc {
@@ -46,6 +51,12 @@ struct CmmModel {
   std::string verification_written;  // as the scenario writes it (outputs show this)
   std::vector<VerificationRow> verification;
   std::shared_ptr<const MachinePosterior> posterior;
+  // `rotary_table:` — the gear turned on a table, each tooth probed in the same region of the
+  // machine: its data sheet, the kept tables (one per kept machine, the same index), how many
+  // were drawn. Without it the gear stands still and the machine moves around it.
+  std::optional<RotaryTableSpec> table;
+  std::vector<RotaryTableErrors> tables;
+  int tables_drawn = 0;
   InputLocation where;  // the `cmm:` key (for messages of commands that refuse the section)
   ConstrainedMachines kept;
 };
@@ -70,7 +81,8 @@ std::vector<VerificationRow> read_verification_table(const std::string& text,
                                                      const Eigen::Vector3d& travel_mm,
                                                      std::optional<double> default_u_um);
 
-// Adds `cmm_geometry` (and `cmm_probing` with MPE_P) for `model` to `chain`.
+// Adds `cmm_geometry` (and `cmm_probing` with MPE_P, `cmm_rotary_table` with a table) for
+// `model` to `chain`.
 void add_cmm_effects(const std::shared_ptr<const CmmModel>& model, bool radial_shaft, bool internal,
                      EffectChain& chain);
 
@@ -97,6 +109,22 @@ class CmmGeometryEffect : public MeasurementEffect {
   bool radial_;
   bool internal_;
   std::vector<std::array<Eigen::Vector3d, 2>> axis_errors_;  // per kept machine (shaft along z)
+};
+
+// The kept machine's rotary table (workpiece stage, like `rotary_table`): its error motions at
+// the table angle that brings the point's tooth to the probing region.
+class CmmRotaryTableEffect : public MeasurementEffect {
+ public:
+  explicit CmmRotaryTableEffect(std::shared_ptr<const CmmModel> model);
+  std::string_view name() const override { return "cmm_rotary_table"; }
+  EffectStage stage() const override { return EffectStage::kWorkpiece; }
+  void apply(const PointContext& point, std::span<const double> values, Eigen::Vector3d& centre_mm,
+             RandomStream& rng) const override;
+  void signature(const PointContext& point, std::span<const double> values,
+                 std::span<double> out) const override;
+
+ private:
+  std::shared_ptr<const CmmModel> model_;
 };
 
 class CmmProbingEffect : public MeasurementEffect {

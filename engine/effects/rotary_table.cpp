@@ -2,30 +2,17 @@
 // rotary_table.h).
 #include "engine/effects/rotary_table.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "engine/machine/rotary_axis.h"
 
 namespace gearmc {
 namespace {
 
 constexpr double kRadPerArcsec = std::numbers::pi / (180.0 * 3600.0);
-
-// The table's displacement (mm) and turn (rad) at the point's table angle.
-struct TableError {
-  Eigen::Vector3d shift_mm;
-  double turn_rad;
-};
-
-TableError table_error(const PointContext& point, std::span<const double> v) {
-  const double t = table_angle_rad(point);
-  const double c1 = std::cos(t), s1 = std::sin(t), c2 = std::cos(2 * t), s2 = std::sin(2 * t);
-  const double radial_um = v[0] * c1 + v[1] * s1;
-  const double axial_um = v[2] * c1 + v[3] * s1;
-  const double turn_arcsec = v[4] * c1 + v[5] * s1 + v[6] * c2 + v[7] * s2;
-  return {1e-3 * Eigen::Vector3d(radial_um * c1, radial_um * s1, axial_um),
-          turn_arcsec * kRadPerArcsec};
-}
 
 }  // namespace
 
@@ -58,10 +45,9 @@ RotaryTableEffect::RotaryTableEffect(std::vector<EffectParameter> parameters)
 
 void RotaryTableEffect::apply(const PointContext& point, std::span<const double> v,
                               Eigen::Vector3d& c, RandomStream&) const {
-  const TableError e = table_error(point, v);
-  // The turn about the gear axis, then the shift (first order: the two commute to 10⁻¹⁰ mm).
-  const Eigen::Vector3d turned(-c.y(), c.x(), 0.0);
-  c += e.turn_rad * turned + e.shift_mm;
+  RotaryTableErrors table;
+  std::copy(v.begin(), v.begin() + 8, table.terms.begin());
+  c += table.displacement_mm(table_angle_rad(point), c);
 }
 
 void RotaryTableEffect::signature(const PointContext& point, std::span<const double>,

@@ -59,6 +59,24 @@ nlohmann::ordered_json cmm_summary_json(const CmmModel& cmm) {
   } else {
     j["verification"] = nullptr;
   }
+  if (cmm.table) {
+    double radial = 0.0, axial = 0.0, angular = 0.0;
+    for (const RotaryTableErrors& t : cmm.tables) {
+      radial = std::max(radial, t.radial_range_um());
+      axial = std::max(axial, t.axial_range_um());
+      angular = std::max(angular, t.angular_range_arcsec());
+    }
+    j["rotary_table"] = {{"radial_um", cmm.table->radial_um},
+                         {"axial_um", cmm.table->axial_um},
+                         {"angular_arcsec", cmm.table->angular_arcsec},
+                         {"tables_kept", cmm.tables.size()},
+                         {"tables_drawn", cmm.tables_drawn},
+                         {"radial_range_max_um", radial},
+                         {"axial_range_max_um", axial},
+                         {"angular_range_max_arcsec", angular}};
+  } else {
+    j["rotary_table"] = nullptr;
+  }
   j["coverage"] = {
       {"computed_in_this_run", false},
       {"validation",
@@ -83,6 +101,13 @@ std::string cmm_summary_sentence(const CmmModel& cmm) {
   if (cmm.posterior) {
     s += "; drawn to agree with the " + std::to_string(cmm.verification.size()) +
          " measured length errors of " + cmm.verification_written;
+  }
+  if (cmm.table) {
+    s += "; each gear turned on the machine's rotary table (radial " +
+         fixed(cmm.table->radial_um, 2) + " µm, axial " + fixed(cmm.table->axial_um, 2) +
+         " µm, angular " + fixed(cmm.table->angular_arcsec, 2) + "″; " +
+         std::to_string(cmm.tables.size()) + " tables kept of " + std::to_string(cmm.tables_drawn) +
+         ")";
   }
   return s + "; each gear is measured on one of them.";
 }

@@ -205,6 +205,15 @@ std::vector<ScenarioKey> make_table() {
                "(relative to the scenario's folder); the machines drawn agree with them"),
       number_key("cmm.verification_u_um", kNum, std::nullopt, "a u_um column is required",
                  "the measured errors' standard uncertainty when the table has no u_um column"),
+      map_key("cmm.rotary_table", "none (the gear stands still)",
+              "the gear turned on the machine's rotary table, each tooth probed in the same "
+              "region; the table's data sheet (ISO 230-7 error motion values)"),
+      number_key("cmm.rotary_table.radial_um", kNum, 0, "",
+                 "radial error motion value (range over a turn), µm; 0: perfect"),
+      number_key("cmm.rotary_table.axial_um", kNum, 0, "",
+                 "axial error motion value (range over a turn), µm; 0: perfect"),
+      number_key("cmm.rotary_table.angular_arcsec", kNum, 0, "",
+                 "angular positioning error value (range over a turn), arcsec; 0: perfect"),
       bounded_integer(
           "cmm.machines", 1000, "", 10, 20000,
           "kept machines to draw (at least the run's gears: each gear another machine)"),

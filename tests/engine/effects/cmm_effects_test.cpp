@@ -4,6 +4,7 @@
 // displacement on hand-made machines against hand-computed values.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <string>
 
 #include "engine/effects/cmm_effects.h"
+#include "engine/effects/rotary_table.h"
 #include "engine/machine/verification.h"
 #include "engine/scenario/scenario.h"
 #include "tests/support/run_gearmc.h"
@@ -164,6 +166,98 @@ TEST(CmmProbing, PretravelAlongTheApproachAndTheTouchScatterAsItsLaw) {
   effect.apply_mean(point, values, centre);
   EXPECT_NEAR(reading_um(point, centre), 0.5, 1e-9);
   EXPECT_DOUBLE_EQ(effect.point_law(values).gaussian_variance_um2, 0.09);
+}
+
+// ---- the rotary table as part of the machine ------------------------------------------------
+
+TEST(CmmRotaryTable, TheTableIsTheRotaryTableEffectsAndTheGeometryIsTakenWhereTheToothIsProbed) {
+  // The table's displacement equals the `rotary_table` effect's with the same eight terms (the
+  // effect's own tests check its formula against hand values).
+  RotaryTableErrors table;
+  table.terms = {0.4, -0.2, 0.3, 0.1, 1.5, -0.5, 0.25, 0.75};
+  auto model = one_machine(KinematicMachine{});
+  model->table = RotaryTableSpec{1.0, 1.0, 4.0};
+  model->tables = {table};
+  const CmmRotaryTableEffect cmm_table(model);
+  std::vector<EffectParameter> fixed_terms;
+  for (double v : table.terms) {
+    EffectParameter p;
+    p.value = v;
+    fixed_terms.push_back(p);
+  }
+  const RotaryTableEffect effect(fixed_terms);
+  PointContext point;
+  point.teeth = 24;
+  point.tooth = 5;
+  point.p = Eigen::Vector3d(40.0, 60.0, 30.0);
+  point.n = Eigen::Vector3d(0.6, -0.8, 0.0);
+  RandomStream rng(1, 0, StreamPurpose::kEffectNoise, 0);
+  Eigen::Vector3d a(40.3, 59.6, 30.0), b = a;
+  const std::vector<double> index = {0.0};
+  cmm_table.apply(point, index, a, rng);
+  effect.apply(point, table.terms, b, rng);
+  EXPECT_NEAR((a - b).norm(), 0.0, 1e-15);
+  EXPECT_GT((a - Eigen::Vector3d(40.3, 59.6, 30.0)).norm(), 1e-5);
+
+  // The geometry with a table: tooth k is probed after the table turned it by −θ_k, so the same
+  // point of two teeth meets the same machine error (turned with the gear) — a machine with an
+  // x positioning error P₁ (c₁ = 2 µm) gives tooth 1 and tooth 7 the same reading change. Without
+  // the table the two teeth lie in different places of the machine and differ.
+  KinematicMachine m;
+  m.axes[0].translation_um[0] = {0.0, 2.0};
+  auto with_table = one_machine(m);
+  with_table->table = RotaryTableSpec{};
+  with_table->tables = {RotaryTableErrors{}};
+  with_table->face_width_mm = 20.0;
+  auto without = one_machine(m);
+  without->face_width_mm = 20.0;
+  const auto reading_change = [&](const std::shared_ptr<CmmModel>& model, int tooth) {
+    const CmmGeometryEffect geometry(model, false, false);
+    const double theta = 2.0 * std::numbers::pi * (tooth - 1) / 24.0;
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    PointContext p;
+    p.teeth = 24;
+    p.tooth = tooth;
+    p.p = turn * Eigen::Vector3d(70.0, 3.0, 10.0);
+    p.n = turn * Eigen::Vector3d(0.3, 0.95, 0.0).normalized();
+    p.stylus_radius_mm = 0.5;
+    Eigen::Vector3d c = p.p + 0.5 * p.n;
+    const Eigen::Vector3d start = c;
+    geometry.apply(p, index, c, rng);
+    return 1e3 * (c - start).dot(p.n);
+  };
+  EXPECT_NEAR(reading_change(with_table, 1), reading_change(with_table, 7), 1e-12);
+  EXPECT_GT(std::abs(reading_change(with_table, 1)), 0.1);
+  EXPECT_GT(std::abs(reading_change(without, 1) - reading_change(without, 7)), 0.1);
+  // Tooth 1 is probed where it lies (θ = 0): with and without the table alike.
+  EXPECT_NEAR(reading_change(with_table, 1), reading_change(without, 1), 1e-12);
+}
+
+TEST(CmmRotaryTable, KeptTablesMeetTheirDataSheet) {
+  RotaryTableErrors t;
+  t.terms[0] = 0.3;
+  t.terms[1] = 0.4;  // radial amplitude 0.5 µm: range 1 µm
+  t.terms[4] = 1.0;  // angular: cos θ alone, range 2″
+  EXPECT_DOUBLE_EQ(t.radial_range_um(), 1.0);
+  EXPECT_NEAR(t.angular_range_arcsec(), 2.0, 1e-9);
+  EXPECT_TRUE(meets(t, {1.0, 0.0, 2.0 + 1e-9}));
+  EXPECT_FALSE(meets(t, {0.99, 0.0, 3.0}));
+  const Scenario s = parse_scenario(
+      kGear +
+          "cmm: {mpe_e_um: \"1.8 + L/300\", machines: 200, rotary_table: {radial_um: 0.5, "
+          "axial_um: 0.4, angular_arcsec: 1.5}}\n",
+      "t.yaml");
+  ASSERT_EQ(s.cmm->tables.size(), 200u);
+  EXPECT_GT(s.cmm->tables_drawn, 200);
+  for (const RotaryTableErrors& k : s.cmm->tables) EXPECT_TRUE(meets(k, *s.cmm->table));
+  EXPECT_GE(s.effects->find("cmm_rotary_table"), 0);
+  // A perfect table (no values): the gear turned, no motion errors.
+  const Scenario perfect = parse_scenario(
+      kGear + "cmm: {mpe_e_um: \"1.8 + L/300\", machines: 200, rotary_table: {}}\n", "t.yaml");
+  for (const RotaryTableErrors& k : perfect.cmm->tables) {
+    for (double v : k.terms) EXPECT_EQ(v, 0.0);
+  }
 }
 
 // ---- the commands take the section as any other part of the scenario ------------------------

@@ -400,7 +400,8 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
                                           "terms",
                                           "layout",
                                           "mpe_e_um",
-                                          "verification"};
+                                          "verification",
+                                          "rotary_table"};
   std::set<std::string> keys;
   for (const RangeTable* table : all_range_tables()) {
     for (const ParameterRange& r : table->entries) keys.insert(r.key);
@@ -426,6 +427,8 @@ TEST(ParameterRangesTest, EveryNumberKeyOfTheParserHasARange) {
   listed(kBase + "stylus: {bogus: 1}\n", "stylus");
   listed(kBase + "run: {bogus: 1}\n", "run");
   listed(kBase + "cmm: {mpe_e_um: \"1.8 + L/300\", bogus: 1}\n", "cmm");
+  listed(kBase + "cmm: {mpe_e_um: \"1.8 + L/300\", rotary_table: {bogus: 1}}\n",
+         "cmm.rotary_table");
   for (const std::string& effect : effect_names()) {
     listed(kBase + "effects: {" + effect + ": {bogus: 1}}\n", "effects." + effect);
   }
