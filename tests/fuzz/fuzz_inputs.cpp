@@ -1,16 +1,17 @@
 // A bounded, deterministic mutation fuzzer of gearmc's input readers, run as a ctest test.
 // Every seed file of tests/fuzz/corpus/scenario (scenarios/ plus edge cases),
-// tests/fuzz/corpus/model (uncertainty model files) and tests/fuzz/corpus/readings is mutated from
+// tests/fuzz/corpus/model (uncertainty model files), tests/fuzz/corpus/readings and
+// tests/fuzz/corpus/verification (a CMM's verification tables, cmm.verification) is mutated from
 // a fixed seed (byte flips, special values such as 1e308, nan, -1, "", very long tokens, non-UTF-8
 // bytes, deleted, duplicated and swapped lines, truncation, deep nesting) and each mutant is fed
 // in-process to the scenario reader (load, which resolves and checks the tolerances, then the gear
 // geometry and one drawn gear, the work `gearmc geometry` and the start of `gearmc run` do), to the
 // uncertainty model reader (then the GUM and, when at most 20 000 trials give an interval, a short
-// Monte-Carlo run) or to the readings reader. The test fails when anything other than success or an
-// InputError escapes (another exception; a crash ends the process, which ctest reports as a
-// failure), and when an InputError's message is not one clean line of bounded length. It stops
-// after --mutants mutants or --seconds seconds, whichever comes first, and prints how many mutants
-// ran, were accepted and rejected cleanly.
+// Monte-Carlo run), to the readings reader or to the verification table reader. The test fails when
+// anything other than success or an InputError escapes (another exception; a crash ends the
+// process, which ctest reports as a failure), and when an InputError's message is not one clean
+// line of bounded length. It stops after --mutants mutants or --seconds seconds, whichever comes
+// first, and prints how many mutants ran, were accepted and rejected cleanly.
 //
 //   fuzz_inputs --corpus DIR [--mutants N] [--seconds S] [--seed K] [--save-failures DIR]
 //               [--trace 1]
@@ -32,6 +33,7 @@
 #include "engine/apps/uncertainty/gum.h"
 #include "engine/apps/uncertainty/mcm.h"
 #include "engine/apps/uncertainty/model.h"
+#include "engine/effects/cmm_effects.h"
 #include "engine/readings/readings_csv.h"
 #include "engine/scenario/scenario.h"
 #include "gears/deviations.h"
@@ -263,6 +265,12 @@ void use_model(const gearmc::uncertainty::UncertaintyModel& m) {
 
 }  // namespace
 
+// A verification table read as `cmm.verification` reads it (the example bridge's travel, a
+// default u so that a table without the column is valid).
+void read_verification(const std::string& text, const std::string& name) {
+  gearmc::read_verification_table(text, name, Eigen::Vector3d(700.0, 1000.0, 600.0), 0.2);
+}
+
 int main(int argc, char** argv) {
   std::filesystem::path corpus;
   long long max_mutants = 4000;
@@ -293,9 +301,10 @@ int main(int argc, char** argv) {
     std::string name, text;
     bool readings;
     bool model = false;
+    bool verification = false;  // a CMM's verification table (cmm.verification)
   };
   std::vector<Seed> seeds;
-  for (const char* kind : {"scenario", "readings", "model"}) {
+  for (const char* kind : {"scenario", "readings", "model", "verification"}) {
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::directory_iterator(corpus / kind)) {
       files.push_back(entry.path());
@@ -303,7 +312,7 @@ int main(int argc, char** argv) {
     std::sort(files.begin(), files.end());  // a fixed order: the run is deterministic
     for (const auto& f : files) {
       seeds.push_back({f.filename().string(), read_text(f), std::string(kind) == "readings",
-                       std::string(kind) == "model"});
+                       std::string(kind) == "model", std::string(kind) == "verification"});
     }
   }
   if (seeds.empty()) {
@@ -315,7 +324,9 @@ int main(int argc, char** argv) {
   int failures = 0;
   for (const Seed& s : seeds) {
     try {
-      if (s.model) {
+      if (s.verification) {
+        read_verification(s.text, s.name);
+      } else if (s.model) {
         use_model(gearmc::uncertainty::parse_uncertainty_model(s.text, s.name));
       } else if (s.readings) {
         gearmc::parse_readings(s.text, s.name);
@@ -351,7 +362,9 @@ int main(int argc, char** argv) {
       }
     }
     try {
-      if (s.model) {
+      if (s.verification) {
+        read_verification(mutant, name);
+      } else if (s.model) {
         use_model(gearmc::uncertainty::parse_uncertainty_model(mutant, name));
       } else if (s.readings) {
         gearmc::parse_readings(mutant, name);
