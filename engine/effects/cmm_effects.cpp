@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -220,20 +221,26 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
   if (const auto layout = map.get_choice("layout", key_choices("cmm.layout"))) {
     model->layout = parse_machine_layout(*layout);
   }
-  const YamlValue mpe = map.require("mpe_e_um", "MPE_E as \"A + L/K\" (µm, L in mm)");
-  model->mpe_e_text = mpe.as_string();
-  try {
-    model->mpe_e = parse_length_mpe(model->mpe_e_text);
-  } catch (const std::invalid_argument&) {
-    throw mpe.error(
-        "MPE_E as \"A + L/K\" in µm with L in mm, A >= 0 and K > 0, e.g. \"1.8 + L/300\"");
+  // MPE_E, or a verification table instead of it (its absence then checked with the table).
+  const std::optional<YamlValue> mpe = map.find("mpe_e_um");
+  if (!mpe && !map.find("verification")) {
+    throw map.missing("mpe_e_um", "MPE_E as \"A + L/K\" (µm, L in mm), or a verification table");
   }
-  // A and K each against their range, named by the key the user wrote.
-  for (const auto& [number, part] : {std::pair{model->mpe_e.a_um, "cmm.mpe_e_um.A"},
-                                     std::pair{model->mpe_e.k_mm_per_um, "cmm.mpe_e_um.K"}}) {
-    ParameterRange range = ranges.at(part);
-    range.key = mpe.path();
-    check_ranged(number, range, mpe.location(), model->mpe_e_text, warnings);
+  if (mpe) {
+    model->mpe_e_text = mpe->as_string();
+    try {
+      model->mpe_e = parse_length_mpe(model->mpe_e_text);
+    } catch (const std::invalid_argument&) {
+      throw mpe->error(
+          "MPE_E as \"A + L/K\" in µm with L in mm, A >= 0 and K > 0, e.g. \"1.8 + L/300\"");
+    }
+    // A and K each against their range, named by the key the user wrote.
+    for (const auto& [number, part] : {std::pair{model->mpe_e.a_um, "cmm.mpe_e_um.A"},
+                                       std::pair{model->mpe_e.k_mm_per_um, "cmm.mpe_e_um.K"}}) {
+      ParameterRange range = ranges.at(part);
+      range.key = mpe->path();
+      check_ranged(number, range, mpe->location(), model->mpe_e_text, warnings);
+    }
   }
   model->mpe_p_um = get_ranged(map, "mpe_p_um", ranges.at("cmm.mpe_p_um"), warnings);
   if (const auto travel = map.find("travel_mm")) {
@@ -321,14 +328,32 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
     }
   }
 
+  LengthTestOptions test;
+  test.stylus_mm = Eigen::Vector3d(0.0, 0.0, -model->stylus_length_mm);
+  const ProbePrior probe = model->mpe_p_um ? probe_prior_for(*model->mpe_p_um) : ProbePrior{};
+  if (!mpe) {
+    model->mpe_from_table = true;
+    model->mpe_e = prior_scales_from_table(model->layout, model->travel_mm, model->order, probe,
+                                           model->verification, test);
+    // At the grid's wide end the table asks for larger errors than the prior can give: say so.
+    if (warnings != nullptr &&
+        (model->mpe_e.a_um > 0.999 * 30.0 || model->mpe_e.k_mm_per_um < 1.001 * 30.0)) {
+      warnings->push_back(
+          InputError(map.find("verification")->location(),
+                     "cmm.verification: the table's errors reach the widest prior scales gearmc "
+                     "tries (A 30 µm or K 30 mm/µm): the machines drawn may be better than the "
+                     "table says — give the machine's MPE_E (cmm.mpe_e_um)")
+              .what());
+    }
+  }
   const MachinePrior prior = [&] {
     MachinePrior p = prior_for(model->mpe_e, model->layout, model->travel_mm);
     p.order = model->order;
     return p;
   }();
-  LengthTestOptions test;
-  test.stylus_mm = Eigen::Vector3d(0.0, 0.0, -model->stylus_length_mm);
-  const ProbePrior probe = model->mpe_p_um ? probe_prior_for(*model->mpe_p_um) : ProbePrior{};
+  // Without a data sheet there is no MPE_E to pass (the table is the constraint).
+  const LengthMpe limit =
+      mpe ? model->mpe_e : LengthMpe{std::numeric_limits<double>::infinity(), 1.0};
   // An acceptance rate below 1 % is refused: the prior would then say more than the data sheet.
   const int max_draws = std::max(2000, 100 * model->machines_wanted);
   if (!model->verification.empty()) {
@@ -346,10 +371,11 @@ std::shared_ptr<const CmmModel> read_cmm(const YamlValue& section, std::uint64_t
           InputError(map.find("verification")->location(), "cmm.verification: " + w.str()).what());
     }
   }
-  model->kept = draw_constrained(prior, model->mpe_e, model->machines_wanted, max_draws, seed, test,
-                                 probe, 0.01, model->posterior.get());
+  model->kept = draw_constrained(prior, limit, model->machines_wanted, max_draws, seed, test, probe,
+                                 0.01, model->posterior.get());
   if (model->kept.refused) {
-    throw InputError(mpe.location(), mpe.path(), model->mpe_e_text,
+    const YamlValue& at = mpe ? *mpe : *map.find("verification");
+    throw InputError(at.location(), at.path(), at.as_string(),
                      "a data sheet the machine prior can meet; " + model->kept.why);
   }
   if (model->table) {

@@ -35,7 +35,10 @@ namespace gearmc {
 // The `cmm:` section as read, and the machines it gave.
 struct CmmModel {
   MachineLayout layout = MachineLayout::kBridge;
-  std::string mpe_e_text;  // as written, e.g. "1.8 + L/300"
+  std::string mpe_e_text;  // as written, e.g. "1.8 + L/300"; empty without `mpe_e_um`
+  // Without `mpe_e_um` (a verification table instead): the prior's A and K chosen from the
+  // table (prior_scales_from_table), and no MPE_E to pass.
+  bool mpe_from_table = false;
   LengthMpe mpe_e;
   std::optional<double> mpe_p_um;
   Eigen::Vector3d travel_mm = Eigen::Vector3d(700.0, 1000.0, 600.0);

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/random_stream.h"
@@ -124,6 +125,54 @@ MachinePosterior verification_posterior(const MachinePrior& prior, const ProbePr
     post.predicted_sd_um.push_back(std::sqrt(std::max(0.0, v)));
   }
   return post;
+}
+
+LengthMpe prior_scales_from_table(MachineLayout layout, const Eigen::Vector3d& travel_mm, int order,
+                                  const ProbePrior& probe, const std::vector<VerificationRow>& rows,
+                                  const LengthTestOptions& options) {
+  // The unit responses do not depend on the scales: A once, then S per grid point.
+  MachinePrior shape = prior_for(LengthMpe{1.0, 1.0}, layout, travel_mm);
+  shape.order = order;
+  const int n = machine_parameter_count(shape, probe);
+  const auto m = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd a(m, n);
+  for (int j = 0; j < n; ++j) {
+    Eigen::VectorXd unit = Eigen::VectorXd::Zero(n);
+    unit[j] = 1.0;
+    const KinematicMachine machine = machine_of(shape, unit);
+    const CmmProbe p = probe_of(shape, probe, unit, 0.0);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const VerificationRow& r = rows[static_cast<std::size_t>(i)];
+      a(i, j) = length_error_um(machine, p, r.position, r.length_mm, options);
+    }
+  }
+  Eigen::VectorXd y(m), noise(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    y[i] = rows[static_cast<std::size_t>(i)].error_um;
+    noise[i] = rows[static_cast<std::size_t>(i)].u_um * rows[static_cast<std::size_t>(i)].u_um;
+  }
+  LengthMpe best{1.0, 300.0};
+  double best_log = -std::numeric_limits<double>::infinity();
+  for (int ia = 0; ia < 41; ++ia) {
+    for (int ik = 0; ik < 41; ++ik) {
+      const LengthMpe mpe{0.1 * std::pow(30.0 / 0.1, ia / 40.0),
+                          30.0 * std::pow(5000.0 / 30.0, ik / 40.0)};
+      MachinePrior prior = prior_for(mpe, layout, travel_mm);
+      prior.order = order;
+      const Eigen::VectorXd s2 = machine_prior_sd(prior, probe).array().square();
+      Eigen::MatrixXd cov = a * s2.asDiagonal() * a.transpose();
+      cov.diagonal() += noise;
+      const Eigen::LLT<Eigen::MatrixXd> llt(cov);
+      if (llt.info() != Eigen::Success) continue;
+      const double log_det = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+      const double log_density = -0.5 * (y.dot(llt.solve(y)) + log_det);
+      if (log_density > best_log) {
+        best_log = log_density;
+        best = mpe;
+      }
+    }
+  }
+  return best;
 }
 
 void draw_from_posterior(const MachinePrior& prior, const ProbePrior& probe,

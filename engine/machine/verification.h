@@ -61,6 +61,15 @@ MachinePosterior verification_posterior(const MachinePrior& prior, const ProbePr
                                         const std::vector<VerificationRow>& rows,
                                         const LengthTestOptions& options = {});
 
+// Without a data sheet: the prior's scales (machine_prior.h's A and K) that make the measured
+// errors most probable — type-II maximum likelihood, the log density of y ~ N(0, A S(A, K) Aᵀ + U)
+// maximised over A on a log grid 0.1 … 30 µm and K on 30 … 5 000 mm/µm (41 × 41 points, each
+// 1.15× the last). The machines are then drawn from the posterior under those scales, with no
+// MPE to pass (docs/cmm.md).
+LengthMpe prior_scales_from_table(MachineLayout layout, const Eigen::Vector3d& travel_mm, int order,
+                                  const ProbePrior& probe, const std::vector<VerificationRow>& rows,
+                                  const LengthTestOptions& options = {});
+
 // Machine `index` drawn from the posterior (TrialStream(seed, index, kMachineDraw) normals), its
 // probe's scatter from the probe prior (kProbeDraw).
 void draw_from_posterior(const MachinePrior& prior, const ProbePrior& probe,

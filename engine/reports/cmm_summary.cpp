@@ -30,7 +30,13 @@ nlohmann::ordered_json cmm_summary_json(const CmmModel& cmm) {
   const ConstrainedMachines& k = cmm.kept;
   nlohmann::ordered_json j;
   j["layout"] = machine_layout_name(cmm.layout);
-  j["mpe_e_um"] = cmm.mpe_e_text;
+  j["mpe_e_um"] =
+      cmm.mpe_from_table ? nlohmann::ordered_json() : nlohmann::ordered_json(cmm.mpe_e_text);
+  if (cmm.mpe_from_table) {
+    // The prior's scales chosen from the verification table (no MPE_E to pass).
+    j["prior_scales_from_table"] = {{"A_um", cmm.mpe_e.a_um},
+                                    {"K_mm_per_um", cmm.mpe_e.k_mm_per_um}};
+  }
   j["mpe_p_um"] = cmm.mpe_p_um ? nlohmann::ordered_json(*cmm.mpe_p_um) : nlohmann::ordered_json();
   j["travel_mm"] = {cmm.travel_mm.x(), cmm.travel_mm.y(), cmm.travel_mm.z()};
   j["placement_mm"] = {cmm.placement_mm.x(), cmm.placement_mm.y(), cmm.placement_mm.z()};
@@ -44,7 +50,7 @@ nlohmann::ordered_json cmm_summary_json(const CmmModel& cmm) {
   j["failed_probing_test"] = k.failed_probing;
   j["test_error_max_um"] = k.largest_error_um;
   // Per kept machine: its largest |E| / MPE_E(L) over the 35 lengths, and its P_FTU.
-  j["length_test_ratio"] = spread(k.length_ratio);
+  j["length_test_ratio"] = cmm.mpe_from_table ? nlohmann::ordered_json() : spread(k.length_ratio);
   j["probing_form_um"] = cmm.mpe_p_um ? spread(k.probing_form_um) : nlohmann::ordered_json();
   if (cmm.posterior) {
     const MachinePosterior& post = *cmm.posterior;
@@ -87,14 +93,20 @@ nlohmann::ordered_json cmm_summary_json(const CmmModel& cmm) {
 
 std::string cmm_summary_sentence(const CmmModel& cmm) {
   const ConstrainedMachines& k = cmm.kept;
-  std::string s = "CMM from its data sheet: MPE_E = " + cmm.mpe_e_text + " µm";
+  std::string s = cmm.mpe_from_table
+                      ? "CMM from its verification: the prior's scales from its table (A " +
+                            fixed(cmm.mpe_e.a_um, 2) + " µm, K " + fixed(cmm.mpe_e.k_mm_per_um, 0) +
+                            " mm/µm), no MPE_E"
+                      : "CMM from its data sheet: MPE_E = " + cmm.mpe_e_text + " µm";
   if (cmm.mpe_p_um) s += ", MPE_P = " + fixed(*cmm.mpe_p_um, 2) + " µm";
   s += " (" + machine_layout_name(cmm.layout) + ", " + fixed(cmm.travel_mm.x(), 0) + " × " +
        fixed(cmm.travel_mm.y(), 0) + " × " + fixed(cmm.travel_mm.z(), 0) +
        " mm): " + std::to_string(k.kept.size()) + " machines kept of " + std::to_string(k.drawn) +
-       " drawn (" + fixed(100.0 * k.acceptance_rate, 1) + " %); their length tests reach " +
-       fixed(100.0 * quantile(k.length_ratio, 1.0), 0) + " % of MPE_E (median " +
-       fixed(100.0 * quantile(k.length_ratio, 0.5), 0) + " %)";
+       " drawn (" + fixed(100.0 * k.acceptance_rate, 1) + " %)";
+  if (!cmm.mpe_from_table) {
+    s += "; their length tests reach " + fixed(100.0 * quantile(k.length_ratio, 1.0), 0) +
+         " % of MPE_E (median " + fixed(100.0 * quantile(k.length_ratio, 0.5), 0) + " %)";
+  }
   if (cmm.mpe_p_um) {
     s += ", their probing form " + fixed(quantile(k.probing_form_um, 1.0), 2) + " µm at most";
   }

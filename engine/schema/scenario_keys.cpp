@@ -189,7 +189,7 @@ std::vector<ScenarioKey> make_table() {
       choice_key("cmm.layout", {"bridge", "gantry", "horizontal_arm"}, "bridge",
                  "the axes' stacking: bridge and gantry Y carries X carries Z, horizontal arm X "
                  "carries Z carries Y"),
-      text_key("cmm.mpe_e_um", "required",
+      text_key("cmm.mpe_e_um", "required, unless a verification table stands instead",
                "ISO 10360-2's MPE_E as \"A + L/K\" (µm, L in mm), e.g. \"1.8 + L/300\""),
       number_key("cmm.mpe_p_um", kNum, std::nullopt, "no probing part",
                  "ISO 10360-5's MPE_P (P_FTU), µm: the kept machines' probes pass it"),

@@ -211,8 +211,8 @@ TEST(CmmRotaryTable, TheTableIsTheRotaryTableEffectsAndTheGeometryIsTakenWhereTh
   with_table->face_width_mm = 20.0;
   auto without = one_machine(m);
   without->face_width_mm = 20.0;
-  const auto reading_change = [&](const std::shared_ptr<CmmModel>& model, int tooth) {
-    const CmmGeometryEffect geometry(model, false, false);
+  const auto reading_change = [&](const std::shared_ptr<CmmModel>& machine_model, int tooth) {
+    const CmmGeometryEffect geometry(machine_model, false, false);
     const double theta = 2.0 * std::numbers::pi * (tooth - 1) / 24.0;
     const Eigen::Matrix3d turn =
         Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -365,6 +365,28 @@ TEST(CmmVerification, ReadsTheTableAndDrawsMachinesThatAgreeWithIt) {
             std::string::npos)
       << bad.warnings.back();
   EXPECT_LT(bad.cmm->posterior->p_value, 1e-6);
+}
+
+TEST(CmmVerification, ATableInsteadOfTheDataSheet) {
+  // No mpe_e_um: the prior's scales come from the table, no MPE_E is passed, the outputs say so.
+  const std::string dir = testing_support::fresh_temp_path("cmm_table_only");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(
+      std::string(GEARMC_SOURCE_DIR) + "/scenarios/cmm_verification_example.csv", dir + "/v.csv");
+  {
+    std::ofstream f(dir + "/s.yaml");
+    f << kGear << "cmm:\n  machines: 200\n  verification: v.csv\n";
+  }
+  const Scenario s = load_scenario_file(dir + "/s.yaml");
+  ASSERT_TRUE(s.cmm);
+  EXPECT_TRUE(s.cmm->mpe_from_table);
+  EXPECT_EQ(s.cmm->kept.kept.size(), 200u);
+  EXPECT_EQ(s.cmm->kept.failed_length, 0);  // nothing to fail
+  // Neither an MPE nor a table: the missing key named at the section.
+  const InputError e = parse_error(kGear + "cmm:\n  machines: 200\n");
+  EXPECT_NE(std::string(e.what()).find("mpe_e_um"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("or a verification table"), std::string::npos) << e.what();
 }
 
 TEST(CmmVerification, BadTablesAreOneErrorAtTheirLineAndColumn) {

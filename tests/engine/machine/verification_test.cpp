@@ -194,5 +194,38 @@ TEST(Verification, MachinesDrawnFromThePosteriorReproduceTheMeasuredErrors) {
   }
 }
 
+TEST(Verification, WithoutADataSheetTheTableSetsThePriorsScales) {
+  // Tables of machines of two classes far apart — 0.6 + L/900 and 6 + L/90 µm, ten machines each,
+  // kept by their MPE, measured with u = 0.1 µm — give prior scales whose MPE at 500 mm
+  // separates the classes and lies within a factor 4 of each class's on the median (type-II
+  // maximum likelihood from one table is a rough estimate: the test asks for the order of
+  // magnitude, not the value).
+  DataSheet s;
+  for (const char* text : {"0.6 + L/900", "6 + L/90"}) {
+    const LengthMpe truth = parse_length_mpe(text);
+    MachinePrior prior = prior_for(truth, MachineLayout::kBridge, s.prior.travel_mm);
+    const ConstrainedMachines kept = draw_constrained(prior, truth, 10, 2000, 17, s.test);
+    ASSERT_FALSE(kept.refused) << kept.why;
+    std::vector<double> ratio;
+    for (std::size_t m = 0; m < kept.kept.size(); ++m) {
+      TrialStream noise(0xBEEF, m, TrialPurpose::kMachineDraw);
+      std::vector<VerificationRow> rows = s.rows(0.1);
+      for (VerificationRow& r : rows) {
+        r.error_um = length_error_um(kept.kept[m], CmmProbe{}, r.position, r.length_mm, s.test) +
+                     0.1 * noise.normal();
+      }
+      const LengthMpe fitted = prior_scales_from_table(MachineLayout::kBridge, s.prior.travel_mm, 3,
+                                                       ProbePrior{}, rows, s.test);
+      ratio.push_back(fitted.at(500.0) / truth.at(500.0));
+    }
+    std::sort(ratio.begin(), ratio.end());
+    const double median = 0.5 * (ratio[4] + ratio[5]);
+    std::printf("%s: fitted MPE(500 mm) / true, median of 10: %.2f (%.2f … %.2f)\n", text, median,
+                ratio.front(), ratio.back());
+    EXPECT_GT(median, 0.25) << text;
+    EXPECT_LT(median, 4.0) << text;
+  }
+}
+
 }  // namespace
 }  // namespace gearmc
