@@ -76,13 +76,15 @@ CmmProbe probe_of(const MachinePrior& prior, const ProbePrior& probe, const Eige
   return p;
 }
 
-MachinePosterior verification_posterior(const MachinePrior& prior, const ProbePrior& probe,
-                                        const std::vector<VerificationRow>& rows,
-                                        const LengthTestOptions& options) {
+namespace {
+
+// A: each row's error per unit of each parameter (exact: the errors are linear in θ and zero for
+// θ = 0).
+Eigen::MatrixXd unit_responses(const MachinePrior& prior, const ProbePrior& probe,
+                               const std::vector<VerificationRow>& rows,
+                               const LengthTestOptions& options) {
   const int n = machine_parameter_count(prior, probe);
   const auto m = static_cast<Eigen::Index>(rows.size());
-  // A: each row's error per unit of each parameter (exact: the errors are linear in θ and zero
-  // for θ = 0).
   Eigen::MatrixXd a(m, n);
   for (int j = 0; j < n; ++j) {
     Eigen::VectorXd unit = Eigen::VectorXd::Zero(n);
@@ -94,13 +96,32 @@ MachinePosterior verification_posterior(const MachinePrior& prior, const ProbePr
       a(i, j) = length_error_um(machine, p, r.position, r.length_mm, options);
     }
   }
-  Eigen::VectorXd y(m), noise(m);
+  return a;
+}
+
+// The measured errors y and their variances u².
+void measured(const std::vector<VerificationRow>& rows, Eigen::VectorXd& y,
+              Eigen::VectorXd& noise) {
+  const auto m = static_cast<Eigen::Index>(rows.size());
+  y.resize(m);
+  noise.resize(m);
   for (Eigen::Index i = 0; i < m; ++i) {
     const VerificationRow& r = rows[static_cast<std::size_t>(i)];
     if (!(r.u_um > 0.0)) throw std::invalid_argument("a verification row's u_um must be > 0");
     y[i] = r.error_um;
     noise[i] = r.u_um * r.u_um;
   }
+}
+
+}  // namespace
+
+MachinePosterior verification_posterior(const MachinePrior& prior, const ProbePrior& probe,
+                                        const std::vector<VerificationRow>& rows,
+                                        const LengthTestOptions& options) {
+  const Eigen::MatrixXd a = unit_responses(prior, probe, rows, options);
+  const auto m = a.rows();
+  Eigen::VectorXd y, noise;
+  measured(rows, y, noise);
   // Woodbury's form (S = diag(s²) may have zeros — a scale set to 0 fixes its parameter):
   //   K = S Aᵀ (A S Aᵀ + U)⁻¹,  μ = K y,  Σ = S − K A S.
   const Eigen::VectorXd s2 = machine_prior_sd(prior, probe).array().square();
@@ -133,24 +154,9 @@ LengthMpe prior_scales_from_table(MachineLayout layout, const Eigen::Vector3d& t
   // The unit responses do not depend on the scales: A once, then S per grid point.
   MachinePrior shape = prior_for(LengthMpe{1.0, 1.0}, layout, travel_mm);
   shape.order = order;
-  const int n = machine_parameter_count(shape, probe);
-  const auto m = static_cast<Eigen::Index>(rows.size());
-  Eigen::MatrixXd a(m, n);
-  for (int j = 0; j < n; ++j) {
-    Eigen::VectorXd unit = Eigen::VectorXd::Zero(n);
-    unit[j] = 1.0;
-    const KinematicMachine machine = machine_of(shape, unit);
-    const CmmProbe p = probe_of(shape, probe, unit, 0.0);
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const VerificationRow& r = rows[static_cast<std::size_t>(i)];
-      a(i, j) = length_error_um(machine, p, r.position, r.length_mm, options);
-    }
-  }
-  Eigen::VectorXd y(m), noise(m);
-  for (Eigen::Index i = 0; i < m; ++i) {
-    y[i] = rows[static_cast<std::size_t>(i)].error_um;
-    noise[i] = rows[static_cast<std::size_t>(i)].u_um * rows[static_cast<std::size_t>(i)].u_um;
-  }
+  const Eigen::MatrixXd a = unit_responses(shape, probe, rows, options);
+  Eigen::VectorXd y, noise;
+  measured(rows, y, noise);
   LengthMpe best{1.0, 300.0};
   double best_log = -std::numeric_limits<double>::infinity();
   for (int ia = 0; ia < 41; ++ia) {
