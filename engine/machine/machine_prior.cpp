@@ -35,8 +35,8 @@ void skip_spaces(const std::string& text, std::size_t& at) {
 }  // namespace
 
 LengthMpe parse_length_mpe(const std::string& text) {
-  // Scanned by hand in one bounded pass (no std::regex: its recursion overflowed the stack on
-  // long inputs elsewhere in gearmc).
+  // Scanned by hand in one bounded pass (no regular-expression library: its recursion overflowed
+  // the stack on long inputs elsewhere in gearmc).
   const auto refuse = [&](const std::string& what) {
     const std::string shown = text.size() > 60 ? text.substr(0, 60) + "…" : text;
     return std::invalid_argument("got '" + shown + "', expected " + what);
